@@ -1,0 +1,159 @@
+"""The `cosim` command line."""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from pathlib import Path
+
+from . import __version__
+from .errors import CosimError
+
+
+def _cmd_build(args) -> int:
+    from .compiler.build import build
+
+    results = build(args.models or None, args.output, jobs=args.jobs, library_path=args.library, force=args.force)
+    for r in results:
+        print(f"{'built ' if r.rebuilt else 'up to date'} {r.fmu}  ({r.seconds:.1f} s)")
+    return 0
+
+
+def _cmd_list(args) -> int:
+    from .catalog import catalog
+    from .compiler.library import load_library
+
+    summaries = catalog(load_library(args.library), exported_only=args.exported)
+    if args.json:
+        print(json.dumps([s.to_dict() for s in summaries], indent=2))
+        return 0
+    for s in summaries:
+        mark = "*" if s.exported else " "
+        print(f"{mark} {s.name}: {s.description}")
+        for label, signals in (("inputs", s.inputs), ("outputs", s.outputs)):
+            if signals:
+                print(f"      {label}: " + ", ".join(f"{x.name} [{x.unit or '-'}]" for x in signals))
+        if s.parameters:
+            print("      parameters: " + ", ".join(f"{p.name}={p.value}" for p in s.parameters))
+    print("\n* exported by `cosim build`")
+    return 0
+
+
+def _cmd_info(args) -> int:
+    from .info import describe_target
+
+    print(describe_target(args.target, as_json=args.json))
+    return 0
+
+
+def _cmd_validate(args) -> int:
+    from .target import resolve_fmu
+    from .validation import validate
+
+    failed = 0
+    for target in args.targets:
+        fmu = resolve_fmu(target)
+        problems = validate(fmu)
+        if problems:
+            failed += 1
+            print(f"{fmu}: {len(problems)} problem(s)")
+            for p in problems:
+                print(f"  - {p}")
+        else:
+            print(f"{fmu}: valid")
+    return 1 if failed else 0
+
+
+def _cmd_simulate(args) -> int:
+    from .simulation import input_signals, parameter_values, plot, simulate, write_csv
+    from .target import resolve_fmu
+
+    fmu = resolve_fmu(args.target)
+    params = parameter_values(fmu, args.param)
+    from fmpy import read_model_description
+
+    md = read_model_description(str(fmu))
+    t0 = float(md.defaultExperiment.startTime or 0.0) if md.defaultExperiment else 0.0
+    inputs = input_signals(fmu, args.input, t0, args.stop_time)
+    result = simulate(fmu, args.stop_time, args.step, args.fmi_type, params, inputs,
+                      progress=sys.stderr.isatty())
+    output = args.output or f"{fmu.stem}.csv"
+    write_csv(result, output)
+    print(f"wrote {output} ({len(result)} rows: {', '.join(result.dtype.names)})")
+    if args.plot:
+        plot(result, args.plot, title=md.modelName)
+        print(f"wrote {args.plot}")
+    return 0
+
+
+def _cmd_demo(args) -> int:
+    from .demo import run_demo
+
+    run_demo(Path(args.output))
+    return 0
+
+
+def parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="cosim", description="Bicycle models of Astrom, Klein and Lennartsson (2005) as FMI 2.0 FMUs: build, validate, simulate.")
+    p.add_argument("--version", action="version", version=f"cosim {__version__}")
+    sub = p.add_subparsers(dest="command", required=True)
+
+    b = sub.add_parser("build", help="compile Modelica models to FMUs (ME + CS)")
+    b.add_argument("models", nargs="*", help="model names (default: every exported model)")
+    b.add_argument("-o", "--output", default=None, help="output folder (default: fmus/)")
+    b.add_argument("-j", "--jobs", type=int, default=os.cpu_count() or 1, help="parallel builds")
+    b.add_argument("--force", action="store_true", help="rebuild even if up to date")
+    b.add_argument("--library", default=None, help="Modelica library folder (default: modelica/)")
+    b.set_defaults(func=_cmd_build)
+
+    ls = sub.add_parser("list", help="models of the library with inputs, outputs, parameters")
+    ls.add_argument("--json", action="store_true")
+    ls.add_argument("--exported", action="store_true", help="only models that `cosim build` exports")
+    ls.add_argument("--library", default=None)
+    ls.set_defaults(func=_cmd_list)
+
+    i = sub.add_parser("info", help="describe an FMU or a model")
+    i.add_argument("target", help="FMU file or model name")
+    i.add_argument("--json", action="store_true")
+    i.set_defaults(func=_cmd_info)
+
+    v = sub.add_parser("validate", help="check FMUs (FMPy validation + own checks)")
+    v.add_argument("targets", nargs="+", help="FMU files or model names")
+    v.set_defaults(func=_cmd_validate)
+
+    s = sub.add_parser("simulate", help="simulate an FMU or model")
+    s.add_argument("target", help="FMU file or model name (built first if needed)")
+    s.add_argument("--stop-time", type=float, required=True, help="stop time [s]")
+    s.add_argument("--step", type=float, default=None, help="output / communication interval [s]")
+    s.add_argument("--fmi-type", choices=("cs", "me"), default="cs")
+    s.add_argument("--param", action="append", default=[], metavar="NAME=VALUE")
+    s.add_argument("--input", action="append", default=[], metavar="NAME=FILE.csv|NAME=step:T0:VALUE")
+    s.add_argument("-o", "--output", default=None, help="result CSV (default: <model>.csv)")
+    s.add_argument("--plot", default=None, help="save a plot of the result (PNG)")
+    s.set_defaults(func=_cmd_simulate)
+
+    d = sub.add_parser("demo", help="build, validate and simulate the bundled bicycle")
+    d.add_argument("-o", "--output", default="demo", help="folder for results (default: demo/)")
+    d.set_defaults(func=_cmd_demo)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = parser().parse_args(argv)
+    if getattr(args, "output", None) is None and args.command == "build":
+        from .compiler.build import DEFAULT_OUTPUT
+
+        args.output = DEFAULT_OUTPUT
+    try:
+        return args.func(args)
+    except (CosimError, FileNotFoundError) as exc:
+        print(f"cosim {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"cosim {args.command}: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

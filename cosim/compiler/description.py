@@ -1,0 +1,176 @@
+"""The one description of an FMU from which both the C tables and modelDescription.xml are written.
+
+Value references index one array laid out as in ``runtime/cosim_model.h``:
+``[x | der(x) | u | p | c | z]``; the XML lists the variables in value-reference order, so the
+ModelStructure index of a variable is its value reference + 1.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import casadi as ca
+
+from .flatten import Declaration, FlatModel
+from .library import ModelEntry
+from .ode import ExplicitModel
+
+FIXED_STEP_PARAMETER = "solver.fixedStepSize"
+DEFAULT_TOLERANCE = 1e-6
+
+
+@dataclass
+class Variable:
+    """One FMI scalar variable."""
+
+    name: str
+    vr: int
+    role: str  # state, derivative, input, parameter, calculated, algebraic
+    causality: str
+    variability: str
+    initial: str | None
+    type: str = "Real"
+    start: float | None = None
+    description: str = ""
+    unit: str | None = None
+    display_unit: str | None = None
+    quantity: str | None = None
+    min: float | None = None
+    max: float | None = None
+    derivative_of: int | None = None  # vr of the state this is the derivative of
+
+    @property
+    def index(self) -> int:
+        """1-based position in ModelVariables."""
+        return self.vr + 1
+
+
+@dataclass
+class ModelInfo:
+    """Everything `cosim build` writes about one model."""
+
+    name: str
+    identifier: str
+    description: str
+    variables: list[Variable]
+    sizes: dict  # nx nu np nc nz
+    experiment: dict
+    output_dependencies: dict = field(default_factory=dict)  # vr -> [vr of states/inputs]
+    derivative_dependencies: dict = field(default_factory=dict)
+    guid: str = ""
+
+    @property
+    def default_tolerance(self) -> float:
+        return float(self.experiment.get("Tolerance", DEFAULT_TOLERANCE))
+
+    def by_role(self, role: str) -> list[Variable]:
+        return [v for v in self.variables if v.role == role]
+
+    def variable(self, name: str) -> Variable:
+        for v in self.variables:
+            if v.name == name:
+                return v
+        raise KeyError(name)
+
+    @property
+    def fixed_step_vr(self) -> int:
+        return self.variable(FIXED_STEP_PARAMETER).vr
+
+
+def model_identifier(model_name: str) -> str:
+    """A C identifier for the model (also the FMU's file name): dots become underscores."""
+    return model_name.replace(".", "_")
+
+
+def _type_of(python_type) -> str:
+    return {int: "Integer", bool: "Boolean"}.get(python_type, "Real")
+
+
+def describe(entry: ModelEntry, flat: FlatModel, model: ExplicitModel) -> ModelInfo:
+    """Lay out the value array and collect every variable's FMI attributes."""
+    decl = flat.declarations
+    variables: list[Variable] = []
+
+    def add(name, role, causality, variability, initial, start=None, python_type=float, **extra):
+        d: Declaration | None = decl.get(name)
+        v = Variable(
+            name=name, vr=len(variables), role=role, causality=causality, variability=variability,
+            initial=initial, type=_type_of(python_type), start=start,
+            description=(d.description if d else "") or "",
+            unit=d.unit if d else None, display_unit=d.display_unit if d else None,
+            quantity=d.quantity if d else None,
+            min=d.min if d and isinstance(d.min, (int, float)) else None,
+            max=d.max if d and isinstance(d.max, (int, float)) else None,
+        )
+        for key, value in extra.items():
+            setattr(v, key, value)
+        variables.append(v)
+        return v
+
+    def declared_output(name):
+        d = decl.get(name)
+        return d is not None and "output" in d.prefixes
+
+    states = []
+    for s in model.states:
+        calculated = s.start is None
+        states.append(add(s.name, "state", "output" if declared_output(s.name) else "local", "continuous",
+                          "calculated" if calculated else "exact", None if calculated else s.start))
+    for s, state in zip(model.states, states):
+        d = decl.get(s.name)
+        add(f"der({s.name})", "derivative", "local", "continuous", "calculated",
+            derivative_of=state.vr, description=f"der({s.name})",
+            unit=_derivative_unit(d.unit if d else None))
+    for s in model.inputs:
+        add(s.name, "input", "input", "continuous", None, s.start, s.python_type)
+    for s in model.parameters:
+        add(s.name, "parameter", "parameter", "fixed", "exact", float(s.start), s.python_type)
+    add(FIXED_STEP_PARAMETER, "parameter", "parameter", "fixed", "exact", 0.0,
+        description="Co-simulation: fixed integration step size (0 = error-controlled Dormand-Prince 5(4))",
+        unit="s")
+    for s in model.calculated:
+        add(s.name, "calculated", "calculatedParameter", "fixed", "calculated", None, s.python_type)
+    for s in model.algebraics:
+        add(s.name, "algebraic", "output" if declared_output(s.name) else "local", "continuous", "calculated")
+
+    sizes = {
+        "nx": len(model.states), "nu": len(model.inputs), "np": len(model.parameters) + 1,
+        "nc": len(model.calculated), "nz": len(model.algebraics),
+    }
+    info = ModelInfo(
+        name=flat.name, identifier=model_identifier(flat.name), description=entry.description,
+        variables=variables, sizes=sizes, experiment=entry.experiment,
+    )
+    _dependencies(info, model)
+    return info
+
+
+def _derivative_unit(unit: str | None) -> str | None:
+    """Unit of a time derivative: rad -> rad/s, m/s -> m/s2; None where that is not obvious."""
+    if not unit or unit == "1":
+        return "1/s" if unit else None
+    if unit.endswith("/s"):
+        return unit + "2"
+    return None if "/" in unit else unit + "/s"
+
+
+def _dependencies(info: ModelInfo, model: ExplicitModel) -> None:
+    """Structural dependencies of derivatives and outputs on states and inputs (Jacobian sparsity)."""
+    knowns = ca.vertcat(model.x, model.u)
+    known_vrs = [v.vr for v in info.by_role("state")] + [v.vr for v in info.by_role("input")]
+    unknowns = ca.vertcat(model.xdot, model.z)
+    unknown_vrs = [v.vr for v in info.by_role("derivative")] + [v.vr for v in info.by_role("algebraic")]
+    deps = {vr: [] for vr in unknown_vrs}
+    if knowns.numel() and unknowns.numel():
+        sp = ca.jacobian(unknowns, knowns).sparsity()
+        for r, c in zip(*sp.get_triplet()):
+            deps[unknown_vrs[r]].append(known_vrs[c])
+    for v in info.variables:
+        if v.role == "derivative":
+            info.derivative_dependencies[v.vr] = sorted(deps[v.vr])
+        elif v.causality == "output":
+            info.output_dependencies[v.vr] = sorted(deps[v.vr]) if v.role == "algebraic" else [v.vr]
+
+
+def finite_or_none(value):
+    return value if value is not None and math.isfinite(value) else None

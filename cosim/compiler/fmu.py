@@ -1,0 +1,64 @@
+"""Compile the C sources with gcc and pack the FMU (a zip) atomically."""
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import tempfile
+import zipfile
+from pathlib import Path
+
+from ..errors import BuildError
+
+CFLAGS = ["-std=c99", "-O2", "-fPIC", "-shared", "-fvisibility=hidden", "-Wall"]
+MANIFEST = "documentation/build.json"
+
+
+def platform_folder() -> str:
+    """FMI 2.0 platform folder of this machine (linux64, darwin64, win64)."""
+    import fmpy
+
+    return fmpy.platform
+
+
+def compile_binary(sources: Path, identifier: str, target: Path, cc: str | None = None) -> None:
+    """gcc every C file of ``sources`` into the shared library ``target``."""
+    compiler = cc or os.environ.get("CC") or "gcc"
+    if shutil.which(compiler) is None:
+        raise BuildError(f"C compiler '{compiler}' not found (set CC or install gcc)")
+    c_files = sorted(str(p) for p in sources.glob("*.c"))
+    command = [compiler, *CFLAGS, f"-I{sources}", "-o", str(target), *c_files, "-lm"]
+    result = subprocess.run(command, capture_output=True, text=True)
+    if result.returncode != 0:
+        tail = "\n".join(result.stderr.strip().splitlines()[-30:])
+        raise BuildError(f"{identifier}: C compilation failed:\n{tail}")
+
+
+def pack(staging: Path, destination: Path) -> None:
+    """Zip ``staging`` into ``destination``; the file appears only when complete."""
+    destination.parent.mkdir(parents=True, exist_ok=True)
+    fd, partial = tempfile.mkstemp(prefix=f".{destination.name}.", suffix=".partial", dir=destination.parent)
+    os.close(fd)
+    try:
+        with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as archive:
+            for path in sorted(staging.rglob("*")):
+                if path.is_file():
+                    info = zipfile.ZipInfo(str(path.relative_to(staging)), date_time=(2000, 1, 1, 0, 0, 0))
+                    info.compress_type = zipfile.ZIP_DEFLATED
+                    info.external_attr = 0o644 << 16
+                    archive.writestr(info, path.read_bytes())
+        os.chmod(partial, 0o644)
+        os.replace(partial, destination)
+    except BaseException:
+        Path(partial).unlink(missing_ok=True)
+        raise
+
+
+def read_manifest(fmu: Path) -> dict | None:
+    """The build manifest of an FMU built by cosim (None if absent or unreadable)."""
+    try:
+        with zipfile.ZipFile(fmu) as archive:
+            return json.loads(archive.read(MANIFEST))
+    except (OSError, KeyError, zipfile.BadZipFile, ValueError):
+        return None

@@ -1,0 +1,36 @@
+"""Exceptions of the cosim package.
+
+Every error a user can cause derives from a built-in type (as in python-control) and from
+:class:`CosimError`, which the command line turns into one message and a non-zero exit.
+"""
+
+
+class CosimError(Exception):
+    """Base of all errors that are reported to the user without a traceback."""
+
+
+class ModelicaError(CosimError, ValueError):
+    """The Modelica source is invalid; the message names file, line and column."""
+
+
+class UnknownModelError(CosimError, LookupError):
+    """A model name that is not in the library; the message lists the known models."""
+
+    def __str__(self):  # LookupError would quote the message
+        return str(self.args[0]) if self.args else ""
+
+
+class ModelStructureError(CosimError, ValueError):
+    """The flattened model cannot be turned into an explicit ODE (unbalanced, index > 1, ...)."""
+
+
+class ParameterError(CosimError, ValueError):
+    """A parameter value is unknown or not acceptable; the message names the parameter."""
+
+
+class BuildError(CosimError, RuntimeError):
+    """Compiling or packaging an FMU failed."""
+
+
+class SimulationError(CosimError, RuntimeError):
+    """Running an FMU failed."""

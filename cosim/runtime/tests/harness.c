@@ -1,0 +1,1008 @@
+/*
+ * harness.c -- tests of fmi2_runtime.c against the hand-written model in test_model.c.
+ *
+ * Build (see run.sh):  cc -std=c99 -I<fmi2 headers> -I.. harness.c test_model.c ../fmi2_runtime.c -lm
+ * Exit code 0 if every check passes.
+ */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fmi2Functions.h"
+#include "cosim_model.h"
+
+extern long test_model_evals;
+
+#define GUID "{8c4e810f-3df3-4a00-8276-176fa3c9f000}"
+
+enum { VR_S, VR_V, VR_W, VR_DS, VR_DV, VR_DW, VR_U, VR_K, VR_N, VR_B, VR_H, VR_OMEGA, VR_N10, VR_F, VR_E, NV };
+
+/* ------------------------------------------------------------------------------------------ */
+/* Checks                                                                                       */
+
+static int n_checks = 0, n_failed = 0;
+
+#define CHECK(cond) check((cond) != 0, #cond, __FILE__, __LINE__)
+#define CHECK_OK(call) check((call) == fmi2OK, #call " == fmi2OK", __FILE__, __LINE__)
+#define CHECK_ERR(call) check((call) == fmi2Error, #call " == fmi2Error", __FILE__, __LINE__)
+#define CHECK_NEAR(a, b, tol) check_near((a), (b), (tol), #a, __FILE__, __LINE__)
+
+static void check(int ok, const char *what, const char *file, int line)
+{
+    n_checks++;
+    if (!ok) {
+        n_failed++;
+        printf("FAILED %s:%d: %s\n", file, line, what);
+    }
+}
+
+static void check_near(double a, double b, double tol, const char *what, const char *file, int line)
+{
+    n_checks++;
+    if (!(fabs(a - b) <= tol)) {
+        n_failed++;
+        printf("FAILED %s:%d: %s = %.17g, expected %.17g (+- %g)\n", file, line, what, a, b, tol);
+    }
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* Callbacks: a logger that keeps the last message per instance, and a counting allocator      */
+
+typedef struct {
+    char last[2048];       /* last message, formatted */
+    char last_category[64];
+    fmi2Status last_status;
+    int n_messages;
+    int echo;
+} logbook;
+
+static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status status, fmi2String category,
+                   fmi2String message, ...)
+{
+    logbook *lb = (logbook *)env;
+    va_list ap;
+
+    va_start(ap, message);
+    vsnprintf(lb->last, sizeof lb->last, message, ap); /* messages are format strings */
+    va_end(ap);
+    snprintf(lb->last_category, sizeof lb->last_category, "%s", category);
+    lb->last_status = status;
+    lb->n_messages++;
+    if (lb->echo) printf("    [%s] %s: %s\n", category, name, lb->last);
+}
+
+static long n_live_allocations = 0;
+
+static void *counting_calloc(size_t n, size_t size)
+{
+    void *p = calloc(n, size);
+    if (p) n_live_allocations++;
+    return p;
+}
+
+static void counting_free(void *p)
+{
+    if (p) n_live_allocations--;
+    free(p);
+}
+
+static fmi2CallbackFunctions callbacks(logbook *lb)
+{
+    fmi2CallbackFunctions cb;
+    memset(lb, 0, sizeof *lb);
+    cb.logger = logger;
+    cb.allocateMemory = counting_calloc;
+    cb.freeMemory = counting_free;
+    cb.stepFinished = NULL;
+    cb.componentEnvironment = lb;
+    return cb;
+}
+
+/* Did the last message contain all of the given fragments? */
+static int logged(const logbook *lb, const char *a, const char *b)
+{
+    return strstr(lb->last, a) != NULL && (!b || strstr(lb->last, b) != NULL);
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* Helpers                                                                                      */
+
+static double get(fmi2Component c, fmi2ValueReference vr)
+{
+    double v = NAN;
+    if (fmi2GetReal(c, &vr, 1, &v) != fmi2OK) printf("    (fmi2GetReal(%u) failed)\n", vr);
+    return v;
+}
+
+static fmi2Status set(fmi2Component c, fmi2ValueReference vr, double v)
+{
+    return fmi2SetReal(c, &vr, 1, &v);
+}
+
+/* Instantiates, sets up with the tolerance and enters initialization mode. */
+static fmi2Component start_init(fmi2Type type, fmi2CallbackFunctions *cb, double tol)
+{
+    fmi2Component c = fmi2Instantiate("inst", type, GUID, "", cb, fmi2False, fmi2False);
+    if (!c) return NULL;
+    fmi2SetupExperiment(c, tol > 0, tol, 0.0, fmi2False, 0.0);
+    fmi2EnterInitializationMode(c);
+    return c;
+}
+
+static fmi2Component start(fmi2Type type, fmi2CallbackFunctions *cb, double tol)
+{
+    fmi2Component c = start_init(type, cb, tol);
+    if (c) fmi2ExitInitializationMode(c);
+    return c;
+}
+
+/* Exact solution of s'' + d s' + k s = g (u0 + r t), s(0) = s0, s'(0) = v0 (underdamped). */
+static void exact_sv(double t, double k, double d, double u0, double r, double s0, double v0,
+                     double *s, double *v)
+{
+    const double a = d / 2.0, wd = sqrt(k - a * a);
+    const double beta = r / k, alpha = (u0 - d * beta) / k;
+    const double A = s0 - alpha, B = (v0 - beta + a * A) / wd;
+    const double e = exp(-a * t), co = cos(wd * t), si = sin(wd * t);
+    *s = e * (A * co + B * si) + alpha + beta * t;
+    *v = e * ((-a * A + wd * B) * co + (-a * B - wd * A) * si) + beta;
+}
+
+/* Runs a CS instance (k = 4, d = 0.2, u = 0.5 + r t) with DoStep size H to t = 10;
+   returns the largest deviation of s, v, w from the exact solution. */
+static double cs_error(double tol, double H, double h_fixed, double r, long *evals_per_step)
+{
+    logbook lb;
+    fmi2CallbackFunctions cb = callbacks(&lb);
+    fmi2Component c = start_init(fmi2CoSimulation, &cb, tol);
+    const fmi2ValueReference vu = VR_U;
+    const fmi2Integer order = 1;
+    double t = 0.0, err = 0.0;
+    long evals0;
+    int i, n = (int)(10.0 / H + 0.5);
+
+    set(c, VR_H, h_fixed);
+    fmi2ExitInitializationMode(c);
+    evals0 = test_model_evals;
+    for (i = 0; i < n; i++) {
+        double s, v;
+        set(c, VR_U, 0.5 + r * t);
+        if (r != 0.0) fmi2SetRealInputDerivatives(c, &vu, 1, &order, &r);
+        if (fmi2DoStep(c, t, H, fmi2True) != fmi2OK) {
+            printf("    DoStep failed: %s\n", lb.last);
+            err = INFINITY;
+            break;
+        }
+        t = (i + 1) * H;
+        exact_sv(t, 4.0, 0.2, 0.5, r, 1.0, 0.0, &s, &v);
+        err = fmax(err, fabs(get(c, VR_S) - s));
+        err = fmax(err, fabs(get(c, VR_V) - v));
+        err = fmax(err, fabs(get(c, VR_W) - 2.0 * exp(-t)));
+    }
+    if (evals_per_step) *evals_per_step = (test_model_evals - evals0) / n;
+    fmi2FreeInstance(c);
+    return err;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* Tests                                                                                        */
+
+static void test_basics(void)
+{
+    logbook lb;
+    fmi2CallbackFunctions cb = callbacks(&lb);
+    fmi2CallbackFunctions bad = cb;
+    fmi2Component c;
+
+    CHECK(strcmp(fmi2GetVersion(), "2.0") == 0);
+    CHECK(strcmp(fmi2GetTypesPlatform(), "default") == 0);
+
+    c = fmi2Instantiate("inst", fmi2CoSimulation, "{wrong}", "", &cb, fmi2False, fmi2False);
+    CHECK(c == NULL);
+    CHECK(logged(&lb, "GUID", "{wrong}"));
+    CHECK(lb.last_status == fmi2Error);
+
+    bad.allocateMemory = NULL;
+    CHECK(fmi2Instantiate("inst", fmi2CoSimulation, GUID, "", &bad, fmi2False, fmi2False) == NULL);
+    CHECK(fmi2Instantiate("", fmi2CoSimulation, GUID, "", &cb, fmi2False, fmi2False) == NULL);
+    CHECK(fmi2Instantiate("inst", (fmi2Type)7, GUID, "", &cb, fmi2False, fmi2False) == NULL);
+    CHECK(fmi2Instantiate("inst", fmi2CoSimulation, GUID, "", NULL, fmi2False, fmi2False) == NULL);
+
+    /* NULL components are rejected, not dereferenced */
+    CHECK_ERR(fmi2DoStep(NULL, 0.0, 1.0, fmi2True));
+    CHECK_ERR(fmi2GetReal(NULL, NULL, 0, NULL));
+    fmi2FreeInstance(NULL);
+}
+
+static void test_state_machine(void)
+{
+    logbook lb;
+    fmi2CallbackFunctions cb = callbacks(&lb);
+    fmi2Component c = fmi2Instantiate("sm", fmi2CoSimulation, GUID, "", &cb, fmi2False, fmi2False);
+    fmi2EventInfo info;
+    double x;
+    fmi2ValueReference vr = VR_S;
+
+    CHECK(c != NULL);
+    CHECK_ERR(fmi2GetReal(c, &vr, 1, &x));
+    CHECK(logged(&lb, "fmi2GetReal", "instantiated"));
+    CHECK(strcmp(lb.last_category, "logStatusError") == 0);
+    CHECK_ERR(fmi2DoStep(c, 0.0, 0.1, fmi2True));
+    CHECK(logged(&lb, "fmi2DoStep", "instantiated"));
+    CHECK_ERR(fmi2ExitInitializationMode(c));
+    CHECK_ERR(fmi2Terminate(c));
+    CHECK_ERR(fmi2EnterEventMode(c));
+    CHECK(logged(&lb, "fmi2EnterEventMode", "CoSimulation"));
+    CHECK_ERR(fmi2NewDiscreteStates(c, &info));
+    CHECK_ERR(fmi2SetTime(c, 1.0));
+    CHECK_ERR(fmi2SetupExperiment(c, fmi2True, -1.0, 0.0, fmi2False, 0.0)); /* bad tolerance */
+
+    /* rejected calls leave the instance usable */
+    CHECK_OK(fmi2SetupExperiment(c, fmi2True, 1e-8, 2.0, fmi2False, 0.0));
+    CHECK_OK(fmi2EnterInitializationMode(c));
+    CHECK_ERR(fmi2EnterInitializationMode(c));
+    CHECK(logged(&lb, "fmi2EnterInitializationMode", "initializationMode"));
+    CHECK_ERR(fmi2SetupExperiment(c, fmi2False, 0.0, 0.0, fmi2False, 0.0));
+    CHECK_ERR(fmi2DoStep(c, 2.0, 0.1, fmi2True));
+    CHECK_OK(fmi2ExitInitializationMode(c));
+    CHECK_ERR(fmi2ExitInitializationMode(c));
+    CHECK(logged(&lb, "fmi2ExitInitializationMode", "stepComplete"));
+    CHECK_ERR(fmi2EnterInitializationMode(c));
+
+    /* communication points */
+    CHECK_ERR(fmi2DoStep(c, 0.0, 0.1, fmi2True)); /* start time is 2 */
+    CHECK(logged(&lb, "currentCommunicationPoint", NULL));
+    CHECK_ERR(fmi2DoStep(c, 2.0, -0.1, fmi2True));
+    CHECK_ERR(fmi2DoStep(c, 2.0, NAN, fmi2True));
+    CHECK_OK(fmi2DoStep(c, 2.0 + 1e-14, 0.0, fmi2True)); /* within the tolerance, h = 0 */
+    CHECK_NEAR(get(c, VR_S), 1.0, 0.0);
+    CHECK_OK(fmi2DoStep(c, 2.0, 1e-15, fmi2True)); /* too short to integrate, but legal */
+    CHECK_NEAR(get(c, VR_S), 1.0, 1e-14);
+    CHECK_OK(fmi2DoStep(c, 2.0 + 1e-14, 0.5, fmi2True));
+    CHECK_OK(fmi2DoStep(c, 2.5 + 1e-14, 0.5, fmi2True));
+    CHECK_OK(fmi2GetRealStatus(c, fmi2LastSuccessfulTime, &x));
+    CHECK_NEAR(x, 3.0, 1e-13);
+
+    CHECK_OK(fmi2Terminate(c));
+    CHECK_ERR(fmi2Terminate(c));
+    CHECK_ERR(fmi2DoStep(c, 3.0, 0.1, fmi2True));
+    CHECK(logged(&lb, "fmi2DoStep", "terminated"));
+    CHECK(!isnan(get(c, VR_F))); /* getters work after termination */
+    CHECK_ERR(set(c, VR_U, 1.0));
+
+    /* reset: back to the start values as after instantiation */
+    CHECK_OK(fmi2Reset(c));
+    CHECK_ERR(fmi2DoStep(c, 0.0, 0.1, fmi2True));
+    CHECK_OK(set(c, VR_K, 9.0));
+    CHECK_OK(fmi2EnterInitializationMode(c));
+    CHECK_NEAR(get(c, VR_OMEGA), 3.0, 0.0);
+    CHECK_OK(fmi2Reset(c));
+    CHECK_OK(fmi2EnterInitializationMode(c));
+    CHECK_NEAR(get(c, VR_K), 4.0, 0.0);
+    CHECK_NEAR(get(c, VR_S), 1.0, 0.0);
+    CHECK_OK(fmi2ExitInitializationMode(c));
+    CHECK_OK(fmi2DoStep(c, 0.0, 0.1, fmi2True)); /* the time was reset to 0 */
+    fmi2FreeInstance(c);
+}
+
+static void test_get_set(void)
+{
+    logbook lb;
+    fmi2CallbackFunctions cb = callbacks(&lb);
+    fmi2Component c = fmi2Instantiate("gs", fmi2CoSimulation, GUID, "", &cb, fmi2False, fmi2False);
+    fmi2ValueReference vr2[2] = { VR_K, VR_DS };
+    double two[2] = { 16.0, 1.0 };
+    fmi2ValueReference vr;
+    fmi2Integer iv;
+    fmi2Boolean bv;
+    fmi2String sv;
+    double x = 0.0;
+
+    /* types */
+    vr = VR_N;
+    CHECK_ERR(fmi2SetReal(c, &vr, 1, &x));
+    CHECK(logged(&lb, "Integer", "8"));
+    vr = VR_K;
+    iv = 3;
+    CHECK_ERR(fmi2SetInteger(c, &vr, 1, &iv));
+    CHECK_ERR(fmi2SetBoolean(c, &vr, 1, &bv));
+    vr = NV;
+    CHECK_ERR(fmi2SetReal(c, &vr, 1, &x));
+    CHECK(logged(&lb, "out of range", NULL));
+    CHECK_ERR(fmi2SetReal(c, NULL, 1, &x));
+
+    /* what may be set before initialization */
+    CHECK_ERR(set(c, VR_DS, 1.0));
+    CHECK(logged(&lb, "value reference 3", "derivative"));
+    CHECK_ERR(set(c, VR_OMEGA, 1.0));
+    CHECK(logged(&lb, "value reference 11", NULL));
+    CHECK_ERR(set(c, VR_F, 1.0));
+    CHECK(logged(&lb, "value reference 13", NULL));
+    CHECK_OK(set(c, VR_S, 2.0));
+    CHECK_OK(set(c, VR_U, 0.25));
+    vr = VR_N;
+    iv = 3;
+    CHECK_OK(fmi2SetInteger(c, &vr, 1, &iv));
+    vr = VR_B;
+    bv = 5; /* any non-zero value is true */
+    CHECK_OK(fmi2SetBoolean(c, &vr, 1, &bv));
+    /* a failed Set changes nothing */
+    CHECK_ERR(fmi2SetReal(c, vr2, 2, two));
+
+    CHECK_OK(fmi2EnterInitializationMode(c));
+    CHECK_NEAR(get(c, VR_K), 4.0, 0.0);
+    vr = VR_N10;
+    CHECK_OK(fmi2GetInteger(c, &vr, 1, &iv));
+    CHECK(iv == 30);
+    vr = VR_B;
+    CHECK_OK(fmi2GetBoolean(c, &vr, 1, &bv));
+    CHECK(bv == fmi2True);
+    CHECK_ERR(fmi2GetReal(c, &vr, 1, &x));
+    CHECK(logged(&lb, "Boolean", "not Real"));
+    CHECK_ERR(fmi2GetInteger(c, &vr, 1, &iv));
+    vr = VR_K;
+    CHECK_ERR(fmi2GetInteger(c, &vr, 1, &iv));
+    CHECK(logged(&lb, "Real", "not Integer"));
+    vr = VR_N;
+    CHECK_ERR(fmi2GetBoolean(c, &vr, 1, &bv));
+    vr = NV + 100;
+    CHECK_ERR(fmi2GetReal(c, &vr, 1, &x));
+
+    /* strings: there are none */
+    CHECK_OK(fmi2GetString(c, NULL, 0, NULL));
+    CHECK_OK(fmi2SetString(c, NULL, 0, NULL));
+    vr = VR_S;
+    CHECK_ERR(fmi2GetString(c, &vr, 1, &sv));
+    CHECK_ERR(fmi2SetString(c, &vr, 1, &sv));
+    CHECK_OK(fmi2GetReal(c, NULL, 0, NULL));
+
+    /* derivatives and algebraics are evaluated lazily from the current values */
+    CHECK_NEAR(get(c, VR_DV), -4.0 * 2.0 - 0.3 * 0.0 + 0.25, 1e-15);
+    CHECK_NEAR(get(c, VR_F), 4.0 * 2.0 + 0.25, 1e-15);
+    CHECK_OK(set(c, VR_V, 1.0));
+    CHECK_NEAR(get(c, VR_DV), -4.0 * 2.0 - 0.3 * 1.0 + 0.25, 1e-15);
+    CHECK_NEAR(get(c, VR_E), 1.0 + 2.0, 1e-15); /* w = k / 2 = 2 */
+
+    CHECK_OK(fmi2ExitInitializationMode(c));
+    /* after initialization: parameters and states are fixed, inputs remain settable */
+    CHECK_ERR(set(c, VR_K, 5.0));
+    CHECK(logged(&lb, "value reference 7", "parameter"));
+    CHECK_ERR(set(c, VR_S, 5.0));
+    CHECK(logged(&lb, "value reference 0", "stepComplete"));
+    vr = VR_N;
+    iv = 1;
+    CHECK_ERR(fmi2SetInteger(c, &vr, 1, &iv));
+    CHECK_OK(set(c, VR_U, 1.0));
+    CHECK_NEAR(get(c, VR_F), 4.0 * 2.0 + 1.0, 1e-15);
+    fmi2FreeInstance(c);
+}
+
+static void test_calculated(void)
+{
+    logbook lb;
+    fmi2CallbackFunctions cb = callbacks(&lb);
+    fmi2Component c = start_init(fmi2CoSimulation, &cb, 0.0);
+
+    /* calculated parameters and calculated state starts follow parameter changes in init mode */
+    CHECK_NEAR(get(c, VR_OMEGA), 2.0, 0.0);
+    CHECK_NEAR(get(c, VR_W), 2.0, 0.0);
+    CHECK_OK(set(c, VR_K, 9.0));
+    CHECK_NEAR(get(c, VR_OMEGA), 3.0, 0.0);
+    CHECK_NEAR(get(c, VR_W), 4.5, 0.0);
+    CHECK_NEAR(get(c, VR_DW), -4.5, 0.0);
+    CHECK_OK(fmi2ExitInitializationMode(c));
+    CHECK_NEAR(get(c, VR_W), 4.5, 0.0);
+    CHECK_NEAR(get(c, VR_OMEGA), 3.0, 0.0);
+    fmi2FreeInstance(c);
+
+    /* a state set explicitly wins over its calculated start */
+    c = fmi2Instantiate("calc", fmi2CoSimulation, GUID, "", &cb, fmi2False, fmi2False);
+    CHECK_OK(set(c, VR_W, 7.0));
+    CHECK_OK(fmi2EnterInitializationMode(c));
+    CHECK_OK(set(c, VR_K, 16.0));
+    CHECK_NEAR(get(c, VR_W), 7.0, 0.0);
+    CHECK_NEAR(get(c, VR_OMEGA), 4.0, 0.0);
+    fmi2FreeInstance(c);
+
+    /* a failing calc_parameters puts the instance into the error state */
+    c = fmi2Instantiate("calc", fmi2CoSimulation, GUID, "", &cb, fmi2False, fmi2False);
+    CHECK_OK(set(c, VR_K, -1.0));
+    CHECK_ERR(fmi2EnterInitializationMode(c));
+    CHECK(logged(&lb, "calculated parameters", NULL));
+    CHECK_ERR(fmi2ExitInitializationMode(c));
+    CHECK(logged(&lb, "error", NULL));
+    CHECK_OK(fmi2Reset(c));
+    CHECK_OK(fmi2EnterInitializationMode(c));
+    fmi2FreeInstance(c);
+}
+
+static void test_cs_accuracy(void)
+{
+    long evals;
+    double e;
+
+    e = cs_error(1e-10, 0.1, 0.0, 0.0, NULL);
+    printf("  adaptive, tol 1e-10, H = 0.1:  max error %.3g\n", e);
+    CHECK(e < 1e-9);
+    e = cs_error(1e-10, 1.0, 0.0, 0.0, NULL);
+    printf("  adaptive, tol 1e-10, H = 1:    max error %.3g\n", e);
+    CHECK(e < 1e-9);
+    e = cs_error(1e-6, 0.5, 0.0, 0.0, NULL);
+    printf("  adaptive, tol 1e-6,  H = 0.5:  max error %.3g\n", e);
+    CHECK(e < 1e-5);
+    e = cs_error(1e-10, 10.0, 0.0, 0.0, NULL);
+    printf("  adaptive, tol 1e-10, H = 10:   max error %.3g\n", e);
+    CHECK(e < 1e-9);
+
+    /* step size memory: with small communication steps each DoStep is one step of 6 evaluations */
+    e = cs_error(1e-6, 0.01, 0.0, 0.0, &evals);
+    printf("  adaptive, tol 1e-6,  H = 0.01: max error %.3g, %ld evaluations per DoStep\n", e, evals);
+    CHECK(e < 1e-6);
+    CHECK(evals <= 6);
+
+    /* fixed steps: exactly H / h steps of 6 evaluations (FSAL), the last one shortened */
+    e = cs_error(1e-10, 0.1, 0.01, 0.0, &evals);
+    printf("  fixed h = 0.01, H = 0.1:       max error %.3g, %ld evaluations per DoStep\n", e, evals);
+    CHECK(e < 1e-8);
+    CHECK(evals == 60);
+    e = cs_error(1e-10, 0.125, 0.01, 0.0, &evals);
+    printf("  fixed h = 0.01, H = 0.125:     max error %.3g, %ld evaluations per DoStep\n", e, evals);
+    CHECK(e < 1e-8);
+    CHECK(evals == 78);
+    e = cs_error(1e-10, 0.1, 0.1, 0.0, &evals);
+    printf("  fixed h = 0.1, H = 0.1:        max error %.3g\n", e);
+    CHECK(e < 1e-4 && e > 1e-9); /* visibly less accurate: no error control */
+}
+
+/* Far from t = 0 the rounding of the time must not produce tiny steps or failures. */
+static void test_cs_late_start(void)
+{
+    logbook lb;
+    fmi2CallbackFunctions cb = callbacks(&lb);
+    const double t0 = 1e6;
+    double h_fixed, s, v;
+    int i, j, ok;
+
+    for (j = 0; j < 2; j++) {
+        fmi2Component c = fmi2Instantiate("late", fmi2CoSimulation, GUID, "", &cb, fmi2False, fmi2False);
+        h_fixed = j == 0 ? 0.0 : 1e-3;
+        fmi2SetupExperiment(c, fmi2True, 1e-10, t0, fmi2False, 0.0);
+        fmi2EnterInitializationMode(c);
+        set(c, VR_H, h_fixed);
+        fmi2ExitInitializationMode(c);
+        ok = 1;
+        for (i = 0; i < 30 && ok; i++) ok = fmi2DoStep(c, t0 + 0.1 * i, 0.1, fmi2True) == fmi2OK;
+        CHECK(ok);
+        exact_sv(3.0, 4.0, 0.2, 0.5, 0.0, 1.0, 0.0, &s, &v);
+        /* t itself has a resolution of 1.2e-10 here; x must not drift against it */
+        CHECK_NEAR(get(c, VR_S), s, 2e-9);
+        fmi2FreeInstance(c);
+    }
+}
+
+static void test_cs_outputs_and_inputs(void)
+{
+    logbook lb;
+    fmi2CallbackFunctions cb = callbacks(&lb);
+    fmi2Component c, me;
+    const fmi2ValueReference vu = VR_U, vk = VR_K;
+    fmi2Integer order = 1;
+    double r = 0.3, e, s, x, u;
+    int i;
+
+    /* linearly interpolated inputs reproduce the exact solution for u = 0.5 + 0.3 t */
+    e = cs_error(1e-10, 0.1, 0.0, 0.3, NULL);
+    printf("  input derivatives, tol 1e-10:  max error %.3g\n", e);
+    CHECK(e < 1e-9);
+    e = cs_error(1e-10, 1.0, 0.0, 0.3, NULL);
+    CHECK(e < 1e-9);
+    /* while holding the input constant over each step is visibly wrong */
+    {
+        c = start(fmi2CoSimulation, &cb, 1e-10);
+        for (i = 0; i < 10; i++) {
+            set(c, VR_U, 0.5 + 0.3 * i);
+            fmi2DoStep(c, i, 1.0, fmi2True);
+        }
+        exact_sv(10.0, 4.0, 0.2, 0.5, 0.3, 1.0, 0.0, &s, &x);
+        CHECK(fabs(get(c, VR_S) - s) > 1e-3);
+        fmi2FreeInstance(c);
+    }
+
+    c = start(fmi2CoSimulation, &cb, 1e-10);
+    /* outputs at the end of a step are consistent with the states there */
+    CHECK_OK(fmi2DoStep(c, 0.0, 0.7, fmi2True));
+    s = get(c, VR_S);
+    CHECK(get(c, VR_F) == 4.0 * s + 0.5);
+    CHECK(get(c, VR_DV) == -4.0 * s - 0.2 * get(c, VR_V) + 0.5);
+    CHECK(get(c, VR_DS) == get(c, VR_V));
+
+    /* after a step with input derivatives the input holds its end value, the derivative is reset */
+    CHECK_OK(fmi2SetRealInputDerivatives(c, &vu, 1, &order, &r));
+    CHECK_OK(fmi2DoStep(c, 0.7, 0.5, fmi2True));
+    u = get(c, VR_U);
+    CHECK_NEAR(u, 0.5 + 0.3 * 0.5, 1e-15);
+    CHECK(get(c, VR_F) == 4.0 * get(c, VR_S) + u);
+    CHECK_OK(fmi2DoStep(c, 1.2, 0.5, fmi2True));
+    CHECK(get(c, VR_U) == u);
+
+    /* h = 0 applies nothing but re-evaluates */
+    CHECK_OK(set(c, VR_U, 2.0));
+    CHECK_OK(fmi2DoStep(c, 1.7, 0.0, fmi2True));
+    CHECK(get(c, VR_F) == 4.0 * get(c, VR_S) + 2.0);
+
+    /* only first-order derivatives of Real inputs */
+    order = 2;
+    CHECK_ERR(fmi2SetRealInputDerivatives(c, &vu, 1, &order, &r));
+    CHECK(logged(&lb, "order 2", NULL));
+    order = 1;
+    CHECK_ERR(fmi2SetRealInputDerivatives(c, &vk, 1, &order, &r));
+    CHECK(logged(&lb, "not an input", NULL));
+    CHECK_ERR(fmi2GetRealOutputDerivatives(c, &vk, 1, &order, &r));
+    CHECK_OK(fmi2Terminate(c));
+    CHECK_ERR(fmi2SetRealInputDerivatives(c, &vu, 1, &order, &r));
+    fmi2FreeInstance(c);
+
+    me = start(fmi2ModelExchange, &cb, 0.0);
+    CHECK_ERR(fmi2SetRealInputDerivatives(me, &vu, 1, &order, &r));
+    CHECK(logged(&lb, "ModelExchange", NULL));
+    fmi2FreeInstance(me);
+}
+
+static void test_cs_status(void)
+{
+    logbook lb;
+    fmi2CallbackFunctions cb = callbacks(&lb);
+    fmi2Component c = start(fmi2CoSimulation, &cb, 0.0);
+    fmi2Status st;
+    fmi2Real t;
+    fmi2Integer i;
+    fmi2Boolean b;
+    fmi2String s;
+
+    CHECK_OK(fmi2DoStep(c, 0.0, 0.25, fmi2True));
+    CHECK_OK(fmi2GetStatus(c, fmi2DoStepStatus, &st));
+    CHECK(st == fmi2OK);
+    CHECK_OK(fmi2GetRealStatus(c, fmi2LastSuccessfulTime, &t));
+    CHECK(t == 0.25);
+    CHECK_OK(fmi2GetBooleanStatus(c, fmi2Terminated, &b));
+    CHECK(b == fmi2False);
+    CHECK(fmi2GetStringStatus(c, fmi2PendingStatus, &s) == fmi2Discard);
+    CHECK(fmi2GetIntegerStatus(c, fmi2DoStepStatus, &i) == fmi2Discard);
+    CHECK(fmi2GetStatus(c, fmi2PendingStatus, &st) == fmi2Discard);
+    CHECK_ERR(fmi2CancelStep(c));
+    CHECK(logged(&lb, "fmi2CancelStep", NULL));
+    CHECK_OK(fmi2DoStep(c, 0.25, 0.25, fmi2True)); /* none of this harmed the instance */
+    fmi2FreeInstance(c);
+}
+
+static void test_cs_failures(void)
+{
+    logbook lb;
+    fmi2CallbackFunctions cb = callbacks(&lb);
+    fmi2Component c = start(fmi2CoSimulation, &cb, 1e-8);
+    fmi2Real t;
+
+    /* a failing model evaluation ends the step with an error and the instance in the error state */
+    CHECK_OK(fmi2DoStep(c, 0.0, 0.5, fmi2True));
+    CHECK_OK(set(c, VR_U, 2e6));
+    CHECK_ERR(fmi2DoStep(c, 0.5, 0.5, fmi2True));
+    CHECK(logged(&lb, "evaluation failed", "at t = 0.5"));
+    CHECK_ERR(fmi2DoStep(c, 0.5, 0.5, fmi2True));
+    CHECK(logged(&lb, "fmi2DoStep", "state error"));
+    CHECK_ERR(fmi2GetRealStatus(c, fmi2LastSuccessfulTime, &t));
+    CHECK_NEAR(get(c, VR_S), get(c, VR_S), 0.0); /* values remain readable for diagnosis */
+    CHECK_ERR(set(c, VR_U, 0.0));
+    CHECK_OK(fmi2Reset(c));
+    fmi2FreeInstance(c);
+
+    /* a non-finite solution: adaptive steps shrink until the step size underflows */
+    c = start(fmi2CoSimulation, &cb, 1e-8);
+    CHECK_OK(fmi2DoStep(c, 0.0, 0.5, fmi2True));
+    CHECK_OK(set(c, VR_U, INFINITY));
+    CHECK_ERR(fmi2DoStep(c, 0.5, 0.5, fmi2True));
+    CHECK(logged(&lb, "non-finite", "at t = 0.5"));
+    fmi2FreeInstance(c);
+
+    /* with fixed steps the first non-finite state is an error */
+    c = start_init(fmi2CoSimulation, &cb, 1e-8);
+    set(c, VR_H, 0.01);
+    fmi2ExitInitializationMode(c);
+    CHECK_OK(fmi2DoStep(c, 0.0, 0.5, fmi2True));
+    CHECK_OK(set(c, VR_U, INFINITY));
+    CHECK_ERR(fmi2DoStep(c, 0.5, 0.5, fmi2True));
+    CHECK(logged(&lb, "non-finite", "at t = 0.51"));
+    fmi2FreeInstance(c);
+
+    /* too many steps */
+    c = start_init(fmi2CoSimulation, &cb, 1e-8);
+    set(c, VR_H, 1e-7);
+    fmi2ExitInitializationMode(c);
+    CHECK_ERR(fmi2DoStep(c, 0.0, 1.0, fmi2True));
+    CHECK(logged(&lb, "more than 1000000 steps", "at t = 0.")); /* t = 0.1 after 1e6 steps */
+    fmi2FreeInstance(c);
+}
+
+/* Records the outputs of five steps with changing inputs. */
+static void five_steps(fmi2Component c, double t, double out[5][6])
+{
+    const fmi2ValueReference vu = VR_U, vr[6] = { VR_S, VR_V, VR_W, VR_F, VR_E, VR_DV };
+    const fmi2Integer order = 1;
+    int i;
+    for (i = 0; i < 5; i++) {
+        double du = 0.1 * i;
+        set(c, VR_U, 0.2 * i);
+        fmi2SetRealInputDerivatives(c, &vu, 1, &order, &du);
+        fmi2DoStep(c, t + 0.3 * i, 0.3, fmi2False);
+        fmi2GetReal(c, vr, 6, out[i]);
+    }
+}
+
+static void test_fmu_state(void)
+{
+    logbook lb;
+    fmi2CallbackFunctions cb = callbacks(&lb);
+    fmi2Component c = start(fmi2CoSimulation, &cb, 1e-9), me;
+    fmi2FMUstate state = NULL, state2 = NULL, state3 = NULL;
+    double ref[5][6], again[5][6], t;
+    size_t size = 0;
+    char *bytes;
+    int i;
+
+    for (i = 0; i < 5; i++) fmi2DoStep(c, 0.2 * i, 0.2, fmi2True);
+    CHECK_OK(fmi2GetFMUstate(c, &state));
+    five_steps(c, 1.0, ref);
+
+    CHECK_OK(fmi2SetFMUstate(c, state));
+    CHECK_OK(fmi2GetRealStatus(c, fmi2LastSuccessfulTime, &t));
+    CHECK(t == 1.0);
+    five_steps(c, 1.0, again);
+    CHECK(memcmp(ref, again, sizeof ref) == 0);
+
+    /* overwriting an existing state */
+    CHECK_OK(fmi2GetFMUstate(c, &state));
+    CHECK_OK(fmi2GetRealStatus(c, fmi2LastSuccessfulTime, &t));
+    CHECK_NEAR(t, 2.5, 1e-14);
+
+    /* serialization round trip */
+    CHECK_OK(fmi2SetFMUstate(c, state)); /* t = 2.5 */
+    CHECK_OK(fmi2GetFMUstate(c, &state2));
+    CHECK_OK(fmi2SerializedFMUstateSize(c, state2, &size));
+    bytes = (char *)malloc(size);
+    CHECK_OK(fmi2SerializeFMUstate(c, state2, bytes, size));
+    CHECK_ERR(fmi2SerializeFMUstate(c, state2, bytes, size - 1));
+    CHECK_OK(fmi2FreeFMUstate(c, &state2));
+    CHECK(state2 == NULL);
+    five_steps(c, 2.5, ref);
+    CHECK_OK(fmi2DeSerializeFMUstate(c, bytes, size, &state3));
+    CHECK_OK(fmi2SetFMUstate(c, state3));
+    five_steps(c, 2.5, again);
+    CHECK(memcmp(ref, again, sizeof ref) == 0);
+
+    /* a state restored into a different instance continues identically there, too */
+    {
+        fmi2Component c2 = start(fmi2CoSimulation, &cb, 1e-3);
+        CHECK_OK(fmi2SetFMUstate(c2, state3));
+        five_steps(c2, 2.5, again);
+        CHECK(memcmp(ref, again, sizeof ref) == 0);
+        fmi2FreeInstance(c2);
+    }
+
+    /* corrupt input is rejected */
+    CHECK_ERR(fmi2DeSerializeFMUstate(c, bytes, size - 1, &state2));
+    CHECK_ERR(fmi2DeSerializeFMUstate(c, bytes, 3, &state2));
+    bytes[0] ^= 0x5a;
+    CHECK_ERR(fmi2DeSerializeFMUstate(c, bytes, size, &state2));
+    CHECK(logged(&lb, "magic", NULL));
+    bytes[0] ^= 0x5a;
+    bytes[4] ^= 0x01;
+    CHECK_ERR(fmi2DeSerializeFMUstate(c, bytes, size, &state2));
+    CHECK(logged(&lb, "version", NULL));
+    bytes[4] ^= 0x01;
+    bytes[8] ^= 0x01;
+    CHECK_ERR(fmi2DeSerializeFMUstate(c, bytes, size, &state2));
+    CHECK(logged(&lb, "different model", NULL));
+    bytes[8] ^= 0x01;
+    CHECK(state2 == NULL);
+    CHECK_ERR(fmi2SetFMUstate(c, NULL));
+    CHECK_ERR(fmi2SetFMUstate(c, (fmi2FMUstate)bytes));
+
+    /* a CoSimulation state does not fit a ModelExchange instance */
+    me = start(fmi2ModelExchange, &cb, 0.0);
+    CHECK_ERR(fmi2DeSerializeFMUstate(me, bytes, size, &state2));
+    CHECK_ERR(fmi2SetFMUstate(me, state3));
+    fmi2FreeInstance(me);
+
+    /* a state from initialization mode brings the instance back there */
+    fmi2FreeFMUstate(c, &state);
+    CHECK_OK(fmi2Reset(c));
+    CHECK_OK(fmi2EnterInitializationMode(c));
+    CHECK_OK(set(c, VR_K, 9.0));
+    CHECK_OK(fmi2GetFMUstate(c, &state));
+    CHECK_OK(fmi2ExitInitializationMode(c));
+    CHECK_OK(fmi2DoStep(c, 0.0, 1.0, fmi2True));
+    CHECK_OK(fmi2SetFMUstate(c, state));
+    CHECK_OK(set(c, VR_K, 16.0)); /* allowed again */
+    CHECK_NEAR(get(c, VR_W), 8.0, 0.0);
+
+    /* restoring recovers from the error state */
+    CHECK_OK(fmi2ExitInitializationMode(c));
+    CHECK_OK(fmi2GetFMUstate(c, &state));
+    CHECK_OK(set(c, VR_U, 2e6));
+    CHECK_ERR(fmi2DoStep(c, 0.0, 1.0, fmi2True));
+    CHECK_OK(fmi2SetFMUstate(c, state));
+    CHECK_OK(fmi2DoStep(c, 0.0, 1.0, fmi2True));
+
+    CHECK_OK(fmi2FreeFMUstate(c, &state));
+    CHECK_OK(fmi2FreeFMUstate(c, &state3));
+    CHECK_OK(fmi2FreeFMUstate(c, &state3)); /* NULL: nothing to do */
+    free(bytes);
+    fmi2FreeInstance(c);
+}
+
+/* Compares fmi2GetDirectionalDerivative with central differences of the model's eval. */
+static void check_jacobian(fmi2Component c, const char *where)
+{
+    const fmi2ValueReference known[5] = { VR_S, VR_V, VR_W, VR_U, VR_K };
+    const fmi2ValueReference unknown[5] = { VR_DS, VR_DV, VR_DW, VR_F, VR_E };
+    double x[3], u, p[4], t = 0.0, worst = 0.0, dir[5] = { 0.3, -1.1, 0.7, 2.0, -0.4 };
+    double dv[5], fd[5];
+    const fmi2ValueReference vp[4] = { VR_K, VR_N, VR_B, VR_H };
+    fmi2Integer n;
+    fmi2Boolean b;
+    int j, m;
+
+    fmi2GetReal(c, known, 3, x);
+    u = get(c, VR_U);
+    p[0] = get(c, VR_K);
+    fmi2GetInteger(c, &vp[1], 1, &n);
+    fmi2GetBoolean(c, &vp[2], 1, &b);
+    p[1] = n;
+    p[2] = b;
+    p[3] = get(c, VR_H);
+
+    for (m = 0; m < 6; m++) { /* unit directions, then one mixed direction */
+        double seed[5] = { 0, 0, 0, 0, 0 }, xp[3], xm[3], up, um, pp[4], pm[4];
+        double fp[3], fm[3], zp[2], zm[2];
+        const double eps = 1e-6;
+        if (m < 5) seed[m] = 1.0;
+        else memcpy(seed, dir, sizeof seed);
+        CHECK_OK(fmi2GetDirectionalDerivative(c, unknown, 5, known, 5, seed, dv));
+        for (j = 0; j < 3; j++) { xp[j] = x[j] + eps * seed[j]; xm[j] = x[j] - eps * seed[j]; }
+        up = u + eps * seed[3];
+        um = u - eps * seed[3];
+        memcpy(pp, p, sizeof p);
+        memcpy(pm, p, sizeof p);
+        pp[0] += eps * seed[4];
+        pm[0] -= eps * seed[4];
+        COSIM_MODEL.eval(t, xp, &up, pp, fp, zp);
+        COSIM_MODEL.eval(t, xm, &um, pm, fm, zm);
+        for (j = 0; j < 3; j++) fd[j] = (fp[j] - fm[j]) / (2 * eps);
+        for (j = 0; j < 2; j++) fd[3 + j] = (zp[j] - zm[j]) / (2 * eps);
+        for (j = 0; j < 5; j++) worst = fmax(worst, fabs(dv[j] - fd[j]) / fmax(1.0, fabs(fd[j])));
+    }
+    printf("  directional derivatives (%s): max deviation from finite differences %.2g\n", where, worst);
+    CHECK(worst < 1e-7);
+}
+
+static void test_directional_derivatives(void)
+{
+    logbook lb;
+    fmi2CallbackFunctions cb = callbacks(&lb);
+    fmi2Component c = start_init(fmi2CoSimulation, &cb, 1e-8), me;
+    fmi2ValueReference vk = VR_S, vu = VR_DS;
+    double one = 1.0, out;
+
+    set(c, VR_V, 0.7);
+    check_jacobian(c, "CS initializationMode");
+    fmi2ExitInitializationMode(c);
+    fmi2DoStep(c, 0.0, 1.3, fmi2True);
+    check_jacobian(c, "CS stepComplete");
+
+    /* only states, inputs and Real parameters are knowns; only derivatives and algebraics unknowns */
+    vk = VR_DS;
+    CHECK_ERR(fmi2GetDirectionalDerivative(c, &vu, 1, &vk, 1, &one, &out));
+    CHECK(logged(&lb, "value reference 3", "known"));
+    vk = VR_OMEGA;
+    CHECK_ERR(fmi2GetDirectionalDerivative(c, &vu, 1, &vk, 1, &one, &out));
+    vk = VR_N;
+    CHECK_ERR(fmi2GetDirectionalDerivative(c, &vu, 1, &vk, 1, &one, &out));
+    vk = VR_S;
+    vu = VR_S;
+    CHECK_ERR(fmi2GetDirectionalDerivative(c, &vu, 1, &vk, 1, &one, &out));
+    CHECK(logged(&lb, "value reference 0", "unknown"));
+    vu = VR_OMEGA;
+    CHECK_ERR(fmi2GetDirectionalDerivative(c, &vu, 1, &vk, 1, &one, &out));
+    vu = NV;
+    CHECK_ERR(fmi2GetDirectionalDerivative(c, &vu, 1, &vk, 1, &one, &out));
+    vu = VR_DV;
+    CHECK_OK(fmi2GetDirectionalDerivative(c, &vu, 1, &vk, 1, &one, &out));
+    CHECK_NEAR(out, -4.0, 0.0);
+    fmi2FreeInstance(c);
+
+    me = start(fmi2ModelExchange, &cb, 0.0);
+    check_jacobian(me, "ME eventMode");
+    fmi2EnterContinuousTimeMode(me);
+    {
+        const double x[3] = { 0.3, -0.2, 1.5 };
+        fmi2SetContinuousStates(me, x, 3);
+        fmi2SetTime(me, 0.5);
+    }
+    check_jacobian(me, "ME continuousTimeMode");
+    fmi2FreeInstance(me);
+
+    c = fmi2Instantiate("dd", fmi2CoSimulation, GUID, "", &cb, fmi2False, fmi2False);
+    CHECK_ERR(fmi2GetDirectionalDerivative(c, &vu, 1, &vk, 1, &one, &out));
+    CHECK(logged(&lb, "fmi2GetDirectionalDerivative", "instantiated"));
+    fmi2FreeInstance(c);
+}
+
+static void test_model_exchange(void)
+{
+    logbook lb;
+    fmi2CallbackFunctions cb = callbacks(&lb);
+    fmi2Component c = start_init(fmi2ModelExchange, &cb, 0.0);
+    fmi2EventInfo info;
+    fmi2Boolean enter, term;
+    double x[3], dx[3], k1[3], k2[3], k3[3], k4[3], xt[3], nom[3], t = 0.0, s, v;
+    const double h = 1e-3;
+    fmi2ValueReference vr = VR_N;
+    fmi2Integer iv = 2;
+    int i, j;
+
+    CHECK_OK(fmi2GetContinuousStates(c, x, 3));
+    CHECK(x[0] == 1.0 && x[1] == 0.0 && x[2] == 2.0); /* w(0) = k / 2 */
+    CHECK_ERR(fmi2GetContinuousStates(c, x, 2));
+    CHECK(logged(&lb, "nx = 2", NULL));
+    CHECK_ERR(fmi2SetContinuousStates(c, x, 3)); /* not in initializationMode */
+    CHECK_ERR(fmi2DoStep(c, 0.0, 0.1, fmi2True));
+    CHECK(logged(&lb, "fmi2DoStep", "ModelExchange"));
+    CHECK_OK(fmi2ExitInitializationMode(c));
+
+    CHECK_OK(fmi2NewDiscreteStates(c, &info));
+    CHECK(!info.newDiscreteStatesNeeded && !info.terminateSimulation && !info.nominalsOfContinuousStatesChanged &&
+          !info.valuesOfContinuousStatesChanged && !info.nextEventTimeDefined);
+    CHECK_OK(fmi2SetInteger(c, &vr, 0, &iv)); /* discrete variables may be set in event mode */
+    CHECK_ERR(fmi2CompletedIntegratorStep(c, fmi2True, &enter, &term));
+    CHECK_OK(fmi2EnterContinuousTimeMode(c));
+    CHECK_ERR(fmi2NewDiscreteStates(c, &info));
+    CHECK_ERR(fmi2EnterContinuousTimeMode(c));
+
+    CHECK_OK(fmi2GetNominalsOfContinuousStates(c, nom, 3));
+    CHECK(nom[0] == 1.0 && nom[1] == 1.0 && nom[2] == 1.0);
+    CHECK_OK(fmi2GetEventIndicators(c, NULL, 0));
+    CHECK_ERR(fmi2GetEventIndicators(c, x, 1));
+    CHECK_ERR(fmi2GetDerivatives(c, dx, 4));
+    CHECK_ERR(set(c, VR_S, 1.0));
+    CHECK(logged(&lb, "fmi2SetContinuousStates", NULL));
+    CHECK_ERR(set(c, VR_K, 1.0));
+    CHECK_ERR(fmi2SetInteger(c, &vr, 1, &iv)); /* no discrete changes in continuous-time mode */
+    CHECK_OK(set(c, VR_U, 0.5));
+
+    /* classical Runge-Kutta through the ME interface */
+    CHECK_OK(fmi2GetContinuousStates(c, x, 3));
+    for (i = 0; i < 1000; i++) {
+        fmi2SetTime(c, t);
+        fmi2SetContinuousStates(c, x, 3);
+        fmi2GetDerivatives(c, k1, 3);
+        for (j = 0; j < 3; j++) xt[j] = x[j] + 0.5 * h * k1[j];
+        fmi2SetTime(c, t + 0.5 * h);
+        fmi2SetContinuousStates(c, xt, 3);
+        fmi2GetDerivatives(c, k2, 3);
+        for (j = 0; j < 3; j++) xt[j] = x[j] + 0.5 * h * k2[j];
+        fmi2SetContinuousStates(c, xt, 3);
+        fmi2GetDerivatives(c, k3, 3);
+        for (j = 0; j < 3; j++) xt[j] = x[j] + h * k3[j];
+        fmi2SetTime(c, t + h);
+        fmi2SetContinuousStates(c, xt, 3);
+        fmi2GetDerivatives(c, k4, 3);
+        for (j = 0; j < 3; j++) x[j] += h / 6.0 * (k1[j] + 2 * k2[j] + 2 * k3[j] + k4[j]);
+        t = (i + 1) * h;
+        fmi2SetTime(c, t);
+        fmi2SetContinuousStates(c, x, 3);
+        CHECK_OK(fmi2CompletedIntegratorStep(c, fmi2True, &enter, &term));
+    }
+    CHECK(!enter && !term);
+    exact_sv(1.0, 4.0, 0.2, 0.5, 0.0, 1.0, 0.0, &s, &v);
+    CHECK_NEAR(get(c, VR_S), s, 1e-10);
+    CHECK_NEAR(get(c, VR_V), v, 1e-10);
+    CHECK_NEAR(get(c, VR_W), 2.0 * exp(-1.0), 1e-10);
+    CHECK(get(c, VR_F) == 4.0 * x[0] + 0.5);
+    CHECK_OK(fmi2GetDerivatives(c, dx, 3));
+    CHECK(dx[0] == x[1]);
+
+    CHECK_OK(fmi2EnterEventMode(c));
+    CHECK_OK(fmi2EnterEventMode(c));
+    CHECK_OK(fmi2NewDiscreteStates(c, &info));
+    CHECK_OK(fmi2EnterContinuousTimeMode(c));
+    CHECK_OK(fmi2Terminate(c));
+    CHECK_OK(fmi2GetDerivatives(c, dx, 3));
+    CHECK_ERR(fmi2SetTime(c, 2.0));
+    CHECK_ERR(fmi2EnterEventMode(c));
+    fmi2FreeInstance(c);
+}
+
+static void test_logging(void)
+{
+    logbook lb;
+    fmi2CallbackFunctions cb = callbacks(&lb);
+    fmi2Component c = fmi2Instantiate("log", fmi2CoSimulation, GUID, "", &cb, fmi2False, fmi2True);
+    const char *calls[1] = { "logCalls" }, *bad[1] = { "50%#x" }, *errors[1] = { "logStatusError" };
+    int n;
+
+    CHECK(logged(&lb, "fmi2Instantiate", NULL)); /* loggingOn = true logs calls */
+    CHECK(strcmp(lb.last_category, "logCalls") == 0 && lb.last_status == fmi2OK);
+    CHECK_OK(fmi2SetDebugLogging(c, fmi2False, 0, NULL));
+    n = lb.n_messages;
+    CHECK_ERR(fmi2Terminate(c));
+    CHECK(lb.n_messages == n); /* everything off */
+    CHECK_OK(fmi2SetDebugLogging(c, fmi2True, 1, calls));
+    CHECK_OK(fmi2SetupExperiment(c, fmi2True, 1e-7, 0.5, fmi2False, 0.0));
+    CHECK(logged(&lb, "fmi2SetupExperiment(", "startTime = 0.5"));
+    n = lb.n_messages;
+    CHECK_ERR(fmi2Terminate(c));
+    CHECK(lb.n_messages == n + 1); /* only the call, not the error */
+    CHECK_ERR(fmi2SetDebugLogging(c, fmi2True, 1, bad));
+    CHECK_OK(fmi2SetDebugLogging(c, fmi2True, 0, NULL));
+    CHECK_ERR(fmi2SetDebugLogging(c, fmi2True, 1, bad));
+    CHECK(logged(&lb, "unknown log category '50%##x'", NULL)); /* '%' and '#' escaped */
+    CHECK_ERR(fmi2SetDebugLogging(c, fmi2True, 1, NULL));
+    CHECK_OK(fmi2SetDebugLogging(c, fmi2True, 1, errors));
+    n = lb.n_messages;
+    CHECK_OK(fmi2EnterInitializationMode(c));
+    CHECK(lb.n_messages == n);
+    CHECK_ERR(fmi2Terminate(c));
+    CHECK(lb.n_messages == n + 1 && lb.last_status == fmi2Error);
+    fmi2FreeInstance(c);
+}
+
+static void test_instances(void)
+{
+    logbook lb1, lb2;
+    fmi2CallbackFunctions cb1 = callbacks(&lb1), cb2 = callbacks(&lb2);
+    fmi2Component a = start_init(fmi2CoSimulation, &cb1, 1e-10);
+    fmi2Component b = start_init(fmi2CoSimulation, &cb2, 1e-10);
+    double s, v;
+    int i;
+
+    set(b, VR_K, 9.0);
+    fmi2ExitInitializationMode(a);
+    fmi2ExitInitializationMode(b);
+    for (i = 0; i < 20; i++) {
+        fmi2DoStep(a, 0.1 * i, 0.1, fmi2True);
+        fmi2DoStep(b, 0.1 * i, 0.1, fmi2True);
+    }
+    exact_sv(2.0, 4.0, 0.2, 0.5, 0.0, 1.0, 0.0, &s, &v);
+    CHECK_NEAR(get(a, VR_S), s, 1e-9);
+    exact_sv(2.0, 9.0, 0.2, 0.5, 0.0, 1.0, 0.0, &s, &v);
+    CHECK_NEAR(get(b, VR_S), s, 1e-9);
+    CHECK_NEAR(get(b, VR_W), 4.5 * exp(-2.0), 1e-9);
+    CHECK_ERR(fmi2Terminate(NULL));
+    CHECK_ERR(set(a, VR_K, 1.0));
+    CHECK(logged(&lb1, "fmi2SetReal", NULL) && lb2.n_messages == 0); /* each instance its own logger */
+    fmi2FreeInstance(a);
+    fmi2FreeInstance(b);
+}
+
+int main(void)
+{
+    printf("fmi2_runtime tests\n");
+    test_basics();
+    test_state_machine();
+    test_get_set();
+    test_calculated();
+    test_cs_accuracy();
+    test_cs_late_start();
+    test_cs_outputs_and_inputs();
+    test_cs_status();
+    test_cs_failures();
+    test_fmu_state();
+    test_directional_derivatives();
+    test_model_exchange();
+    test_logging();
+    test_instances();
+    CHECK(n_live_allocations == 0); /* everything allocated through the callbacks was freed */
+    printf("%d checks, %d failed\n", n_checks, n_failed);
+    return n_failed == 0 ? 0 : 1;
+}

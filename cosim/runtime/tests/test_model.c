@@ -1,0 +1,104 @@
+/*
+ * test_model.c -- a hand-written COSIM_MODEL for testing fmi2_runtime.c.
+ *
+ * A damped oscillator driven by an input, plus a decaying state with a calculated start:
+ *
+ *   s' = v
+ *   v' = -k s - d v + g u       d = 0.1 n (Integer parameter n), g = b ? 1 : 0 (Boolean parameter b)
+ *   w' = -w                     w(0) = k / 2 (calculated start)
+ *
+ *   calculated parameters: omega = sqrt(k) (Real), n10 = 10 n (Integer)
+ *   algebraics:            f = k s + u,  e = v^2 + w
+ *
+ * eval fails for finite u > 1e6, so that the harness can test error handling.
+ *
+ * Value references:
+ *   0 s   1 v   2 w   3 der(s)   4 der(v)   5 der(w)   6 u
+ *   7 k   8 n   9 b   10 fixedStepSize   11 omega   12 n10   13 f   14 e
+ */
+#include <math.h>
+
+#include "cosim_model.h"
+
+/* Number of eval calls, so that the harness can count integrator steps (test code only). */
+long test_model_evals = 0;
+
+enum { P_K, P_N, P_B, P_H };
+
+static int calc_parameters(const double *p, double *c)
+{
+    if (p[P_K] < 0.0) return 1; /* sqrt of a negative stiffness */
+    c[0] = sqrt(p[P_K]);
+    c[1] = 10.0 * p[P_N];
+    return 0;
+}
+
+static int start_states(const double *p, double *x0)
+{
+    x0[2] = p[P_K] / 2.0;
+    return 0;
+}
+
+static int eval(double t, const double *x, const double *u, const double *p, double *xdot, double *z)
+{
+    const double k = p[P_K], d = 0.1 * p[P_N], g = p[P_B] != 0.0 ? 1.0 : 0.0;
+
+    (void)t;
+    test_model_evals++;
+    if (isfinite(u[0]) && u[0] > 1e6) return 1;
+    xdot[0] = x[1];
+    xdot[1] = -k * x[0] - d * x[1] + g * u[0];
+    xdot[2] = -x[2];
+    z[0] = k * x[0] + u[0];
+    z[1] = x[1] * x[1] + x[2];
+    return 0;
+}
+
+static int jvp(double t, const double *x, const double *u, const double *p,
+               const double *dx, const double *du, const double *dp, double *dxdot, double *dz)
+{
+    const double k = p[P_K], d = 0.1 * p[P_N], g = p[P_B] != 0.0 ? 1.0 : 0.0;
+
+    (void)t;
+    (void)u;
+    dxdot[0] = dx[1];
+    dxdot[1] = -k * dx[0] - dp[P_K] * x[0] - d * dx[1] + g * du[0];
+    dxdot[2] = -dx[2];
+    dz[0] = k * dx[0] + dp[P_K] * x[0] + du[0];
+    dz[1] = 2.0 * x[1] * dx[1] + dx[2];
+    return 0;
+}
+
+static const cosim_type types[15] = {
+    COSIM_REAL, COSIM_REAL, COSIM_REAL,                        /* x */
+    COSIM_REAL, COSIM_REAL, COSIM_REAL,                        /* der(x) */
+    COSIM_REAL,                                                /* u */
+    COSIM_REAL, COSIM_INTEGER, COSIM_BOOLEAN, COSIM_REAL,      /* p */
+    COSIM_REAL, COSIM_INTEGER,                                 /* c */
+    COSIM_REAL, COSIM_REAL                                     /* z */
+};
+
+static const double start[15] = {
+    1.0, 0.0, 0.0,
+    0.0, 0.0, 0.0,
+    0.5,
+    4.0, 2.0, 1.0, 0.0,
+    0.0, 0.0,
+    0.0, 0.0
+};
+
+static const unsigned char state_start_calculated[3] = { 0, 0, 1 };
+
+const cosim_model COSIM_MODEL = {
+    "{8c4e810f-3df3-4a00-8276-176fa3c9f000}",
+    3, 1, 4, 2, 2,
+    1e-6,
+    10,
+    types,
+    start,
+    state_start_calculated,
+    calc_parameters,
+    start_states,
+    eval,
+    jvp
+};

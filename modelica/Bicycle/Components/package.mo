@@ -1,0 +1,3 @@
+within Bicycle;
+package Components "Bicycle components: frame, front fork, torque sources"
+end Components;

@@ -1,0 +1,3 @@
+within Bicycle;
+package Examples "Runnable examples with experiment settings"
+end Examples;

@@ -1,0 +1,3 @@
+within Bicycle;
+package Interfaces "Connectors between bicycle components"
+end Interfaces;

@@ -1,0 +1,19 @@
+within Bicycle;
+package Units "SI unit types used by the library (same definitions as Modelica.Units.SI)"
+  type Angle = Real(final quantity = "Angle", final unit = "rad", displayUnit = "deg");
+  type AngularVelocity = Real(final quantity = "AngularVelocity", final unit = "rad/s");
+  type AngularMomentum = Real(final quantity = "AngularMomentum", final unit = "kg.m2/s");
+  type Torque = Real(final quantity = "Torque", final unit = "N.m");
+  type Mass = Real(final quantity = "Mass", final unit = "kg", min = 0);
+  type Length = Real(final quantity = "Length", final unit = "m");
+  type Position = Real(final quantity = "Length", final unit = "m");
+  type Distance = Real(final quantity = "Length", final unit = "m", min = 0);
+  type Velocity = Real(final quantity = "Velocity", final unit = "m/s");
+  type Acceleration = Real(final quantity = "Acceleration", final unit = "m/s2");
+  type MomentOfInertia = Real(final quantity = "MomentOfInertia", final unit = "kg.m2");
+  annotation(Documentation(info = "<html>
+<p>The Modelica Standard Library is not a dependency of this package (the FMU compiler flattens
+the package on its own), so the few SI types needed are declared here exactly as in
+<code>Modelica.Units.SI</code>.</p>
+</html>"));
+end Units;
