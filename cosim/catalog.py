@@ -15,6 +15,8 @@ class Signal:
     unit: str | None = None
     description: str = ""
     value: float | str | None = None
+    min: float | None = None
+    max: float | None = None
 
 
 @dataclass
@@ -43,7 +45,9 @@ def summarize(name: str, library: Library | None = None) -> ModelSummary:
     for decl in flat.declarations.values():
         if "." in decl.name:
             continue
-        signal = Signal(decl.name, decl.unit, decl.description)
+        signal = Signal(decl.name, decl.unit, decl.description, None,
+                        decl.min if isinstance(decl.min, (int, float)) else None,
+                        decl.max if isinstance(decl.max, (int, float)) else None)
         if "parameter" in decl.prefixes:
             value = values.get(decl.name)
             signal.value = value if isinstance(value, (int, float)) else str(value)

@@ -66,13 +66,14 @@ def _cmd_validate(args) -> int:
 
 
 def _cmd_simulate(args) -> int:
-    from .simulation import input_signals, parameter_values, plot, simulate, write_csv
-    from .target import resolve_fmu
-
-    fmu = resolve_fmu(args.target)
-    params = parameter_values(fmu, args.param)
     from fmpy import read_model_description
 
+    from .parameters import from_command_line
+    from .simulation import input_signals, plot, simulate, write_csv
+    from .target import resolve_fmu
+
+    params = from_command_line(args.target, args.param)  # refused before anything is built
+    fmu = resolve_fmu(args.target)
     md = read_model_description(str(fmu))
     t0 = float(md.defaultExperiment.startTime or 0.0) if md.defaultExperiment else 0.0
     inputs = input_signals(fmu, args.input, t0, args.stop_time)
@@ -85,6 +86,94 @@ def _cmd_simulate(args) -> int:
         plot(result, args.plot, title=md.modelName)
         print(f"wrote {args.plot}")
     return 0
+
+
+SPEED_NAMES = ("V", "v")
+
+
+def _speed_parameter(target: str) -> str:
+    from .parameters import declarations
+
+    declared = declarations(target)
+    for name in SPEED_NAMES:
+        if name in declared and declared[name].causality == "parameter":
+            return name
+    from .errors import ParameterError
+
+    raise ParameterError(f"{target} has no speed parameter ({' or '.join(SPEED_NAMES)})")
+
+
+def _cmd_linearize(args) -> int:
+    from .linearize import linearize
+    from .parameters import from_command_line
+    from .target import resolve_fmu
+
+    extra = {_speed_parameter(args.target): args.speed} if args.speed is not None else {}
+    params = from_command_line(args.target, args.param, extra)
+    result = linearize(resolve_fmu(args.target), params)
+    if args.json:
+        print(result.to_json())
+        return 0
+    import numpy as np
+
+    np.set_printoptions(precision=6, suppress=False, linewidth=120)
+    print(f"{result.model} linearized ({result.method}) at {params or 'default parameters'}")
+    print(f"states:  {', '.join(result.states)}\ninputs:  {', '.join(result.inputs)}\n"
+          f"outputs: {', '.join(result.outputs)}")
+    for name in "ABCD":
+        print(f"{name} =\n{getattr(result, name)}")
+    print("eigenvalues:", ", ".join(f"{e:.6g}" for e in result.eigenvalues))
+    return 0
+
+
+def _cmd_compare(args) -> int:
+    from .compare import compare_systems, format_table, parse_speeds
+    from .linearize import linearize
+    from .parameters import declarations, from_command_line
+    from .target import is_fmu_path, resolve_fmu
+    from .twins import analytic_system
+
+    if is_fmu_path(args.model):
+        from .errors import ParameterError
+
+        raise ParameterError("compare needs a model name (the analytic twin is chosen by model)")
+    speed = _speed_parameter(args.model)
+    speeds = parse_speeds(args.speeds) if args.speeds else [None]
+    base = from_command_line(args.model, args.param)
+    declared = declarations(args.model)
+    for v in speeds:
+        if v is not None:
+            from .parameters import check
+
+            check({speed: v}, declared)
+    fmu = resolve_fmu(args.model)
+    defaults = _parameter_defaults(fmu)
+    comparisons = []
+    for v in speeds:
+        params = {**base, **({speed: v} if v is not None else {})}
+        found = linearize(fmu, params).to_statespace()
+        expected = analytic_system(args.model, {**defaults, **params})
+        comparisons.append(compare_systems(args.model, {**defaults, **params}, found, expected))
+    worst = max(c.error for c in comparisons)
+    if args.json:
+        print(json.dumps({"model": args.model, "tolerance": args.tol, "largest_error": worst,
+                          "comparisons": [c.to_dict() for c in comparisons]}, indent=2))
+    else:
+        print(f"{args.model}: FMU linearization vs analytic model (relative errors)")
+        print(format_table(comparisons, speed))
+    if worst > args.tol:
+        print(f"cosim compare: largest relative error {worst:.2e} exceeds --tol {args.tol:g}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _parameter_defaults(fmu) -> dict:
+    """Start values of the FMU's top-level Real parameters."""
+    from fmpy import read_model_description
+
+    md = read_model_description(str(fmu))
+    return {v.name: float(v.start) for v in md.modelVariables
+            if v.causality == "parameter" and "." not in v.name and v.type == "Real" and v.start is not None}
 
 
 def _cmd_demo(args) -> int:
@@ -133,6 +222,21 @@ def parser() -> argparse.ArgumentParser:
     s.add_argument("--plot", default=None, help="save a plot of the result (PNG)")
     s.set_defaults(func=_cmd_simulate)
 
+    lin = sub.add_parser("linearize", help="A, B, C, D of an FMU or model at its initial point")
+    lin.add_argument("target", help="FMU file or model name")
+    lin.add_argument("--param", action="append", default=[], metavar="NAME=VALUE")
+    lin.add_argument("--speed", type=float, default=None, help="forward speed [m/s] (sets V)")
+    lin.add_argument("--json", action="store_true")
+    lin.set_defaults(func=_cmd_linearize)
+
+    cmp_ = sub.add_parser("compare", help="FMU linearization vs the analytic model")
+    cmp_.add_argument("model", help="model name (with an analytic twin)")
+    cmp_.add_argument("--speeds", default=None, help="A:B:STEP or V1,V2,... [m/s]")
+    cmp_.add_argument("--param", action="append", default=[], metavar="NAME=VALUE")
+    cmp_.add_argument("--tol", type=float, default=1e-9, help="largest accepted relative error")
+    cmp_.add_argument("--json", action="store_true")
+    cmp_.set_defaults(func=_cmd_compare)
+
     d = sub.add_parser("demo", help="build, validate and simulate the bundled bicycle")
     d.add_argument("-o", "--output", default="demo", help="folder for results (default: demo/)")
     d.set_defaults(func=_cmd_demo)
@@ -147,7 +251,7 @@ def main(argv: list[str] | None = None) -> int:
         args.output = DEFAULT_OUTPUT
     try:
         return args.func(args)
-    except (CosimError, FileNotFoundError) as exc:
+    except (CosimError, FileNotFoundError, ValueError) as exc:
         print(f"cosim {args.command}: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:

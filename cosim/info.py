@@ -6,6 +6,10 @@ import json
 from .target import is_fmu_path
 
 
+def _number(value):
+    return None if value in (None, "") else float(value)
+
+
 def fmu_info(path) -> dict:
     """Model description of an FMU as a plain dict."""
     from fmpy import read_model_description
@@ -28,8 +32,7 @@ def fmu_info(path) -> dict:
         "interfaces": [k for k, s in (("ModelExchange", md.modelExchange), ("CoSimulation", md.coSimulation)) if s],
         "states": [d.variable.derivative.name for d in md.derivatives],
         "defaultExperiment": {
-            "startTime": experiment.startTime, "stopTime": experiment.stopTime,
-            "tolerance": experiment.tolerance, "stepSize": experiment.stepSize,
+            key: _number(getattr(experiment, key)) for key in ("startTime", "stopTime", "tolerance", "stepSize")
         } if experiment else None,
         "variables": groups,
     }

@@ -7,14 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import ParameterError, SimulationError
-
-
-def parse_assignment(text: str, option: str) -> tuple[str, str]:
-    """Split ``NAME=VALUE``; ParameterError names the option if malformed."""
-    name, sep, value = text.partition("=")
-    if not sep or not name or not value:
-        raise ParameterError(f"{option} expects NAME=VALUE, got '{text}'")
-    return name.strip(), value.strip()
+from .parameters import split_assignment
 
 
 def _variables(fmu: Path):
@@ -22,26 +15,6 @@ def _variables(fmu: Path):
 
     md = read_model_description(str(fmu))
     return md, {v.name: v for v in md.modelVariables}
-
-
-def parameter_values(fmu: Path, assignments: list[str]) -> dict:
-    """``NAME=VALUE`` strings as start values, checked against the FMU's parameters."""
-    _, variables = _variables(fmu)
-    values = {}
-    for text in assignments:
-        name, value = parse_assignment(text, "--param")
-        variable = variables.get(name)
-        if variable is None or variable.causality not in ("parameter", "input"):
-            known = ", ".join(v.name for v in variables.values() if v.causality == "parameter" and "." not in v.name)
-            raise ParameterError(f"unknown parameter '{name}'; top-level parameters are: {known}")
-        try:
-            number = float(value)
-        except ValueError:
-            raise ParameterError(f"parameter '{name}': '{value}' is not a number") from None
-        if not np.isfinite(number):
-            raise ParameterError(f"parameter '{name}': value must be finite, got {value}")
-        values[name] = int(number) if variable.type == "Integer" else (number != 0 if variable.type == "Boolean" else number)
-    return values
 
 
 def input_signals(fmu: Path, specs: list[str], start_time: float, stop_time: float) -> np.ndarray | None:
@@ -55,7 +28,7 @@ def input_signals(fmu: Path, specs: list[str], start_time: float, stop_time: flo
     _, variables = _variables(fmu)
     signals = {}
     for text in specs:
-        name, source = parse_assignment(text, "--input")
+        name, source = split_assignment(text, "--input")
         variable = variables.get(name)
         if variable is None or variable.causality != "input":
             known = ", ".join(v.name for v in variables.values() if v.causality == "input") or "(none)"

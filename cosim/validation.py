@@ -123,7 +123,10 @@ def validate(path: str | Path) -> list[str]:
     path = Path(path)
     if not path.is_file():
         return [f"{path}: no such file"]
-    problems = [f"fmpy: {p}" for p in validate_fmu(str(path))]
+    try:
+        problems = [f"fmpy: {p}" for p in validate_fmu(str(path))]
+    except Exception as exc:  # not a zip, no modelDescription.xml, ...
+        return [f"cannot read the FMU: {exc}"]
     if problems:
         return problems  # the model description is unusable for the checks below
     with FMU(path) as fmu:

@@ -1,0 +1,78 @@
+"""The command line as a user runs it."""
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from conftest import run_cli
+
+MODEL = "Bicycle.Bicycles.SelfStabilizing"
+
+
+def test_list_json():
+    result = run_cli("list", "--json")
+    assert result.returncode == 0, result.stderr
+    models = {m["name"]: m for m in json.loads(result.stdout)}
+    m = models[MODEL]
+    assert m["exported"] and [s["name"] for s in m["inputs"]] == ["T"]
+    assert {"phi", "delta"} <= {s["name"] for s in m["outputs"]}
+    assert {p["name"]: p["unit"] for p in m["parameters"]}["V"] == "m/s"
+
+
+def test_info_fmu_and_model(fmus):
+    result = run_cli("info", str(fmus[MODEL]), "--json")
+    assert result.returncode == 0, result.stderr
+    info = json.loads(result.stdout)
+    assert info["interfaces"] == ["ModelExchange", "CoSimulation"]
+    assert info["states"] == ["frame.phi", "frame.L"]
+    assert info["defaultExperiment"]["tolerance"] == pytest.approx(1e-8)
+    text = run_cli("info", MODEL)
+    assert text.returncode == 0 and "inputs:" in text.stdout and "T" in text.stdout
+
+
+def test_validate_fmu(fmus):
+    result = run_cli("validate", str(fmus[MODEL]))
+    assert result.returncode == 0 and "valid" in result.stdout, result.stdout + result.stderr
+
+
+def test_validate_reports_broken_fmu(tmp_path):
+    broken = tmp_path / "broken.fmu"
+    broken.write_bytes(b"not a zip")
+    result = run_cli("validate", str(broken))
+    assert result.returncode != 0
+    assert "problem" in result.stdout and "Traceback" not in result.stderr
+
+
+def test_simulate_with_csv_input_and_plot(fmus, tmp_path):
+    signal = tmp_path / "torque.csv"
+    signal.write_text("time,T\n0,0\n1,0\n1,2\n5,2\n")
+    out, png = tmp_path / "out.csv", tmp_path / "out.png"
+    result = run_cli("simulate", str(fmus[MODEL]), "--stop-time", "5", "--step", "0.01", "--param", "V=6",
+                     "--input", f"T={signal}", "-o", str(out), "--plot", str(png))
+    assert result.returncode == 0, result.stderr
+    data = np.genfromtxt(out, delimiter=",", names=True)
+    assert data["time"][-1] == pytest.approx(5.0)
+    assert np.all(data["phi"][data["time"] <= 1.0] == 0.0)  # no torque before t = 1 s
+    assert data["phi"][-1] > 0.01
+    assert png.stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("fmi_type", ["cs", "me"])
+def test_simulate_model_name_step_input(fmi_type, tmp_path):
+    out = tmp_path / "r.csv"
+    result = run_cli("simulate", MODEL, "--stop-time", "2", "--fmi-type", fmi_type, "--input", "T=step:0.5:1",
+                     "-o", str(out))
+    assert result.returncode == 0, result.stderr
+    data = np.genfromtxt(out, delimiter=",", names=True)
+    assert abs(data["phi"][data["time"] < 0.5]).max() == 0.0 and data["phi"][-1] > 0
+
+
+def test_linearize_json(fmus):
+    result = run_cli("linearize", str(fmus[MODEL]), "--speed", "6", "--json")
+    assert result.returncode == 0, result.stderr
+    lin = json.loads(result.stdout)
+    assert lin["states"] == ["frame.phi", "frame.L"] and lin["inputs"] == ["T"]
+    assert np.array(lin["A"]).shape == (2, 2) and len(lin["eigenvalues"]) == 2
+    assert all(re < 0 for re, _ in lin["eigenvalues"])  # V = 6 m/s is above the critical speed
