@@ -43,6 +43,15 @@ equation
   x = sin(time);
 end Index2;
 """, ["structurally singular", "x", "lambda", "index > 1"]),
+    "nonlinear": ("""within Broken;
+model Nonlinear "nonlinear algebraic equation in y"
+  Real x(start = 1, fixed = true);
+  Real y;
+equation
+  der(x) = -y;
+  y^3 + y = x;
+end Nonlinear;
+""", ["nonlinear algebraic loop in y", "0 = "]),
 }
 
 
@@ -60,7 +69,7 @@ def make_library(tmp_path: Path, name: str, text: str) -> Path:
 @pytest.mark.parametrize("case", list(CASES), ids=list(CASES))
 def test_build_rejects_bad_model(tmp_path, case):
     text, expected = CASES[case]
-    name = {"syntax": "Syntax", "unbalanced": "Unbalanced", "index2": "Index2"}[case]
+    name = case.capitalize() if case != "index2" else "Index2"
     library = make_library(tmp_path, name, text)
     out = tmp_path / "out"
     result = run_cli("build", f"Broken.{name}", "--library", str(library), "-o", str(out), "-j", "1")
