@@ -192,8 +192,8 @@ EQ25 = [
     for n, i, j, val, dec in entries
 ]
 
-_ROUNDING = ("Table 1 (rider) is printed rounded; the paper computed (25) from unrounded data. "
-             "test_astrom_discrepancies_are_table1_rounding finds one parameter set within the "
+_ROUNDING = ("Consistent with Table 1 (rider) being printed rounded while (25) was computed "
+             "from unrounded data: test_astrom_discrepancies_are_table1_rounding finds one parameter set within the "
              "rounding of every Table 1 entry that reproduces all printed (25) and stability numbers")
 
 #: Printed numbers NOT reproduced from Table 1 as printed: id -> (computed, reason).
@@ -310,7 +310,7 @@ def test_astrom_discrepancies_are_table1_rounding():
     """Search (bounded least squares) for one parameter set, each entry within half a unit of
     Table 1's last printed digit, that reproduces ALL printed rider numbers of (25) and of the
     stability discussion at printed precision.  Existence shows the misses above are explained
-    by the rounding of Table 1.  Tolerance: every residual <= half a printed unit (+1e-9)."""
+    by the rounding of Table 1.  Tolerance: every number within half a printed unit (exactly)."""
     base = P.load_parameters("astrom2005")
     keys = list(_TABLE1_HALF_UNIT)
     entries = [e for e in EQ25 if e[0] == "astrom2005"]
@@ -329,15 +329,17 @@ def test_astrom_discrepancies_are_table1_rounding():
         out = [(mats[n][i, j], val, dec) for _, n, i, j, val, dec in entries]
         return out + [(v, pr, dec) for _, v, pr, dec in _astrom_claims(p)]
 
-    def residuals(x):
-        return np.array([max(0.0, abs(v - pr) - 0.5 * 10.0**-d) / (0.5 * 10.0**-d)
+    def residuals(x, target=1.0):
+        # excess over `target` half-units of the last printed digit (0 inside)
+        return np.array([max(0.0, abs(v - pr) / (0.5 * 10.0**-d) - target)
                          for v, pr, d in quantities(perturbed(x))])
 
     assert residuals(np.zeros(len(keys))).max() > 0.0  # the printed table alone misses some
-    sol = least_squares(residuals, np.zeros(len(keys)), bounds=(-1.0, 1.0),
-                        xtol=1e-14, ftol=1e-14, gtol=1e-14)
+    # Aim at 0.8 half-units so that the optimum lies strictly inside the printed intervals.
+    sol = least_squares(residuals, np.zeros(len(keys)), bounds=(-1.0, 1.0), args=(0.8,),
+                        xtol=1e-15, ftol=1e-15, gtol=1e-15)
     assert np.all(np.abs(sol.x) <= 1.0)
-    assert residuals(sol.x).max() <= 1e-9
+    assert residuals(sol.x).max() == 0.0
 
 
 def test_astrom_table1_inertias_violate_triangle_inequality():

@@ -236,14 +236,13 @@ def state_space(params: Mapping[str, float], v: float):
         ``A, B`` from :func:`state_matrices`, ``C = I`` (outputs are the
         states), ``D = 0``; states and outputs named :data:`STATES`
         (``phi, delta`` [rad], ``phi_dot, delta_dot`` [rad/s]), inputs
-        :data:`INPUTS` (``T_phi, T_delta`` [N m]); system name
-        ``"whipple_v<v>"``.
+        :data:`INPUTS` (``T_phi, T_delta`` [N m]); system name ``"whipple"``.
     """
     import control
 
     A, B = state_matrices(params, v)
     return control.ss(A, B, np.eye(4), np.zeros((4, 2)), states=list(STATES), inputs=list(INPUTS),
-                      outputs=list(STATES), name=f"whipple_v{float(v):g}")
+                      outputs=list(STATES), name="whipple")
 
 
 def _sorted_eigs(ev: np.ndarray) -> np.ndarray:

@@ -1,0 +1,1 @@
+"""Co-simulation of FMUs with Python components: system files, components, master algorithms."""
