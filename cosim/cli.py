@@ -176,6 +176,37 @@ def _parameter_defaults(fmu) -> dict:
             if v.causality == "parameter" and "." not in v.name and v.type == "Real" and v.start is not None}
 
 
+def _cmd_run(args) -> int:
+    from .cosimulation.factory import run_system
+    from .simulation import plot, write_csv
+
+    result = run_system(args.system)
+    output = args.output or f"{Path(args.system).stem}.csv"
+    write_csv(result.data, output)
+    print(f"{result.outcome.message}; wrote {output} ({result.steps} steps)")
+    if args.plot:
+        plot(result.data, args.plot, title=Path(args.system).stem)
+        print(f"wrote {args.plot}")
+    return 0 if result.outcome.status == "completed" or args.allow_fall else 3
+
+
+def _cmd_export_ssp(args) -> int:
+    from .cosimulation.ssp import export_ssp
+    from .cosimulation.system import load_system
+
+    path = export_ssp(load_system(args.system), args.output)
+    print(f"wrote {path}")
+    return 0
+
+
+def _cmd_figures(args) -> int:
+    from .figures import make_figures
+
+    for path in make_figures(args.names, args.output):
+        print(f"wrote {path}")
+    return 0
+
+
 def _cmd_demo(args) -> int:
     from .demo import run_demo
 
@@ -236,6 +267,23 @@ def parser() -> argparse.ArgumentParser:
     cmp_.add_argument("--tol", type=float, default=1e-9, help="largest accepted relative error")
     cmp_.add_argument("--json", action="store_true")
     cmp_.set_defaults(func=_cmd_compare)
+
+    run = sub.add_parser("run", help="co-simulate a system file (FMUs and Python components)")
+    run.add_argument("system", help="system file (TOML)")
+    run.add_argument("-o", "--output", default=None, help="result CSV (default: <system>.csv)")
+    run.add_argument("--plot", default=None, help="save a plot of the recorded signals (PNG)")
+    run.add_argument("--allow-fall", action="store_true", help="exit 0 even if the bicycle falls")
+    run.set_defaults(func=_cmd_run)
+
+    ssp = sub.add_parser("export-ssp", help="export a system as SSP 1.0 (FMUs in resources/)")
+    ssp.add_argument("system", help="system file (TOML); Python blocks must be replaced by Modelica twins")
+    ssp.add_argument("-o", "--output", required=True, help="the .ssp file to write")
+    ssp.set_defaults(func=_cmd_export_ssp)
+
+    fig = sub.add_parser("figures", help="the paper's figures from FMU simulation and linearization")
+    fig.add_argument("names", nargs="*", help="figure names, e.g. fig5 fig8 (default: all)")
+    fig.add_argument("-o", "--output", default="figures", help="output folder (default: figures/)")
+    fig.set_defaults(func=_cmd_figures)
 
     d = sub.add_parser("demo", help="build, validate and simulate the bundled bicycle")
     d.add_argument("-o", "--output", default="demo", help="folder for results (default: demo/)")

@@ -99,3 +99,88 @@ def run_ecos(fmu: str | Path, stop_time: float, step: float, start_values: dict 
     except Exception as exc:
         raise SimulationError(f"Ecos: {exc}") from None
     return _result(times, columns)
+
+
+def run_ssp_libcosim(ssp: str | Path, signals: list[str], stop_time: float | None = None,
+                     step: float | None = None) -> np.ndarray:
+    """Run an SSP archive in libcosim and record ``signals`` ("component.variable") after each step."""
+    from libcosimpy import _internal
+    from libcosimpy.CosimEnums import CosimVariableType
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+    from libcosimpy.CosimObserver import CosimObserver
+
+    from .cosimulation.system import SystemError_
+
+    log_output_level(CosimLogLevel.WARNING)
+    folder, start, stop, base = _unpack_ssp(ssp)
+    execution = CosimExecution.from_ssp_file(str(folder), step) if step else CosimExecution.from_ssp_file(str(folder))
+    if execution is None:
+        raise SimulationError(f"libcosim cannot load {ssp}: {_internal.get_last_error_message()}")
+    observer = CosimObserver.create_last_value()
+    execution.add_observer(observer)
+    slaves = {info.name.decode() if isinstance(info.name, bytes) else info.name: info.index
+              for info in execution.slave_infos()}
+    refs = []
+    for signal in signals:
+        comp, _, var = signal.partition(".")
+        if comp not in slaves:
+            raise SystemError_(f"libcosim: no component '{comp}' in {ssp}")
+        variables = {(v.name.decode() if isinstance(v.name, bytes) else v.name): v.reference
+                     for v in execution.slave_variables(slaves[comp])}
+        refs.append((slaves[comp], variables[var]))
+    h = step or base
+    n = _steps((stop_time or stop) - start, h)
+    times, rows = [], []
+    for k in range(1, n + 1):
+        if not execution.step(1):
+            raise SimulationError(f"libcosim step {k} failed: {_internal.get_last_error_message()}")
+        times.append(start + k * h)
+        rows.append([observer.last_real_values(s, [r])[0] for s, r in refs])
+    del CosimVariableType
+    return _result(times, {s: [row[j] for row in rows] for j, s in enumerate(signals)})
+
+
+def run_ssp_ecos(ssp: str | Path, signals: list[str], stop_time: float | None = None,
+                 step: float | None = None) -> np.ndarray:
+    """Run an SSP archive in Ecos and record ``signals`` ("component.variable") after each step."""
+    from ecospy import EcosSimulation
+
+    from .cosimulation.ssp import PARAMETER_SET
+
+    folder, start, stop, base = _unpack_ssp(ssp)
+    h = step or base
+    n = _steps((stop_time or stop) - start, h)
+    try:
+        simulation = EcosSimulation(ssp_path=str(folder), step_size=h)
+        simulation.init(parameter_set=PARAMETER_SET)
+        times, columns = [], {s: [] for s in signals}
+        for _ in range(n):
+            times.append(simulation.step(1))
+            for s in signals:
+                comp, _, var = s.partition(".")
+                columns[s].append(simulation.get_real(f"{comp}::{var}"))
+        simulation.terminate()
+    except Exception as exc:
+        raise SimulationError(f"Ecos: {exc}") from None
+    return _result(times, columns)
+
+
+def _unpack_ssp(ssp: str | Path):
+    """Extract an SSP next to a cache folder; returns (folder, start, stop, base step)."""
+    import tempfile
+    import xml.etree.ElementTree as ET
+    import zipfile
+
+    folder = Path(tempfile.mkdtemp(prefix="cosim-ssp-run-"))
+    with zipfile.ZipFile(ssp) as archive:
+        archive.extractall(folder)
+    root = ET.parse(folder / "SystemStructure.ssd").getroot()
+    ns = {"ssd": "http://ssp-standard.org/SSP1/SystemStructureDescription",
+          "osp": "http://opensimulationplatform.com/SSP/OSPAnnotations"}
+    experiment = root.find("ssd:DefaultExperiment", ns)
+    start = float(experiment.get("startTime", 0.0))
+    stop = float(experiment.get("stopTime"))
+    algorithm = experiment.find(".//osp:FixedStepAlgorithm", ns)
+    base = float(algorithm.get("baseStepSize"))
+    return folder, start, stop, base

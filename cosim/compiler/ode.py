@@ -12,6 +12,7 @@ import math
 from dataclasses import dataclass
 
 import casadi as ca
+import numpy as np
 
 from ..errors import ModelStructureError, ParameterError
 from .flatten import FlatModel
@@ -50,18 +51,6 @@ def _column(symbols, name):
     return ca.vertcat(*symbols) if symbols else ca.SX(0, 1)
 
 
-def _is_number(value) -> bool:
-    if isinstance(value, (int, float, bool)):
-        return True
-    if isinstance(value, (ca.MX, ca.SX, ca.DM)):
-        return False
-    try:
-        float(value)
-        return True
-    except (TypeError, ValueError):
-        return False
-
-
 def _maximum_matching(rows: list[list[int]], ncols: int) -> tuple[list[int], list[int]]:
     """Maximum bipartite matching (augmenting paths). Returns row->col and col->row (-1 = none)."""
     row_match = [-1] * len(rows)
@@ -82,12 +71,28 @@ def _maximum_matching(rows: list[list[int]], ncols: int) -> tuple[list[int], lis
     return row_match, col_match
 
 
+def _element_names(name: str, shape: tuple[int, int]) -> list[str]:
+    """Scalar names of an array variable in column-major order (the order of ``vec``)."""
+    rows, cols = shape
+    if (rows, cols) == (1, 1):
+        return [name]
+    if cols == 1:
+        return [f"{name}[{i + 1}]" for i in range(rows)]
+    return [f"{name}[{i + 1},{j + 1}]" for j in range(cols) for i in range(rows)]
+
+
 class _Translator:
-    """Maps pymoca's MX symbols to SX symbols and MX expressions to SX expressions."""
+    """Maps pymoca's MX symbols to scalar SX symbols (arrays are split into their elements)
+    and MX expressions to SX expressions."""
 
     def __init__(self, mx_symbols):
         self.mx = list(mx_symbols)
-        self.sx = [ca.SX.sym(s.name(), *s.shape) for s in self.mx]
+        self.elements: dict[str, list] = {}
+        self.sx = []
+        for s in self.mx:
+            scalars = [ca.SX.sym(n) for n in _element_names(s.name(), s.shape)]
+            self.elements[s.name()] = scalars
+            self.sx.append(ca.reshape(ca.vertcat(*scalars), *s.shape))
 
     def __call__(self, expressions):
         if not expressions:
@@ -95,6 +100,22 @@ class _Translator:
         mx = ca.vertcat(*[ca.vec(ca.MX(e)) for e in expressions])
         f = ca.Function("translate", self.mx, [mx], {"allow_free": False})
         return f(*self.sx)
+
+    def scalars(self, variables) -> list:
+        return [e for v in variables for e in self.elements[v.symbol.name()]]
+
+
+def _numbers(value, size: int) -> list[float] | None:
+    """The element values of a literal (scalar or array) value; None for an expression."""
+    if isinstance(value, (ca.MX, ca.SX)):
+        return None
+    try:
+        array = np.asarray(value, dtype=float).ravel(order="F")
+    except (TypeError, ValueError):
+        return None
+    if array.size == 1 and size > 1:
+        array = np.repeat(array, size)
+    return [float(a) for a in array] if array.size == size else None
 
 
 def make_explicit(flat: FlatModel) -> ExplicitModel:
@@ -126,21 +147,23 @@ def make_explicit(flat: FlatModel) -> ExplicitModel:
                   + [v.symbol for v in alg] + [v.symbol for v in m.inputs]
                   + [v.symbol for v in m.parameters] + [v.symbol for v in constants])
     tr = _Translator(mx_symbols)
-    sx = dict(zip([s.name() for s in mx_symbols], tr.sx))
-    pick = lambda vs: [sx[v.symbol.name()] for v in vs]
+    pick = tr.scalars
     t = tr.sx[0]
     x, xd, z, u = pick(m.states), pick(m.der_states), pick(alg), pick(m.inputs)
     consts = pick(constants)
-    const_values = [ca.DM(v.value) if _is_number(v.value) else tr([v.value]) for v in constants]
+    const_values = []
+    for v in constants:
+        numbers = _numbers(v.value, v.symbol.numel())
+        const_values += [ca.SX(n) for n in numbers] if numbers is not None else ca.vertsplit(tr([v.value]))
 
-    tunable = [v for v in m.parameters if _is_number(v.value)]
-    calculated = [v for v in m.parameters if not _is_number(v.value)]
+    tunable = [v for v in m.parameters if _numbers(v.value, v.symbol.numel()) is not None]
+    calculated = [v for v in m.parameters if _numbers(v.value, v.symbol.numel()) is None]
     p, csym = pick(tunable), pick(calculated)
 
     # Calculated parameters as expressions of the tunable ones (bindings may chain).
     cexpr = tr([v.value for v in calculated]) if calculated else ca.SX(0, 1)
     cexpr = ca.substitute(cexpr, _column(consts, "k"), ca.vertcat(*const_values)) if consts else cexpr
-    for _ in range(len(calculated) + 1):
+    for _ in range(len(csym) + 1):
         if not calculated or not ca.depends_on(cexpr, ca.vertcat(*csym)):
             break
         cexpr = ca.substitute(cexpr, ca.vertcat(*csym), cexpr)
@@ -178,12 +201,15 @@ def make_explicit(flat: FlatModel) -> ExplicitModel:
     xdot = solution[: len(xd)]
     zsol = solution[len(xd):]
 
-    start_exprs = []
+    x0, state_starts = [], []
     for v in m.states:
-        start_exprs.append(v.start if _is_number(v.start) else None)
-    x0 = []
-    for v in m.states:
-        x0.append(ca.SX(float(v.start)) if _is_number(v.start) else known(tr([v.start])))
+        numbers = _numbers(v.start, v.symbol.numel())
+        if numbers is not None:
+            x0 += [ca.SX(n) for n in numbers]
+            state_starts += numbers
+        else:
+            x0 += ca.vertsplit(known(tr([v.start])))
+            state_starts += [None] * v.symbol.numel()
     P = _column(p, "p")
     x0 = ca.vertcat(*x0) if x0 else ca.SX(0, 1)
     for label, expr in (("start values of states", x0), ("calculated parameters", cexpr)):
@@ -192,19 +218,31 @@ def make_explicit(flat: FlatModel) -> ExplicitModel:
         if bad:
             raise ModelStructureError(f"{name}: {label} depend on non-parameters: {', '.join(bad)}")
 
-    def sym(v, start):
-        return Symbolic(v.symbol.name(), start, getattr(v, "python_type", float))
+    def symbols(variables, starts=None):
+        found = []
+        for v in variables:
+            python_type = getattr(v, "python_type", float)
+            for k, element in enumerate(tr.elements[v.symbol.name()]):
+                start = starts(v, k) if starts else None
+                found.append(Symbolic(element.name(), start, python_type))
+        return found
+
+    def literal(attr, default=None):
+        def element(v, k):
+            numbers = _numbers(getattr(v, attr), v.symbol.numel())
+            return numbers[k] if numbers is not None else default
+        return element
 
     return ExplicitModel(
         name=name, t=t, x=_column(x, "x"), u=_column(u, "u"), p=P,
         xdot=ca.vertcat(*xdot) if xdot else ca.SX(0, 1),
         z=ca.vertcat(*zsol) if zsol else ca.SX(0, 1),
         c=cexpr, x0=x0,
-        states=[sym(v, float(v.start) if _is_number(v.start) else None) for v in m.states],
-        inputs=[sym(v, float(v.start) if _is_number(v.start) else 0.0) for v in m.inputs],
-        parameters=[sym(v, v.value) for v in tunable],
-        calculated=[sym(v, None) for v in calculated],
-        algebraics=[sym(v, None) for v in alg],
+        states=symbols(m.states, lambda v, k, it=iter(state_starts): next(it)),
+        inputs=symbols(m.inputs, literal("start", 0.0)),
+        parameters=symbols(tunable, literal("value")),
+        calculated=symbols(calculated),
+        algebraics=symbols(alg),
     )
 
 

@@ -180,14 +180,15 @@ class TransportDelay(Component):
         self._y[0] = self._delayed(self._t)
 
 
-def pade_delay(name: str, tau: float = 0.1, order: int = 2) -> Linear:
-    """A Padé approximation of ``exp(-s tau)`` as a linear block (python-control's ``pade``)."""
+def pade_delay(name: str, tau: float = 0.1, n: int = 2) -> Linear:
+    """The [n/n] Padé approximation of ``exp(-s tau)`` as a linear block (python-control's ``pade``);
+    the Python twin of ``Bicycle.Rider.PadeDelay``."""
     import control
 
     _positive("tau", tau)
-    if int(order) != order or not 1 <= order <= 10:
-        raise ParameterError(f"parameter 'order' must be an integer from 1 to 10, got {order}")
-    num, den = control.pade(tau, int(order))
+    if int(n) != n or not 1 <= n <= 10:
+        raise ParameterError(f"parameter 'n' (order) must be an integer from 1 to 10, got {n}")
+    num, den = control.pade(tau, int(n))
     sys = control.ss(control.tf(num, den))
     return Linear(name, sys.A, sys.B, sys.C, sys.D, ["u"], ["y"])
 

@@ -1,6 +1,8 @@
 """System files (TOML): components, parameters, connections and settings of a co-simulation.
 
-Example::
+Example (``connections`` stands before the first table, as TOML requires of top-level keys)::
+
+    connections = ["bike.phi -> rider.phi", "rider.T -> bike.T_delta"]
 
     [system]
     name = "rider-p-control"
@@ -9,6 +11,7 @@ Example::
     step = 0.01                 # base communication step [s]
     algorithm = "jacobi"        # or "gauss-seidel"
     initialize = true           # propagate outputs to inputs before the first step
+    sampling = "after-step"     # or "after-transfer": when outputs are recorded
     fall = { signal = "bike.phi", limit = 1.0 }   # stop with "fell at t = ..." beyond |limit|
 
     [components.bike]
@@ -19,8 +22,6 @@ Example::
     [components.rider]
     python = "Proportional"
     parameters = { k = 20.0 }
-
-    connections = ["bike.phi -> rider.phi", "rider.T -> bike.T_delta"]
 """
 from __future__ import annotations
 
@@ -31,6 +32,9 @@ from pathlib import Path
 from ..errors import ParameterError
 
 ALGORITHMS = ("jacobi", "gauss-seidel")
+# When outputs are recorded: right after the step (libcosim's observers) or after the connected
+# inputs were updated, so direct-feedthrough outputs already see the new inputs (Ecos).
+SAMPLINGS = ("after-step", "after-transfer")
 
 
 class SystemError_(ParameterError):
@@ -72,6 +76,7 @@ class SystemSpec:
     fall_limit: float | None = None
     record: list[str] | None = None
     description: str = ""
+    sampling: str = "after-step"
 
 
 def _split_signal(text: str, where: str) -> tuple[str, str]:
@@ -107,8 +112,11 @@ def load_system(path: str | Path) -> SystemSpec:
 def system_from_dict(data: dict, path: Path | None = None) -> SystemSpec:
     where = str(path) if path else "system"
     settings = data.get("system", {})
+    if "connections" in settings:
+        raise SystemError_(f"{where}: 'connections' ended up inside [system]: "
+                           "write it at the top of the file, before the first [table]")
     unknown = set(settings) - {"name", "description", "start", "stop", "step", "algorithm", "initialize",
-                               "fall", "record"}
+                               "fall", "record", "sampling"}
     if unknown:
         raise SystemError_(f"{where}: unknown [system] keys: {', '.join(sorted(unknown))}")
     components = {}
@@ -117,6 +125,9 @@ def system_from_dict(data: dict, path: Path | None = None) -> SystemSpec:
         if len(kinds) != 1:
             raise SystemError_(f"{where}: component '{name}' needs exactly one of model, fmu, python")
         extra = set(entry) - {"model", "fmu", "python", "parameters", "step_multiple"}
+        if "connections" in extra:
+            raise SystemError_(f"{where}: 'connections' ended up inside [components.{name}]: "
+                               "write it at the top of the file, before the first [table]")
         if extra:
             raise SystemError_(f"{where}: component '{name}': unknown keys {', '.join(sorted(extra))}")
         source = entry[kinds[0]]
@@ -138,11 +149,14 @@ def system_from_dict(data: dict, path: Path | None = None) -> SystemSpec:
         raise SystemError_(f"{where}: step must be positive")
     if not stop > start:
         raise SystemError_(f"{where}: stop must be after start")
+    sampling = settings.get("sampling", "after-step")
+    if sampling not in SAMPLINGS:
+        raise SystemError_(f"{where}: sampling must be one of {', '.join(SAMPLINGS)}, got '{sampling}'")
     fall = settings.get("fall", {})
     return SystemSpec(
         name=settings.get("name", path.stem if path else "system"), path=path, components=components,
         connections=connections, start=start, stop=stop, step=step, algorithm=algorithm,
         initialize=bool(settings.get("initialize", True)), fall_signal=fall.get("signal"),
         fall_limit=float(fall["limit"]) if "limit" in fall else None, record=settings.get("record"),
-        description=settings.get("description", ""),
+        description=settings.get("description", ""), sampling=sampling,
     )

@@ -1,5 +1,6 @@
 within Bicycle;
 package Units "SI unit types used by the library (same definitions as Modelica.Units.SI)"
+  type Time = Real(final quantity = "Time", final unit = "s");
   type Angle = Real(final quantity = "Angle", final unit = "rad", displayUnit = "deg");
   type AngularVelocity = Real(final quantity = "AngularVelocity", final unit = "rad/s");
   type AngularMomentum = Real(final quantity = "AngularMomentum", final unit = "kg.m2/s");
@@ -11,6 +12,9 @@ package Units "SI unit types used by the library (same definitions as Modelica.U
   type Velocity = Real(final quantity = "Velocity", final unit = "m/s");
   type Acceleration = Real(final quantity = "Acceleration", final unit = "m/s2");
   type MomentOfInertia = Real(final quantity = "MomentOfInertia", final unit = "kg.m2");
+  type FirstMomentOfMass = Real(final quantity = "FirstMomentOfMass", final unit = "kg.m") "Mass times length (static moment, gyrostatic coefficient, coefficient of an equation of motion)";
+  type MassCoefficient = Real(final quantity = "Mass", final unit = "kg") "Signed coefficient with the dimension of a mass (no lower bound, unlike Mass)";
+  type DimensionlessRatio = Real(final quantity = "DimensionlessRatio", final unit = "1") "Dimensionless ratio";
   annotation(Documentation(info = "<html>
 <p>The Modelica Standard Library is not a dependency of this package (the FMU compiler flattens
 the package on its own), so the few SI types needed are declared here exactly as in

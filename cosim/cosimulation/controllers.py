@@ -1,0 +1,102 @@
+"""Rider and autopilot controllers as Python components.
+
+Each has a Modelica twin in ``Bicycle.Control`` with the same parameter, input and output
+names, so a system can swap the Python block for the FMU of its twin (e.g. for SSP export).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import ParameterError
+from .blocks import Static
+
+
+class Proportional(Static):
+    """The paper's rider: steer torque proportional to roll, ``T = -k * phi`` (k in N.m/rad)."""
+
+    inputs = ["phi"]
+    outputs = ["T"]
+
+    def __init__(self, name: str, k: float = 10.0):
+        super().__init__(name)
+        self.k = float(k)
+
+    def evaluate(self, u):
+        return np.array([-self.k * u[0]])
+
+
+class PD(Static):
+    """``T = -kp * phi - kd * phi_dot`` (kp in N.m/rad, kd in N.m.s/rad)."""
+
+    inputs = ["phi", "phi_dot"]
+    outputs = ["T"]
+
+    def __init__(self, name: str, kp: float = 10.0, kd: float = 1.0):
+        super().__init__(name)
+        self.kp, self.kd = float(kp), float(kd)
+
+    def evaluate(self, u):
+        return np.array([-self.kp * u[0] - self.kd * u[1]])
+
+
+class SteerAngleFeedback(Static):
+    """Steer-angle feedback for steer-angle-input models, ``delta = -k2 * phi`` (eq (5))."""
+
+    inputs = ["phi"]
+    outputs = ["delta"]
+
+    def __init__(self, name: str, k2: float = 1.0):
+        super().__init__(name)
+        self.k2 = float(k2)
+
+    def evaluate(self, u):
+        return np.array([-self.k2 * u[0]])
+
+
+class StateFeedback(Static):
+    """``T = -(K1 phi + K2 delta + K3 phi_dot + K4 delta_dot)``: the LQR autopilot's control law.
+
+    Use :func:`lqr_gains` to design ``K`` with python-control on the analytic linear Whipple
+    model at the run speed."""
+
+    inputs = ["phi", "delta", "phi_dot", "delta_dot"]
+    outputs = ["T"]
+
+    def __init__(self, name: str, K1: float = 0.0, K2: float = 0.0, K3: float = 0.0, K4: float = 0.0):
+        super().__init__(name)
+        self.K = np.array([K1, K2, K3, K4], dtype=float)
+
+    def evaluate(self, u):
+        return np.array([-self.K @ u])
+
+
+def lqr_gains(params: str | dict, v: float, q_roll: float = 10.0, q_steer: float = 1.0,
+              q_rates: float = 0.1, r: float = 0.1) -> dict:
+    """LQR state-feedback gains for steer torque on the linear Whipple model (24).
+
+    Parameters
+    ----------
+    params : str or dict
+        Meijaard parameter set (bundled name, TOML path or dict).
+    v : float
+        Forward speed [m/s] the design is made for.
+    q_roll, q_steer, q_rates, r : float
+        Weights on roll [1/rad^2], steer [1/rad^2], both rates [s^2/rad^2] and torque [1/(N.m)^2].
+
+    Returns
+    -------
+    dict
+        ``{"K1": ..., "K2": ..., "K3": ..., "K4": ...}`` for :class:`StateFeedback`.
+    """
+    import control
+
+    from ..analytic.parameters import load_parameters
+    from ..analytic.whipple import state_matrices
+
+    p = load_parameters(params) if isinstance(params, str) else params
+    A, B = state_matrices(p, v)
+    if min(q_roll, q_steer, q_rates) < 0 or r <= 0:
+        raise ParameterError("LQR weights must be non-negative and r positive")
+    Q = np.diag([q_roll, q_steer, q_rates, q_rates])
+    K, _, _ = control.lqr(A, B[:, [1]], Q, np.array([[r]]))
+    return {f"K{k + 1}": float(K[0, k]) for k in range(4)}

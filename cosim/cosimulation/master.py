@@ -1,0 +1,250 @@
+"""The co-simulation master: fixed-step Jacobi or Gauss-Seidel over components.
+
+Signals travel through one preallocated vector holding every component output; each
+component reads its inputs from it with a precomputed index array, so a step involves no
+name lookups.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import SimulationError
+from .component import Component
+from .system import Connection, SystemError_, SystemSpec
+
+
+@dataclass
+class Outcome:
+    """How a run ended."""
+
+    status: str  # completed, fell, diverged
+    time: float
+    message: str
+
+
+@dataclass
+class RunResult:
+    """Recorded signals (``time`` first) and the outcome."""
+
+    data: np.ndarray
+    outcome: Outcome
+    steps: int
+
+
+class System:
+    """Components wired by connections, ready to run.
+
+    Parameters
+    ----------
+    spec : SystemSpec
+        Settings and connections.
+    components : dict
+        Component objects by name (created by :func:`cosim.cosimulation.build.create_components`).
+    """
+
+    def __init__(self, spec: SystemSpec, components: dict[str, Component]):
+        self.spec = spec
+        self.components = components
+        self.names = list(components)
+        where = str(spec.path or spec.name)
+        # Global output vector: offsets of each component's outputs.
+        self.offset, size = {}, 0
+        for name in self.names:
+            self.offset[name] = size
+            size += len(components[name].outputs)
+        self.signals = np.zeros(size)
+        self.sources: dict[str, np.ndarray] = {}
+        self.targets: dict[str, np.ndarray] = {}
+        connected: dict[tuple, Connection] = {}
+        for c in spec.connections:
+            self._check(c, where)
+            key = (c.target, c.input)
+            if key in connected:
+                raise SystemError_(f"{where}: input {c.target}.{c.input} is connected twice: "
+                                   f"'{connected[key]}' and '{c}'")
+            connected[key] = c
+        for name in self.names:
+            comp = components[name]
+            pairs = [(comp.inputs.index(c.input), self.offset[c.source] + components[c.source].outputs.index(c.output))
+                     for c in connected.values() if c.target == name]
+            self.targets[name] = np.array([p[0] for p in pairs], dtype=int)
+            self.sources[name] = np.array([p[1] for p in pairs], dtype=int)
+        self.connections = list(connected.values())
+        self.order = self._gauss_seidel_order(where) if spec.algorithm == "gauss-seidel" else self.names
+        self.fall_index = None
+        if spec.fall_signal:
+            comp, _, var = spec.fall_signal.partition(".")
+            if comp not in components or var not in components[comp].outputs:
+                raise SystemError_(f"{where}: fall signal '{spec.fall_signal}' is not a component output")
+            self.fall_index = self.offset[comp] + components[comp].outputs.index(var)
+        self.record = self._record_indices(where)
+
+    def _check(self, c: Connection, where: str) -> None:
+        for comp, var, kind, attr in ((c.source, c.output, "output", "outputs"), (c.target, c.input, "input", "inputs")):
+            if comp not in self.components:
+                raise SystemError_(f"{where}: connection '{c}': unknown component '{comp}' "
+                                   f"(components: {', '.join(self.names)})")
+            if var not in getattr(self.components[comp], attr):
+                other = "input" if kind == "output" else "output"
+                wrong = var in getattr(self.components[comp], "inputs" if kind == "output" else "outputs")
+                hint = f" ('{var}' is an {other}: causality mismatch)" if wrong else \
+                    f" ({kind}s: {', '.join(getattr(self.components[comp], attr)) or 'none'})"
+                raise SystemError_(f"{where}: connection '{c}': '{comp}' has no {kind} '{var}'{hint}")
+
+    def _gauss_seidel_order(self, where: str) -> list[str]:
+        """Topological order of the components along connections with direct feedthrough.
+
+        An edge a -> b orders a before b unless the connected output of a does not depend on
+        a's inputs without delay (its value at the end of the step is known before a steps)."""
+        edges = {name: set() for name in self.names}
+        via = {}
+        for c in self.connections:
+            source = self.components[c.source]
+            if source.feedthrough(c.output):
+                edges[c.source].add(c.target)
+                via[(c.source, c.target)] = c
+        order, state = [], {name: 0 for name in self.names}  # 0 new, 1 on stack, 2 done
+        stack_path: list[str] = []
+
+        def visit(node):
+            state[node] = 1
+            stack_path.append(node)
+            for nxt in sorted(edges[node], key=self.names.index):
+                if state[nxt] == 1:
+                    cycle = stack_path[stack_path.index(nxt):] + [nxt]
+                    links = ", ".join(f"'{via[(a, b)]}'" for a, b in zip(cycle, cycle[1:]))
+                    raise SystemError_(f"{where}: cycle without delay under Gauss-Seidel: {links}; "
+                                       "put a delay or a component without direct feedthrough in the loop, "
+                                       "or use algorithm = \"jacobi\"")
+                if state[nxt] == 0:
+                    visit(nxt)
+            stack_path.pop()
+            state[node] = 2
+            order.append(node)
+
+        for name in self.names:
+            if state[name] == 0:
+                visit(name)
+        return order[::-1]
+
+    def _record_indices(self, where: str):
+        names = self.spec.record or [f"{n}.{o}" for n in self.names for o in self.components[n].outputs]
+        indices = []
+        for signal in names:
+            comp, _, var = signal.partition(".")
+            if comp not in self.components or var not in self.components[comp].outputs:
+                raise SystemError_(f"{where}: recorded signal '{signal}' is not a component output")
+            indices.append(self.offset[comp] + self.components[comp].outputs.index(var))
+        return names, np.array(indices, dtype=int)
+
+    def _read(self, name: str) -> None:
+        comp = self.components[name]
+        start = self.offset[name]
+        self.signals[start:start + len(comp.outputs)] = comp.get_outputs()
+
+    def _feed(self, name: str) -> None:
+        targets = self.targets[name]
+        if targets.size:
+            comp = self.components[name]
+            u = self._inputs[name]
+            u[targets] = self.signals[self.sources[name]]
+            comp.set_inputs(u)
+
+    def run(self) -> RunResult:
+        """Initialize, step from start to stop, record; stop early if the bicycle falls or a
+        signal turns non-finite."""
+        spec = self.spec
+        h = spec.step
+        n_steps = int(round((spec.stop - spec.start) / h))
+        record_names, record_idx = self.record
+        data = np.empty((n_steps + 1, 1 + len(record_idx)))
+        self._inputs = {n: np.zeros(len(self.components[n].inputs)) for n in self.names}
+        multiples = {n: spec.components[n].step_multiple if n in spec.components else 1 for n in self.names}
+        for comp in self.components.values():
+            if hasattr(comp, "configure_step"):
+                comp.configure_step(h)
+        try:
+            for comp in self.components.values():
+                comp.setup(spec.start)
+            for name in self.names:
+                self._read(name)
+            if spec.initialize:  # propagate outputs to inputs (a few sweeps settle feedthrough chains)
+                for _ in range(max(1, len(self.names))):
+                    for name in self.order:
+                        self._feed(name)
+                        self._read(name)
+            for comp in self.components.values():
+                comp.end_initialization()
+            for name in self.names:
+                self._read(name)
+            data[0, 0] = spec.start
+            data[0, 1:] = self.signals[record_idx]
+            outcome = Outcome("completed", spec.stop, f"completed at t = {spec.stop:g} s")
+            rows = n_steps + 1
+            gauss_seidel = spec.algorithm == "gauss-seidel"
+            after_transfer = spec.sampling == "after-transfer"
+            for k in range(n_steps):
+                t = spec.start + k * h
+                due = [n for n in self.order if k % multiples[n] == 0]
+                if gauss_seidel:
+                    for name in due:
+                        self._feed(name)
+                        self.components[name].step(t, h * multiples[name])
+                        self._read(name)
+                else:
+                    for name in due:
+                        self._feed(name)
+                    for name in due:
+                        self.components[name].step(t, h * multiples[name])
+                    for name in due:
+                        self._read(name)
+                if after_transfer:
+                    for name in self.order:
+                        self._feed(name)
+                        self._read(name)
+                t_next = spec.start + (k + 1) * h
+                data[k + 1, 0] = t_next
+                data[k + 1, 1:] = self.signals[record_idx]
+                stop = self._check_outcome(t_next)
+                if stop is not None:
+                    outcome, rows = stop, k + 2
+                    break
+        finally:
+            for comp in self.components.values():
+                comp.close()
+        dtype = [("time", float)] + [(n, float) for n in record_names]
+        table = np.empty(rows, dtype=dtype)
+        for j, name in enumerate(["time"] + list(record_names)):
+            table[name] = data[:rows, j]
+        return RunResult(table, outcome, rows - 1)
+
+    def _check_outcome(self, t: float) -> Outcome | None:
+        if not np.all(np.isfinite(self.signals)):
+            bad = int(np.flatnonzero(~np.isfinite(self.signals))[0])
+            name = next(f"{n}.{self.components[n].outputs[bad - o]}" for n, o in self.offset.items()
+                        if o <= bad < o + len(self.components[n].outputs))
+            return Outcome("diverged", t, f"signal {name} is not finite at t = {t:g} s")
+        if self.fall_index is not None and abs(self.signals[self.fall_index]) > self.spec.fall_limit:
+            return Outcome("fell", t, f"fell at t = {t:.3f} s (|{self.spec.fall_signal}| > {self.spec.fall_limit:g})")
+        return None
+
+
+def assemble(spec: SystemSpec, components: dict[str, Component]) -> System:
+    """Check the wiring and prepare the master (errors name the offending connection)."""
+    return System(spec, components)
+
+
+def run_components(spec: SystemSpec, components: dict[str, Component]) -> RunResult:
+    """Assemble and run; components are closed afterwards."""
+    try:
+        system = assemble(spec, components)
+    except Exception:
+        for comp in components.values():
+            comp.close()
+        raise
+    return system.run()
+
+
+__all__ = ["System", "RunResult", "Outcome", "assemble", "run_components", "SimulationError"]

@@ -1,0 +1,130 @@
+"""Export a system as an SSP 1.0 archive that libcosim, Ecos and other SSP tools run unmodified.
+
+The archive holds ``SystemStructure.ssd`` and the FMUs under ``resources/``. Parameters are
+bound inline (ssv:ParameterSet per component); the base step and per-component step sizes go
+into OSP annotations, which libcosim reads.
+"""
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+import xml.etree.ElementTree as ET
+import zipfile
+from pathlib import Path
+
+from .component import FMUComponent
+from .system import SystemError_, SystemSpec
+
+NS = {
+    "ssd": "http://ssp-standard.org/SSP1/SystemStructureDescription",
+    "ssc": "http://ssp-standard.org/SSP1/SystemStructureCommon",
+    "ssv": "http://ssp-standard.org/SSP1/SystemStructureParameterValues",
+    "osp": "http://opensimulationplatform.com/SSP/OSPAnnotations",
+}
+# One parameter-set name for all components: libcosim applies every binding; Ecos applies the
+# set named at initialization (``init(parameter_set="initialValues")``).
+PARAMETER_SET = "initialValues"
+TYPES = {"Real": "Real", "Integer": "Integer", "Boolean": "Boolean", "String": "String"}
+
+
+def _q(prefix: str, tag: str) -> str:
+    return f"{prefix}:{tag}"
+
+
+def _literal(value, kind: str) -> str:
+    if kind == "Boolean":
+        return "true" if value else "false"
+    if kind == "Integer":
+        return str(int(value))
+    return repr(float(value))
+
+
+def system_structure(spec: SystemSpec, fmus: dict[str, Path]) -> bytes:
+    """The SystemStructure.ssd text; ``fmus`` maps component names to their FMU files."""
+    from fmpy import read_model_description
+
+    # libcosim's parser wants the literal prefixes ssd: ssc: ssv: osp: declared on the root.
+    root = ET.Element("ssd:SystemStructureDescription", {
+        **{f"xmlns:{k}": v for k, v in NS.items()}, "version": "1.0", "name": spec.name,
+    })
+    system = ET.SubElement(root, "ssd:System", name=spec.name)
+    if spec.description:
+        system.set("description", spec.description)
+    elements = ET.SubElement(system, "ssd:Elements")
+    for name, fmu in fmus.items():
+        md = read_model_description(str(fmu))
+        variables = {v.name: v for v in md.modelVariables}
+        component = ET.SubElement(elements, "ssd:Component", {
+            "name": name, "source": f"resources/{name}.fmu", "type": "application/x-fmu-sharedlibrary"})
+        connectors = ET.SubElement(component, "ssd:Connectors")
+        for v in md.modelVariables:
+            if v.causality in ("input", "output") and v.type in TYPES:
+                connector = ET.SubElement(connectors, "ssd:Connector", name=v.name, kind=v.causality)
+                ET.SubElement(connector, f"ssc:{TYPES[v.type]}")
+        parameters = spec.components[name].parameters
+        if parameters:
+            bindings = ET.SubElement(component, "ssd:ParameterBindings")
+            binding = ET.SubElement(bindings, "ssd:ParameterBinding")
+            values = ET.SubElement(binding, "ssd:ParameterValues")
+            parameter_set = ET.SubElement(values, "ssv:ParameterSet", version="1.0", name=PARAMETER_SET)
+            container = ET.SubElement(parameter_set, "ssv:Parameters")
+            for pname, value in parameters.items():
+                v = variables[pname]
+                entry = ET.SubElement(container, "ssv:Parameter", name=pname)
+                ET.SubElement(entry, f"ssv:{TYPES[v.type]}", value=_literal(value, v.type))
+        multiple = spec.components[name].step_multiple
+        if multiple != 1:
+            annotations = ET.SubElement(component, "ssd:Annotations")
+            annotation = ET.SubElement(annotations, "ssc:Annotation", type="com.opensimulationplatform")
+            ET.SubElement(annotation, "osp:StepSizeHint", value=repr(spec.step * multiple))
+    connections = ET.SubElement(system, "ssd:Connections")
+    for c in spec.connections:
+        ET.SubElement(connections, "ssd:Connection", startElement=c.source, startConnector=c.output,
+                      endElement=c.target, endConnector=c.input)
+    experiment = ET.SubElement(root, "ssd:DefaultExperiment", startTime=repr(spec.start), stopTime=repr(spec.stop))
+    annotations = ET.SubElement(experiment, "ssd:Annotations")
+    annotation = ET.SubElement(annotations, "ssc:Annotation", type="com.opensimulationplatform")
+    algorithm = ET.SubElement(annotation, "osp:Algorithm")
+    ET.SubElement(algorithm, "osp:FixedStepAlgorithm", baseStepSize=repr(spec.step))
+    ET.indent(root)
+    return ET.tostring(root, encoding="UTF-8", xml_declaration=True) + b"\n"
+
+
+def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | None = None) -> Path:
+    """Write the system as an SSP archive; Python components must have been replaced by FMUs.
+
+    Raises
+    ------
+    SystemError_
+        If a component is not an FMU (a Python block cannot leave the project).
+    """
+    from .factory import create_components
+
+    python = [n for n, c in spec.components.items() if c.kind == "python"]
+    if python:
+        raise SystemError_(f"{spec.path or spec.name}: component(s) {', '.join(python)} are Python blocks; "
+                           "an SSP can only carry FMUs: use their Modelica twins (Bicycle.Control, Bicycle.Rider)")
+    if spec.algorithm != "jacobi":
+        raise SystemError_(f"{spec.path or spec.name}: SSP export describes a fixed-step Jacobi system "
+                           f"(OSP FixedStepAlgorithm); the system uses '{spec.algorithm}'")
+    components = create_components(spec, fmu_dir)  # builds models, checks parameters
+    try:
+        from .master import assemble
+
+        assemble(spec, components)  # checks the wiring before anything is written
+        fmus = {name: Path(comp.fmu.path) for name, comp in components.items() if isinstance(comp, FMUComponent)}
+    finally:
+        for comp in components.values():
+            comp.close()
+    destination = Path(destination)
+    destination.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(prefix="cosim-ssp-") as tmp:
+        partial = Path(tmp) / destination.name
+        with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as archive:
+            archive.writestr("SystemStructure.ssd", system_structure(spec, fmus))
+            for name, fmu in fmus.items():
+                archive.write(fmu, f"resources/{name}.fmu")
+        shutil.move(str(partial), destination.with_suffix(destination.suffix + ".partial"))
+        os.replace(destination.with_suffix(destination.suffix + ".partial"), destination)
+    return destination

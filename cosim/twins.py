@@ -1,0 +1,258 @@
+"""Analytic twins of the exported bicycle models: python-control systems from :mod:`cosim.analytic.simple`.
+
+Every model of ``Bicycle.Bicycles`` that ``cosim build`` exports has a twin here, built from the
+closed-form equations of Åström, Klein & Lennartsson (2005).  A twin takes the model's top-level
+parameter values (keyed by their Modelica names: ``m a h b c lambda J D V g k3 m_r J_r h_r R``)
+and returns a :class:`control.StateSpace` whose input and output names are the FMU's top-level
+inputs and outputs, in the FMU's order, with the same number of states as the FMU.  Transfer
+functions, poles and zeros of the FMU's linearization (:func:`cosim.linearize.linearize`) must
+equal the twin's to rounding (``cosim compare MODEL``).
+
+How each model maps onto the paper (see ``simple.py`` for the ``frame`` option):
+
+=================================  ========================  =====================================
+model                              inputs -> outputs         analytic model
+=================================  ========================  =====================================
+``SelfStabilizing``                T -> phi delta psi eta    (14) + (11), ``frame="eq14"``
+``SelfStabilizingGyro``            T -> phi delta psi eta    (14) + (11) with k3 ("Gyroscopic Effects")
+``InvertedPendulum``               delta -> phi psi eta      (1)/(4), ``frame="eq1"``
+``RearSteered``                    delta -> phi psi eta      (18): (4) at V < 0
+``LeaningRider``                   T theta -> phi delta      (22) + (11) = (23), ``frame="eq14"``
+                                   psi eta
+``CrownedRoller``                  delta -> phi psi eta      (4) with the poles (27)
+=================================  ========================  =====================================
+
+The path (yaw psi, deviation eta) is ``der(psi) = V*delta_f/b``, ``der(eta) = V*psi`` with the
+effective steer angle ``delta_f = delta*sin(lambda)`` (8) for the models with a head angle (as
+``path_steer_tf(frame="eq14")``) and ``delta_f = delta`` for the models with a vertical steer axis
+(``frame="eq1"``).  For ``RearSteered`` the speed V is negative (the model's own convention), so
+its twin is ``rear_steer_roll_steer_tf(bike, -V)``.
+"""
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+
+import control
+import numpy as np
+
+from .analytic import simple
+from .analytic.simple import SimpleBicycle
+
+__all__ = ["Twin", "TWINS", "analytic_system", "bicycle", "twin"]
+
+#: Modelica parameter name -> :class:`SimpleBicycle` field (others are equal).
+_FIELD = {"lambda": "lam"}
+
+#: Defaults of the Table 1 bicycle as declared in the Modelica models.
+_PAPER = {"m": 92.0, "a": 0.5, "h": 1.0, "b": 1.0, "c": 0.08, "lambda": 1.2217304763960306,
+          "J": 96.7, "D": 46.3, "V": 5.0, "g": 9.81}
+_PENDULUM = {k: _PAPER[k] for k in ("m", "h", "b", "J", "D", "V", "g")}
+
+
+@dataclass(frozen=True)
+class Twin:
+    """The analytic counterpart of one exported model.
+
+    Attributes
+    ----------
+    model : str
+        Full Modelica name, e.g. ``"Bicycle.Bicycles.SelfStabilizing"``.
+    build : callable
+        ``build(parameters, V) -> control.StateSpace``; ``parameters`` holds every name of
+        ``defaults`` (Modelica names), ``V`` the speed [m/s].
+    defaults : dict
+        The model's top-level parameters with their Modelica default values (SI units).
+    inputs, outputs : tuple of str
+        The FMU's top-level inputs and outputs, in modelDescription order.
+    speed : str
+        Name of the speed parameter.
+    equations : str
+        Where the model comes from in the paper.
+    """
+
+    model: str
+    build: Callable[[Mapping[str, float], float], control.StateSpace]
+    defaults: dict = field(default_factory=dict)
+    inputs: tuple[str, ...] = ()
+    outputs: tuple[str, ...] = ()
+    speed: str = "V"
+    equations: str = ""
+
+    def parameters(self, values: Mapping[str, float] | None = None) -> dict[str, float]:
+        """The defaults updated with ``values``; unknown names raise ``ValueError``.
+
+        Names with a dot (FMU-internal variables such as ``solver.fixedStepSize``) are ignored.
+        """
+        values = dict(values or {})
+        unknown = sorted(k for k in values if "." not in k and k not in self.defaults)
+        if unknown:
+            raise ValueError(f"{self.model}: unknown parameter(s) {', '.join(unknown)}; "
+                             f"parameters are: {', '.join(self.defaults)}")
+        merged = dict(self.defaults)
+        for k, v in values.items():
+            if "." in k:
+                continue
+            v = float(v)
+            if not math.isfinite(v):
+                raise ValueError(f"{self.model}: parameter {k} must be finite, got {v!r}")
+            merged[k] = v
+        return merged
+
+    def system(self, values: Mapping[str, float] | None = None) -> control.StateSpace:
+        """The analytic state-space model at the given parameter values (defaults elsewhere)."""
+        p = self.parameters(values)
+        sys = self.build(p, p[self.speed])
+        assert tuple(sys.input_labels) == self.inputs and tuple(sys.output_labels) == self.outputs
+        return sys
+
+
+def bicycle(parameters: Mapping[str, float]) -> SimpleBicycle:
+    """A :class:`SimpleBicycle` from Modelica parameter names (missing fields keep their defaults).
+
+    Parameters that are not fields of :class:`SimpleBicycle` (``V``, ``k3``) are skipped.
+    Raises ``ValueError`` naming the parameter if a value is out of range.
+    """
+    fields = set(SimpleBicycle.__dataclass_fields__)
+    kwargs = {}
+    for name, value in parameters.items():
+        key = _FIELD.get(name, name)
+        if key in fields:
+            kwargs[key] = float(value)
+    return SimpleBicycle(**kwargs)
+
+
+# ----------------------------------------------------------------------------
+# building blocks
+
+def _path(bike: SimpleBicycle, V: float, effective: bool) -> control.StateSpace:
+    """delta -> (psi, eta): der(psi) = V*delta_f/b, der(eta) = V*psi (delta_f = delta*sin(lam) if effective)."""
+    gain = V / bike.b * (math.sin(bike.lam) if effective else 1.0)
+    return control.ss([[0.0, 0.0], [V, 0.0]], [[gain], [0.0]], np.eye(2), np.zeros((2, 1)),
+                      states=["psi", "eta"], inputs=["delta"], outputs=["psi", "eta"])
+
+
+def _with_path(sys: control.StateSpace, C_delta, D_delta, path: control.StateSpace,
+               outputs: list[str]) -> control.StateSpace:
+    """Append the path states of ``path`` driven by delta = C_delta x + D_delta u of ``sys``.
+
+    The outputs are ``sys``'s followed by psi and eta, renamed to ``outputs``.
+    """
+    n, m = sys.nstates, sys.ninputs
+    C_delta = np.atleast_2d(np.asarray(C_delta, float)).reshape(1, n)
+    D_delta = np.atleast_2d(np.asarray(D_delta, float)).reshape(1, m)
+    A = np.block([[sys.A, np.zeros((n, 2))], [path.B @ C_delta, path.A]])
+    B = np.vstack([sys.B, path.B @ D_delta])
+    C = np.block([[sys.C, np.zeros((sys.noutputs, 2))], [np.zeros((2, n)), path.C]])
+    D = np.vstack([sys.D, np.zeros((2, m))])
+    return control.ss(A, B, C, D, states=list(sys.state_labels) + ["psi", "eta"],
+                      inputs=list(sys.input_labels), outputs=outputs)
+
+
+def _steer_angle_model(G: control.TransferFunction, bike: SimpleBicycle, V: float) -> control.StateSpace:
+    """Roll transfer function G_phi_delta plus the path of a vertical steer axis: delta -> phi, psi, eta."""
+    roll = control.ss(G)
+    roll = control.ss(roll.A, roll.B, roll.C, roll.D, inputs=["delta"], outputs=["phi"],
+                      states=[f"x{k}" for k in range(roll.nstates)])
+    return _with_path(roll, np.zeros(roll.nstates), [1.0], _path(bike, V, effective=False),
+                      ["phi", "psi", "eta"])
+
+
+def _torque_model(sys: control.StateSpace, bike: SimpleBicycle, V: float) -> control.StateSpace:
+    """A frame + fork model with outputs (phi, delta) plus the path with delta_f = delta*sin(lam)."""
+    k = list(sys.output_labels).index("delta")
+    return _with_path(sys, sys.C[k], sys.D[k], _path(bike, V, effective=True),
+                      ["phi", "delta", "psi", "eta"])
+
+
+# ----------------------------------------------------------------------------
+# the twins
+
+def _self_stabilizing(p: Mapping[str, float], V: float) -> control.StateSpace:
+    bike = bicycle(p)
+    return _torque_model(simple.self_stabilizing_ss(bike, V, k3=0.0, frame="eq14"), bike, V)
+
+
+def _self_stabilizing_gyro(p: Mapping[str, float], V: float) -> control.StateSpace:
+    bike = bicycle(p)
+    return _torque_model(simple.self_stabilizing_ss(bike, V, k3=p["k3"], frame="eq14"), bike, V)
+
+
+def _inverted_pendulum(p: Mapping[str, float], V: float) -> control.StateSpace:
+    bike = bicycle(p)
+    return _steer_angle_model(simple.roll_steer_tf(bike, V, frame="eq1"), bike, V)
+
+
+def _rear_steered(p: Mapping[str, float], V: float) -> control.StateSpace:
+    if V > 0:
+        raise ValueError(f"RearSteered: V must be <= 0 (rear-wheel steering at forward speed -V), got {V!r}")
+    bike = bicycle(p)
+    return _steer_angle_model(simple.rear_steer_roll_steer_tf(bike, -V), bike, V)
+
+
+def _leaning_rider(p: Mapping[str, float], V: float) -> control.StateSpace:
+    bike = bicycle(p)
+    return _torque_model(simple.leaning_rider_ss(bike, V, frame="eq14"), bike, V)
+
+
+def _crowned_roller(p: Mapping[str, float], V: float) -> control.StateSpace:
+    bike = bicycle(p)
+    G = simple.roll_steer_tf(bike, V, frame="eq1")  # monic denominator s^2 - m g h / J
+    den = np.real(np.poly(simple.crowned_roller_poles(bike)))  # s^2 - m g (h - R) / J, eq (27)
+    return _steer_angle_model(control.tf(G.num[0][0], den), bike, V)
+
+
+_TORQUE_OUT = ("phi", "delta", "psi", "eta")
+_ANGLE_OUT = ("phi", "psi", "eta")
+
+TWINS: dict[str, Twin] = {t.model: t for t in (
+    Twin("Bicycle.Bicycles.SelfStabilizing", _self_stabilizing, dict(_PAPER), ("T",), _TORQUE_OUT,
+         equations="(14) + (11); path with delta*sin(lambda)"),
+    Twin("Bicycle.Bicycles.SelfStabilizingGyro", _self_stabilizing_gyro, {**_PAPER, "k3": 0.05}, ("T",),
+         _TORQUE_OUT, equations="(14) + (11) with delta = k1 T - k2 phi - k3 dphi/dt"),
+    Twin("Bicycle.Bicycles.InvertedPendulum", _inverted_pendulum, dict(_PENDULUM), ("delta",), _ANGLE_OUT,
+         equations="(1), (4); path der(psi) = V delta / b, der(eta) = V psi"),
+    Twin("Bicycle.Bicycles.RearSteered", _rear_steered, {**_PENDULUM, "V": -5.0}, ("delta",), _ANGLE_OUT,
+         equations="(18): (4) at negative V"),
+    Twin("Bicycle.Bicycles.LeaningRider", _leaning_rider,
+         {**_PAPER, "m_r": 40.0, "J_r": 16.0, "h_r": 0.35}, ("T", "theta"), _TORQUE_OUT,
+         equations="(22) + (11) = (23) with the frame (14)"),
+    Twin("Bicycle.Bicycles.CrownedRoller", _crowned_roller, {**_PENDULUM, "R": 0.3}, ("delta",), _ANGLE_OUT,
+         equations="(1) with m g (h - R), poles (27)"),
+)}
+
+
+def twin(model_name: str) -> Twin:
+    """The twin of ``model_name``; ``KeyError`` lists the models that have one."""
+    try:
+        return TWINS[model_name]
+    except KeyError:
+        raise KeyError(f"no analytic twin for '{model_name}'; twins exist for: {', '.join(TWINS)}") from None
+
+
+def analytic_system(model_name: str, parameters: Mapping[str, float] | None = None) -> control.StateSpace:
+    """The analytic state-space model of an exported model at the given parameter values.
+
+    Parameters
+    ----------
+    model_name : str
+        Full Modelica name, a key of :data:`TWINS`.
+    parameters : dict, optional
+        Top-level parameter values by Modelica name (SI units); missing ones take the model's
+        defaults, names containing a dot are ignored.
+
+    Returns
+    -------
+    control.StateSpace
+        Inputs and outputs named and ordered as the FMU's top-level inputs and outputs.
+
+    Raises
+    ------
+    KeyError
+        No twin for the model.
+    ValueError
+        Unknown parameter name, or a value the analytic model rejects (e.g. V at the
+        self-alignment speed, a non-positive mass), naming the parameter.
+    """
+    return twin(model_name).system(parameters)

@@ -1,0 +1,3 @@
+within Bicycle;
+package Sources "Signal sources for co-simulation systems (twins of cosim's Python sources)"
+end Sources;
