@@ -33,6 +33,10 @@ class Component:
     def end_initialization(self) -> None:
         """Leave initialization; the first step follows."""
 
+    def initial_inputs(self) -> np.ndarray:
+        """Input values after setup (unconnected inputs keep them)."""
+        return np.zeros(len(self.inputs))
+
     def set_inputs(self, values: np.ndarray) -> None:
         raise NotImplementedError
 
@@ -110,6 +114,11 @@ class FMUComponent(Component):
 
     def end_initialization(self) -> None:
         self.instance.exitInitializationMode()
+
+    def initial_inputs(self) -> np.ndarray:
+        if len(self._in):
+            self._get_real(self._component, self._in_vr, len(self._in), self._in_ptr)
+        return self._in.copy()
 
     def set_inputs(self, values: np.ndarray) -> None:
         if len(self._in):

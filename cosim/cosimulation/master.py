@@ -160,7 +160,6 @@ class System:
         n_steps = int(round((spec.stop - spec.start) / h))
         record_names, record_idx = self.record
         data = np.empty((n_steps + 1, 1 + len(record_idx)))
-        self._inputs = {n: np.zeros(len(self.components[n].inputs)) for n in self.names}
         multiples = {n: spec.components[n].step_multiple if n in spec.components else 1 for n in self.names}
         for comp in self.components.values():
             if hasattr(comp, "configure_step"):
@@ -168,6 +167,7 @@ class System:
         try:
             for comp in self.components.values():
                 comp.setup(spec.start)
+            self._inputs = {n: self.components[n].initial_inputs() for n in self.names}
             for name in self.names:
                 self._read(name)
             if spec.initialize:  # propagate outputs to inputs (a few sweeps settle feedthrough chains)
@@ -185,6 +185,10 @@ class System:
             rows = n_steps + 1
             gauss_seidel = spec.algorithm == "gauss-seidel"
             after_transfer = spec.sampling == "after-transfer"
+            fast = self._fast_run(data, n_steps, record_idx) if self.use_fast_loop else None
+            if fast is not None:
+                outcome, rows = fast
+                n_steps = 0  # done
             for k in range(n_steps):
                 t = spec.start + k * h
                 due = [n for n in self.order if k % multiples[n] == 0]
@@ -219,6 +223,54 @@ class System:
         for j, name in enumerate(["time"] + list(record_names)):
             table[name] = data[:rows, j]
         return RunResult(table, outcome, rows - 1)
+
+    use_fast_loop = True
+
+    def _fast_run(self, data: np.ndarray, n_steps: int, record_idx: np.ndarray):
+        """Step in C when every component is an FMU; None where the Python loop must do it."""
+        from ctypes import POINTER, byref, c_double, c_int, c_long, c_uint
+
+        from .component import FMUComponent
+        from .fastloop import FastComponent, address, library
+
+        lib = library()
+        if lib is None or not all(isinstance(c, FMUComponent) for c in self.components.values()):
+            return None
+        spec = self.spec
+        keep = []  # buffers the C structures point into
+        comps = (FastComponent * len(self.names))()
+        for j, name in enumerate(self.names):
+            c = self.components[name]
+            targets, sources = self.targets[name], self.sources[name]
+            in_vr = (c_uint * max(1, len(targets)))(*[c._in_vr[t] for t in targets])
+            in_src = (c_int * max(1, len(targets)))(*[int(s) for s in sources])
+            in_buf = (c_double * max(1, len(targets)))()
+            out_vr = (c_uint * max(1, len(c.outputs)))(*list(c._out_vr))
+            keep += [in_vr, in_src, in_buf, out_vr]
+            comps[j] = FastComponent(
+                c._component, address(c._set_real), address(c._get_real), address(c._do_step),
+                len(targets), in_vr, in_src, in_buf, len(c.outputs), out_vr, self.offset[name],
+                spec.components[name].step_multiple if name in spec.components else 1)
+        order = (c_int * len(self.names))(*[self.names.index(n) for n in self.order])
+        rec_idx = np.ascontiguousarray(record_idx, dtype=np.int32)
+        steps_done, failed = c_long(0), c_int(-1)
+        fall = self.fall_index if self.fall_index is not None else -1
+        status = lib.cosim_fast_run(
+            len(self.names), comps, order, int(spec.algorithm == "gauss-seidel"),
+            int(spec.sampling == "after-transfer"),
+            self.signals.ctypes.data_as(POINTER(c_double)), len(self.signals), c_double(spec.start),
+            c_double(spec.step), c_long(n_steps), len(rec_idx), rec_idx.ctypes.data_as(POINTER(c_int)),
+            data.ctypes.data_as(POINTER(c_double)), fall, c_double(spec.fall_limit or 0.0),
+            byref(steps_done), byref(failed))
+        t = spec.start + steps_done.value * spec.step
+        rows = steps_done.value + 1
+        if status == 0:
+            return Outcome("completed", spec.stop, f"completed at t = {spec.stop:g} s"), rows
+        if status == 1:
+            return Outcome("fell", t, f"fell at t = {t:.3f} s (|{spec.fall_signal}| > {spec.fall_limit:g})"), rows
+        if status == 2:
+            return self._check_outcome(t), rows
+        raise SimulationError(f"{self.names[failed.value]}: FMI call failed at t = {t:g} s")
 
     def _check_outcome(self, t: float) -> Outcome | None:
         if not np.all(np.isfinite(self.signals)):

@@ -44,11 +44,12 @@ model WhippleLinear "Linearized Whipple bicycle, eq (24): M q'' + v C1 q' + (g K
   Bicycle.Bodies.FrontWheel frontWheel(w = w, r = rF, m = mF, Ixx = IFxx, Iyy = IFyy) "Front wheel F";
 
   // Whole bicycle T (Meijaard 2007, eqs A1-A6): sums of the bodies' moments about the rear contact point
+  // (the rear wheel centre lies above the origin: it adds nothing to m*x and Jxz)
   final parameter Bicycle.Units.Mass mT = rearWheel.m + rearFrame.m + frontFrame.m + frontWheel.m "Total mass mT (A1)";
-  final parameter Bicycle.Units.Position xT = (rearWheel.mx + rearFrame.mx + frontFrame.mx + frontWheel.mx)/mT "Total centre of mass: x coordinate xT (A2)";
+  final parameter Bicycle.Units.Position xT = (rearFrame.mx + frontFrame.mx + frontWheel.mx)/mT "Total centre of mass: x coordinate xT (A2)";
   final parameter Bicycle.Units.Position zT = (rearWheel.mz + rearFrame.mz + frontFrame.mz + frontWheel.mz)/mT "Total centre of mass: z coordinate zT (A2)";
   final parameter Bicycle.Units.MomentOfInertia ITxx = rearWheel.Jxx + rearFrame.Jxx + frontFrame.Jxx + frontWheel.Jxx "Total inertia ITxx about the rear contact point (A3)";
-  final parameter Bicycle.Units.MomentOfInertia ITxz = rearWheel.Jxz + rearFrame.Jxz + frontFrame.Jxz + frontWheel.Jxz "Total inertia-tensor element ITxz about the rear contact point (A4)";
+  final parameter Bicycle.Units.MomentOfInertia ITxz = rearFrame.Jxz + frontFrame.Jxz + frontWheel.Jxz "Total inertia-tensor element ITxz about the rear contact point (A4)";
   final parameter Bicycle.Units.MomentOfInertia ITzz = rearWheel.Jzz + rearFrame.Jzz + frontFrame.Jzz + frontWheel.Jzz "Total inertia ITzz about the rear contact point (A6)";
   // Front assembly A = H + F (A7-A12): inertia about its own centre of mass by the parallel-axis theorem
   final parameter Bicycle.Units.Mass mA = frontFrame.m + frontWheel.m "Front assembly mass mA (A7)";

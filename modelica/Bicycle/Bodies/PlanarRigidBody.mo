@@ -2,7 +2,7 @@ within Bicycle.Bodies;
 partial model PlanarRigidBody "Rigid body symmetric about the bicycle's x-z plane: mass, centre of mass, inertia and their moments about the rear contact point"
   parameter Bicycle.Units.Mass m(min = 0) "Mass";
   parameter Bicycle.Units.Position x "Centre of mass: x coordinate (forward from the rear contact point)";
-  parameter Bicycle.Units.Position z "Centre of mass: z coordinate (downward from the ground; negative above the ground)";
+  parameter Bicycle.Units.Position z(max = 0) "Centre of mass: z coordinate (downward; negative above the ground)";
   parameter Bicycle.Units.MomentOfInertia Ixx(min = 0) "Inertia-tensor element xx about the centre of mass";
   parameter Bicycle.Units.MomentOfInertia Ixz "Inertia-tensor element xz about the centre of mass (-integral(x z dm))";
   parameter Bicycle.Units.MomentOfInertia Iyy(min = 0) "Inertia-tensor element yy about the centre of mass";

@@ -1,11 +1,10 @@
 within Bicycle.Bodies;
-model RearWheel "Rear wheel R: axisymmetric knife-edge wheel rolling on the ground (Meijaard 2007, Table 1)"
-  extends Bicycle.Bodies.PlanarRigidBody(m = 2, final x = 0, final z = -r, Ixx = 0.0603, final Ixz = 0, Iyy = 0.12, final Izz = Ixx);
-  parameter Bicycle.Units.Length r(min = 1e-6) = 0.3 "Wheel radius rR";
-  final parameter Bicycle.Units.FirstMomentOfMass S = Iyy/r "Gyrostatic coefficient S = Iyy/r (spin angular momentum per forward speed)";
+model RearWheel "Rear wheel R: axisymmetric knife-edge wheel with its centre above the origin (Meijaard 2007, Table 1)"
+  extends Bicycle.Bodies.Wheel(r = 0.3, m = 2, Ixx = 0.0603, Iyy = 0.12);
+  final parameter Bicycle.Units.MomentOfInertia Jzz = Ixx "Inertia-tensor element zz about the rear contact point (= Ixx: the centre lies on the z axis)";
   annotation(Documentation(info = "<html>
-<p>Rear wheel with its centre at (0, -r) above the rear contact point. Axisymmetric: the spin
-inertia is <code>Iyy</code> (IRyy), the diametral inertia <code>Ixx = Izz</code> (IRxx).
-Defaults: the benchmark bicycle of Meijaard et al. (2007).</p>
+<p>Rear wheel with its centre at x = 0, z = -r, straight above the rear contact point (the origin).
+Its first moment m*x and its inertia-tensor element Jxz about the origin are therefore zero and not
+declared. Defaults: the benchmark bicycle of Meijaard et al. (2007) (rR, mR, IRxx, IRyy).</p>
 </html>"));
 end RearWheel;
