@@ -71,6 +71,8 @@ class FMUComponent(Component):
         md = self.fmu.description
         if md.coSimulation is None:
             raise SimulationError(f"{name}: {path} does not support Co-Simulation")
+        # Every variable by name: (causality, type), to explain a connection that cannot be made.
+        self.variables = {v.name: (v.causality, v.type) for v in md.modelVariables}
         self.inputs = [v.name for v in md.modelVariables if v.causality == "input" and v.type == "Real"]
         self.outputs = [v.name for v in md.modelVariables if v.causality == "output" and v.type == "Real"]
         self.parameters = dict(parameters or {})

@@ -72,6 +72,9 @@ class System:
             self.targets[name] = np.array([p[0] for p in pairs], dtype=int)
             self.sources[name] = np.array([p[1] for p in pairs], dtype=int)
         self.connections = list(connected.values())
+        for comp in components.values():  # a delay longer than the step has no feedthrough
+            if hasattr(comp, "configure_step"):
+                comp.configure_step(spec.step)
         self.order = self._gauss_seidel_order(where) if spec.algorithm == "gauss-seidel" else self.names
         self.fall_index = None
         if spec.fall_signal:
@@ -86,12 +89,22 @@ class System:
             if comp not in self.components:
                 raise SystemError_(f"{where}: connection '{c}': unknown component '{comp}' "
                                    f"(components: {', '.join(self.names)})")
-            if var not in getattr(self.components[comp], attr):
-                other = "input" if kind == "output" else "output"
-                wrong = var in getattr(self.components[comp], "inputs" if kind == "output" else "outputs")
-                hint = f" ('{var}' is an {other}: causality mismatch)" if wrong else \
-                    f" ({kind}s: {', '.join(getattr(self.components[comp], attr)) or 'none'})"
-                raise SystemError_(f"{where}: connection '{c}': '{comp}' has no {kind} '{var}'{hint}")
+            component = self.components[comp]
+            if var in getattr(component, attr):
+                continue
+            causality, type_ = getattr(component, "variables", {}).get(var, (None, None))
+            if causality is None:
+                causality = next((k for k, a in (("input", "inputs"), ("output", "outputs"))
+                                  if var in getattr(component, a)), None)
+                type_ = "Real" if causality else None
+            if causality is None:
+                listed = ", ".join(getattr(component, attr)) or "none"
+                raise SystemError_(f"{where}: connection '{c}': '{comp}' has no {kind} '{var}' ({kind}s: {listed})")
+            if causality != kind:
+                raise SystemError_(f"{where}: connection '{c}': causality mismatch: '{comp}.{var}' is "
+                                   f"{'an' if causality[0] in 'aeiou' else 'a'} {causality}, not an {kind}")
+            raise SystemError_(f"{where}: connection '{c}': type mismatch: '{comp}.{var}' is {type_}; "
+                               "connections carry Real signals")
 
     def _gauss_seidel_order(self, where: str) -> list[str]:
         """Topological order of the components along connections with direct feedthrough.
@@ -161,9 +174,6 @@ class System:
         record_names, record_idx = self.record
         data = np.empty((n_steps + 1, 1 + len(record_idx)))
         multiples = {n: spec.components[n].step_multiple if n in spec.components else 1 for n in self.names}
-        for comp in self.components.values():
-            if hasattr(comp, "configure_step"):
-                comp.configure_step(h)
         try:
             for comp in self.components.values():
                 comp.setup(spec.start)

@@ -1,32 +1,44 @@
 within Bicycle.Bicycles;
 model SelfStabilizing "Rear frame (14) with static front fork (11): self-stabilizing bicycle with steer-torque input"
-  parameter Bicycle.Units.Mass m = 92 "Total mass m of bicycle and rider";
-  parameter Bicycle.Units.Length a = 0.5 "Horizontal distance a from the rear contact point to the centre of mass";
-  parameter Bicycle.Units.Length h = 1.0 "Height h of the centre of mass";
-  parameter Bicycle.Units.Length b = 1.0 "Wheel base b";
-  parameter Bicycle.Units.Length c = 0.08 "Trail c";
-  parameter Bicycle.Units.Angle lambda = 1.2217304763960306 "Head angle lambda (70 deg)";
-  parameter Bicycle.Units.MomentOfInertia J = 96.7 "Moment of inertia J about the x axis";
-  parameter Bicycle.Units.MomentOfInertia D = 46.3 "Inertia product D = -Jxz";
+  parameter Bicycle.Units.Mass m(min = 1e-6) = 92 "Total mass m of bicycle and rider";
+  parameter Bicycle.Units.Length a(min = 1e-6) = 0.5 "Horizontal distance a from the rear contact point to the centre of mass";
+  parameter Bicycle.Units.Length h(min = 1e-6) = 1.0 "Height h of the centre of mass";
+  parameter Bicycle.Units.Length b(min = 1e-6) = 1.0 "Wheel base b";
+  parameter Bicycle.Units.Length c(min = 1e-6) = 0.08 "Trail c";
+  parameter Bicycle.Units.Angle lambda(min = 1e-6, max = 1.5707963267948966) = 1.2217304763960306 "Head angle lambda (70 deg)";
+  parameter Bicycle.Units.MomentOfInertia J(min = 1e-9) = 96.7 "Moment of inertia J about the x axis";
+  parameter Bicycle.Units.MomentOfInertia D(min = 1e-9) = 46.3 "Inertia product D = -Jxz";
   parameter Bicycle.Units.Velocity V = 5 "Forward speed V";
-  parameter Bicycle.Units.Acceleration g = 9.81 "Gravitational acceleration";
+  parameter Bicycle.Units.Acceleration g(min = 1e-6) = 9.81 "Gravitational acceleration";
   input Bicycle.Units.Torque T "Steer torque applied to the handlebars";
   output Bicycle.Units.Angle phi "Roll angle, positive leaning to the right";
   output Bicycle.Units.Angle delta "Steer angle, positive steering to the left";
-  Bicycle.Components.RearFrame frame(m = m, a = a, h = h, b = b, c = c, lambda = lambda, J = J, D = D, V = V, g = g) "Rear frame with rider";
-  Bicycle.Components.StaticFrontFork fork(m = m, a = a, b = b, c = c, lambda = lambda, V = V, g = g) "Front fork";
+  output Bicycle.Units.Angle psi "Yaw angle of the rear frame, positive to the left";
+  output Bicycle.Units.Position eta "Path deviation of the rear contact point, positive to the left";
+  Bicycle.Components.RearFrame frame(m = m, h = h, b = b, J = J, D = D, V = V, g = g) "Rear frame with rider and wheels, eq (1)";
+  Bicycle.Components.StaticFrontFork fork(m = m, a = a, b = b, c = c, lambda = lambda, V = V, g = g) "Front fork, eqs (7)-(13)";
   Bicycle.Components.SteerTorque handlebar(T = T) "Rider's steer torque";
+  Bicycle.Components.PathKinematics path(V = V, b = b) "Yaw angle and path deviation";
 equation
   connect(frame.roll, fork.roll);
-  connect(frame.steer, fork.steer);
+  connect(fork.front, frame.front);
+  connect(fork.front, path.front);
   connect(handlebar.steer, fork.steer);
   phi = frame.phi;
   delta = fork.steer.delta;
+  psi = path.psi;
+  eta = path.eta;
   annotation(
     experiment(StartTime = 0, StopTime = 5, Tolerance = 1e-8, Interval = 0.01),
     __Cosim(export = true),
     Documentation(info = "<html>
-<p>The bicycle of eqs (14) and (11): steer torque T in, roll angle phi and steer angle delta out.
-Stable for V &gt; V_c = sqrt(b*g*cot(lambda)) (16) when b*h &gt; a*c*tan(lambda) (17).</p>
+<p>The bicycle of eqs (14) and (11): steer torque T in; roll angle phi, steer angle delta, yaw
+angle psi and path deviation eta out. The frame (1) and the static fork together give (14): the
+fork supplies the effective steer angle delta*sin(lambda) (8) and the roll torque of its shifted
+contact point. Stable for V &gt; V_c = sqrt(b*g*cot(lambda)) (16) when b*h &gt; a*c*tan(lambda) (17).
+A constant positive T gives the inverse path response of Figure 5 (eta first positive, then
+negative; roll positive, steer negative).</p>
+<p>States: frame.phi, frame.L (momentum form), path.psi, path.eta. The path uses the effective
+steer angle: der(psi) = V*sin(lambda)*delta/b, der(eta) = V*psi. Singular at V = V_sa (10).</p>
 </html>"));
 end SelfStabilizing;

@@ -1,3 +1,3 @@
 within Bicycle;
-package Components "Bicycle components: frame, front fork, torque sources"
+package Components "Bicycle components: frames, front forks, rider, rollers, kinematics, torque and angle sources"
 end Components;

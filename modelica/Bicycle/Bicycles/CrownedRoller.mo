@@ -1,0 +1,37 @@
+within Bicycle.Bicycles;
+model CrownedRoller "Bicycle on crowned rollers of rocking radius R (27): model (1) with gravity term m*g*(h - R), steer angle in"
+  parameter Bicycle.Units.Mass m(min = 1e-6) = 92 "Total mass m of bicycle and rider";
+  parameter Bicycle.Units.Length h(min = 1e-6) = 1.0 "Height h of the centre of mass";
+  parameter Bicycle.Units.Length b(min = 1e-6) = 1.0 "Wheel base b";
+  parameter Bicycle.Units.MomentOfInertia J(min = 1e-9) = 96.7 "Moment of inertia J about the x axis";
+  parameter Bicycle.Units.MomentOfInertia D(min = 1e-9) = 46.3 "Inertia product D = -Jxz";
+  parameter Bicycle.Units.Velocity V = 5 "Forward speed V";
+  parameter Bicycle.Units.Acceleration g(min = 1e-6) = 9.81 "Gravitational acceleration";
+  parameter Bicycle.Units.Length R(min = 0) = 0.3 "Lateral (rocking) radius R of the crowned rollers";
+  input Bicycle.Units.Angle delta "Steer angle (vertical steer axis), positive steering to the left";
+  output Bicycle.Units.Angle phi "Roll angle, positive leaning to the right";
+  output Bicycle.Units.Angle psi "Yaw angle of the rear frame, positive to the left";
+  output Bicycle.Units.Position eta "Path deviation of the rear contact point, positive to the left";
+  Bicycle.Components.RearFrame frame(m = m, h = h, b = b, J = J, D = D, V = V, g = g) "Rear frame with rider and wheels, eq (1)";
+  Bicycle.Components.SteerAngle handlebar(delta = delta) "Rider's steer angle";
+  Bicycle.Components.PathKinematics path(V = V, b = b) "Yaw angle and path deviation";
+  Bicycle.Components.CrownedRollers rollers(m = m, g = g, R = R) "Crowned rollers instead of thin tyres";
+equation
+  connect(handlebar.front, frame.front);
+  connect(handlebar.front, path.front);
+  connect(frame.roll, rollers.roll);
+  phi = frame.phi;
+  psi = path.psi;
+  eta = path.eta;
+  annotation(
+    experiment(StartTime = 0, StopTime = 2, Tolerance = 1e-8, Interval = 0.01),
+    __Cosim(export = true),
+    Documentation(info = "<html>
+<p>Model (1) on crowned rollers (Figure 21): the gravity term m*g*h*phi becomes
+m*g*(h - R)*phi, so with the steer angle held the roll poles are +-sqrt(m*g*(h - R)/J) (27):
+unstable for R &lt; h, an undamped rocking mode (stable, not asymptotically) for R &gt; h. The steer
+angle is the input, as in (1), so that the poles of (27) are the poles of G_phi_delta
+(G_phi_delta(s) = V*(D*s + m*V*h)/(b*(J*s^2 - m*g*(h - R)))); the lateral forces of the
+steered rollers are those of (1).</p>
+</html>"));
+end CrownedRoller;

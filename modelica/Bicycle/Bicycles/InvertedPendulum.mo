@@ -1,0 +1,35 @@
+within Bicycle.Bicycles;
+model InvertedPendulum "Inverted-pendulum bicycle (1): steer angle in; roll angle, yaw angle and path deviation out"
+  parameter Bicycle.Units.Mass m(min = 1e-6) = 92 "Total mass m of bicycle and rider";
+  parameter Bicycle.Units.Length h(min = 1e-6) = 1.0 "Height h of the centre of mass";
+  parameter Bicycle.Units.Length b(min = 1e-6) = 1.0 "Wheel base b";
+  parameter Bicycle.Units.MomentOfInertia J(min = 1e-9) = 96.7 "Moment of inertia J about the x axis";
+  parameter Bicycle.Units.MomentOfInertia D(min = 1e-9) = 46.3 "Inertia product D = -Jxz";
+  parameter Bicycle.Units.Velocity V = 5 "Forward speed V";
+  parameter Bicycle.Units.Acceleration g(min = 1e-6) = 9.81 "Gravitational acceleration";
+  input Bicycle.Units.Angle delta "Steer angle (vertical steer axis), positive steering to the left";
+  output Bicycle.Units.Angle phi "Roll angle, positive leaning to the right";
+  output Bicycle.Units.Angle psi "Yaw angle of the rear frame, positive to the left";
+  output Bicycle.Units.Position eta "Path deviation of the rear contact point, positive to the left";
+  Bicycle.Components.RearFrame frame(m = m, h = h, b = b, J = J, D = D, V = V, g = g) "Rear frame with rider and wheels, eq (1)";
+  Bicycle.Components.SteerAngle handlebar(delta = delta) "Rider's steer angle";
+  Bicycle.Components.PathKinematics path(V = V, b = b) "Yaw angle and path deviation";
+equation
+  connect(handlebar.front, frame.front);
+  connect(handlebar.front, path.front);
+  phi = frame.phi;
+  psi = path.psi;
+  eta = path.eta;
+  annotation(
+    experiment(StartTime = 0, StopTime = 2, Tolerance = 1e-8, Interval = 0.01),
+    __Cosim(export = true),
+    Documentation(info = "<html>
+<p>Model (1): vertical steer axis, zero trail, the steer angle delta is the control variable.
+G_phi_delta(s) = V*(D*s + m*V*h)/(b*(J*s^2 - m*g*h)) (4): poles +-sqrt(m*g*h/J) (2), zero
+-m*V*h/D (3). The path: der(psi) = V*delta/b, der(eta) = V*psi, G_eta_delta = V^2/(b*s^2).</p>
+<p>The steer angle appears differentiated in (1); the frame is written in momentum form
+(state L = J*der(phi) - D*V*delta/b), so the input is never differentiated. A step of delta
+makes der(phi) jump. Proportional steering delta = -k2*phi (5) stabilizes it iff k2 &gt; b*g/V^2 (6)
+(see Examples.InvertedPendulumSteerFeedback).</p>
+</html>"));
+end InvertedPendulum;

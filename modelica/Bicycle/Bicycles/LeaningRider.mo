@@ -1,0 +1,52 @@
+within Bicycle.Bicycles;
+model LeaningRider "Self-stabilizing bicycle (14) + (11) with a rider who leans the upper body, eqs (22), (23): steer torque and lean angle in"
+  parameter Bicycle.Units.Mass m(min = 1e-6) = 92 "Total mass m of bicycle and rider";
+  parameter Bicycle.Units.Length a(min = 1e-6) = 0.5 "Horizontal distance a from the rear contact point to the centre of mass";
+  parameter Bicycle.Units.Length h(min = 1e-6) = 1.0 "Height h of the centre of mass";
+  parameter Bicycle.Units.Length b(min = 1e-6) = 1.0 "Wheel base b";
+  parameter Bicycle.Units.Length c(min = 1e-6) = 0.08 "Trail c";
+  parameter Bicycle.Units.Angle lambda(min = 1e-6, max = 1.5707963267948966) = 1.2217304763960306 "Head angle lambda (70 deg)";
+  parameter Bicycle.Units.MomentOfInertia J(min = 1e-9) = 96.7 "Moment of inertia J about the x axis";
+  parameter Bicycle.Units.MomentOfInertia D(min = 1e-9) = 46.3 "Inertia product D = -Jxz";
+  parameter Bicycle.Units.Velocity V = 5 "Forward speed V";
+  parameter Bicycle.Units.Acceleration g(min = 1e-6) = 9.81 "Gravitational acceleration";
+  parameter Bicycle.Units.Mass m_r(min = 1e-6) = 40 "Mass m_r of the rider's upper body (part of m)";
+  parameter Bicycle.Units.MomentOfInertia J_r(min = 1e-9) = 16 "Moment of inertia J_r of the upper body with respect to the x axis";
+  parameter Bicycle.Units.Length h_r(min = 0) = 0.35 "Distance h_r from the centre of mass of the upper body to its lean axis";
+  input Bicycle.Units.Torque T "Steer torque applied to the handlebars";
+  input Bicycle.Units.Angle theta "Lean angle of the upper body relative to the frame, positive to the right";
+  output Bicycle.Units.Angle phi "Roll angle, positive leaning to the right";
+  output Bicycle.Units.Angle delta "Steer angle, positive steering to the left";
+  output Bicycle.Units.Angle psi "Yaw angle of the rear frame, positive to the left";
+  output Bicycle.Units.Position eta "Path deviation of the rear contact point, positive to the left";
+  Bicycle.Components.RearFrameWithLean frame(m = m, h = h, b = b, J = J, D = D, V = V, g = g) "Rear frame with lower body and wheels, carrying the upper body, eq (22)";
+  Bicycle.Components.StaticFrontFork fork(m = m, a = a, b = b, c = c, lambda = lambda, V = V, g = g) "Front fork, eqs (7)-(13)";
+  Bicycle.Components.SteerTorque handlebar(T = T) "Rider's steer torque";
+  Bicycle.Components.LeaningUpperBody rider(m_r = m_r, J_r = J_r, h_r = h_r, g = g, theta = theta) "Rider's upper body";
+  Bicycle.Components.PathKinematics path(V = V, b = b) "Yaw angle and path deviation";
+equation
+  connect(frame.roll, fork.roll);
+  connect(frame.roll, rider.roll);
+  connect(rider.lean, frame.lean);
+  connect(fork.front, frame.front);
+  connect(fork.front, path.front);
+  connect(handlebar.steer, fork.steer);
+  phi = frame.phi;
+  delta = fork.steer.delta;
+  psi = path.psi;
+  eta = path.eta;
+  annotation(
+    experiment(StartTime = 0, StopTime = 5, Tolerance = 1e-8, Interval = 0.01),
+    __Cosim(export = true),
+    Documentation(info = "<html>
+<p>Eq (22) combined with the static front fork (11), i.e. (23), with the frame of (14) (effective
+steer angle delta*sin(lambda) and trail torque) as in SelfStabilizing. (22)/(23) as printed use the
+frame (1); the analytic twin offers both (frame=\"eq1\" and \"eq14\"); this model is
+frame=\"eq14\". (23) as printed lacks the factor h in m*V^2*h*k1*T/b.</p>
+<p>Two inputs: steer torque T and lean angle theta of the upper body relative to the frame. The
+lean angle appears twice differentiated in (22); the frame is written for the inertia-weighted
+roll angle chi = phi + J_r*theta/J (states frame.L, frame.chi), so theta is never differentiated
+and phi has a direct feedthrough from theta. m, h, J are those of the whole bicycle with rider
+(upper body upright).</p>
+</html>"));
+end LeaningRider;

@@ -1,0 +1,44 @@
+within Bicycle.Bicycles;
+model SelfStabilizingGyro "Rear frame (14) with a front fork that includes the gyroscopic derivative term: delta = k1*T - k2*phi - k3*der(phi)"
+  parameter Bicycle.Units.Mass m(min = 1e-6) = 92 "Total mass m of bicycle and rider";
+  parameter Bicycle.Units.Length a(min = 1e-6) = 0.5 "Horizontal distance a from the rear contact point to the centre of mass";
+  parameter Bicycle.Units.Length h(min = 1e-6) = 1.0 "Height h of the centre of mass";
+  parameter Bicycle.Units.Length b(min = 1e-6) = 1.0 "Wheel base b";
+  parameter Bicycle.Units.Length c(min = 1e-6) = 0.08 "Trail c";
+  parameter Bicycle.Units.Angle lambda(min = 1e-6, max = 1.5707963267948966) = 1.2217304763960306 "Head angle lambda (70 deg)";
+  parameter Bicycle.Units.MomentOfInertia J(min = 1e-9) = 96.7 "Moment of inertia J about the x axis";
+  parameter Bicycle.Units.MomentOfInertia D(min = 1e-9) = 46.3 "Inertia product D = -Jxz";
+  parameter Bicycle.Units.Velocity V = 5 "Forward speed V";
+  parameter Bicycle.Units.Acceleration g(min = 1e-6) = 9.81 "Gravitational acceleration";
+  parameter Bicycle.Units.Time k3(min = 0) = 0.05 "Gain k3 of the gyroscopic derivative feedback from roll rate to steer angle";
+  input Bicycle.Units.Torque T "Steer torque applied to the handlebars";
+  output Bicycle.Units.Angle phi "Roll angle, positive leaning to the right";
+  output Bicycle.Units.Angle delta "Steer angle, positive steering to the left";
+  output Bicycle.Units.Angle psi "Yaw angle of the rear frame, positive to the left";
+  output Bicycle.Units.Position eta "Path deviation of the rear contact point, positive to the left";
+  Bicycle.Components.RearFrame frame(m = m, h = h, b = b, J = J, D = D, V = V, g = g) "Rear frame with rider and wheels, eq (1)";
+  Bicycle.Components.GyroscopicFrontFork fork(m = m, a = a, b = b, c = c, lambda = lambda, V = V, g = g, k3 = k3) "Front fork with gyroscopic effects";
+  Bicycle.Components.SteerTorque handlebar(T = T) "Rider's steer torque";
+  Bicycle.Components.PathKinematics path(V = V, b = b) "Yaw angle and path deviation";
+equation
+  connect(frame.roll, fork.roll);
+  connect(frame.rollRate, fork.rollRate);
+  connect(fork.front, frame.front);
+  connect(fork.front, path.front);
+  connect(handlebar.steer, fork.steer);
+  phi = frame.phi;
+  delta = fork.steer.delta;
+  psi = path.psi;
+  eta = path.eta;
+  annotation(
+    experiment(StartTime = 0, StopTime = 5, Tolerance = 1e-8, Interval = 0.01),
+    __Cosim(export = true),
+    Documentation(info = "<html>
+<p>Section \"Gyroscopic Effects\": the self-stabilizing bicycle (14) with the front fork
+<code>delta = k1(V)*T - k2(V)*phi - k3*der(phi)</code>. The derivative term adds damping
+<code>e*k2 + f*k3</code> and stiffness to (15) (e = D*V*sin(lambda)/b, f = m*(V^2*h - a*c*g)*sin(lambda)/b):
+the characteristic polynomial is <code>(J + e*k3)*s^2 + (e*k2 + f*k3)*s + f*k2 - m*g*h</code>.
+k3 = 0 is the model SelfStabilizing. The roll rate that the fork needs comes from the frame
+through a signal connector; delta then solves a linear algebraic loop (delta, der(phi)).</p>
+</html>"));
+end SelfStabilizingGyro;

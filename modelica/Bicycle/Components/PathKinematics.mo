@@ -1,0 +1,19 @@
+within Bicycle.Components;
+model PathKinematics "Yaw angle psi and path deviation eta of the rear contact point, linearized about a straight path along the xi axis"
+  parameter Bicycle.Units.Velocity V = 5 "Forward speed V of the rear contact point";
+  parameter Bicycle.Units.Length b(min = 1e-6) = 1.0 "Wheel base b";
+  Bicycle.Interfaces.EffectiveSteerInput front "Effective steer angle delta_f of the front wheel, eq (8)";
+  Bicycle.Units.Angle psi(start = 0, fixed = true) "Yaw angle psi between the xi axis and the x axis, positive to the left";
+  Bicycle.Units.Position eta(start = 0, fixed = true) "Path deviation eta of the rear contact point along the eta axis (to the left)";
+equation
+  der(psi) = V*front.delta_f/b;
+  der(eta) = V*psi;
+  annotation(Documentation(info = "<html>
+<p>Section \"Maneuvering\": <code>der(eta) = V*psi</code>, <code>der(psi) = V*delta/b</code>, with the
+effective steer angle <code>delta_f = delta*sin(lambda)</code> (8) in place of <code>delta</code>,
+consistent with the yaw rate <code>V*delta_f/b</code> used by the frame model (14). For a vertical
+steer axis (model (1)) <code>delta_f = delta</code> and <code>G_eta_delta = V^2/(b*s^2)</code> as printed;
+with a head angle lambda it is <code>V^2*sin(lambda)/(b*s^2)</code> (the analytic twin's
+<code>frame=\"eq14\"</code>).</p>
+</html>"));
+end PathKinematics;
