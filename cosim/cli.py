@@ -194,7 +194,9 @@ def _cmd_export_ssp(args) -> int:
     from .cosimulation.ssp import export_ssp
     from .cosimulation.system import load_system
 
-    path = export_ssp(load_system(args.system), args.output)
+    path, notes = export_ssp(load_system(args.system), args.output)
+    for note in notes:
+        print(f"twin: {note}")
     print(f"wrote {path}")
     return 0
 

@@ -104,7 +104,9 @@ class Twin:
         """The analytic state-space model at the given parameter values (defaults elsewhere)."""
         p = self.parameters(values)
         sys = self.build(p, p[self.speed])
-        assert tuple(sys.input_labels) == self.inputs and tuple(sys.output_labels) == self.outputs
+        if tuple(sys.input_labels) != self.inputs or tuple(sys.output_labels) != self.outputs:
+            raise RuntimeError(f"{self.model}: twin signals {sys.input_labels} -> {sys.output_labels} differ "
+                               f"from the model's {self.inputs} -> {self.outputs}")
         return sys
 
 

@@ -1,7 +1,7 @@
 """The simple bicycle models of Åström, Klein & Lennartsson (2005) as FMUs, against their analytic
 twins (:mod:`cosim.twins`, built on :mod:`cosim.analytic.simple`).
 
-* every exported bicycle has a twin whose parameters, inputs and outputs are the FMU's;
+* each simple bicycle is exported and has a twin whose parameters, inputs and outputs are the FMU's;
 * short simulations in Co-Simulation and Model Exchange equal the exact (matrix exponential)
   response of the twin;
 * the FMU linearized at several speeds has the twin's poles, zeros and gain in every
@@ -29,17 +29,14 @@ from conftest import run_cli
 from cosim.analytic import simple
 from cosim.linearize import linearize
 from cosim.simulation import simulate
-from cosim.twins import TWINS, analytic_system, bicycle
+from cosim.twins import TWINS, analytic_system
 
 PKG = "Bicycle.Bicycles."
-MODELS = list(TWINS)
-IDS = [m.removeprefix(PKG) for m in MODELS]
-TORQUE_MODELS = [PKG + n for n in ("SelfStabilizing", "SelfStabilizingGyro", "LeaningRider")]
 
 # Tolerances
 LIN_RTOL = 1e-9  # poles, zeros, gains of linearization vs twin (exact Jacobians: rounding only)
 ORIGIN = 1e-6  # roots with |r| <= ORIGIN * max(1, |roots|) count as roots at the origin (integrators)
-CS_ATOL = 1e-7  # CS (own Dormand-Prince 5(4), tolerance 1e-8), times the largest |signal|
+CS_ATOL = 1e-8  # CS (own Dormand-Prince 5(4) at the model tolerance 1e-8), times the largest |signal|
 ME_ATOL = 1e-5  # ME (FMPy's CVode), times the largest |signal|
 SIM_STOP, SIM_STEP = 2.0, 0.01
 
@@ -72,6 +69,8 @@ SIM_CASES = {
     "RearSteered": ({"V": -5.0}, {"delta": 0.01}),
     "CrownedRoller": ({"V": 3.0, "R": 1.3}, {"delta": 0.01}),
 }
+MODELS = [PKG + name for name in SPEEDS]  # the simple bicycles of the paper
+IDS = list(SPEEDS)
 
 
 # ----------------------------------------------------------------------------
@@ -102,16 +101,37 @@ def _krylov_basis(A: np.ndarray, v: np.ndarray, tol: float) -> np.ndarray:
     return np.column_stack(Q)
 
 
+def _reachable(A: np.ndarray, start: np.ndarray) -> np.ndarray:
+    """States reachable in the graph of the non-zero entries of A (edge j -> i if A[i, j] != 0)."""
+    seen = start != 0
+    while True:
+        more = seen | np.any((A != 0) & seen[None, :], axis=1)
+        if np.array_equal(more, seen):
+            return seen
+        seen = more
+
+
+def _reduce(A, b, c, tol):
+    """Remove the unreachable states of (A, b) (basis change only if the dimension drops)."""
+    Q = _krylov_basis(A, b, tol)
+    if Q.shape[1] == A.shape[0]:
+        return A, b, c
+    return Q.T @ A @ Q, Q.T @ b, c @ Q
+
+
 def minimal_zpk(sys: control.StateSpace, tol: float = 1e-10):
-    """Zeros, poles and gain of a SISO system after orthogonal removal of uncontrollable and
-    unobservable states (no slycot needed). The gain is the first non-zero Markov parameter
-    ``c A^(r-1) b`` (``d`` if r = 0), r = number of poles - number of zeros."""
+    """Zeros, poles and gain of a SISO system after removal of uncontrollable and unobservable
+    states (no slycot needed): first structurally (states not reachable from the input or not
+    reaching the output through exact non-zeros, a principal submatrix, no rounding), then by
+    orthogonal Krylov reduction if the rest is still not minimal. The gain is the first non-zero
+    Markov parameter ``c A^(r-1) b`` (``d`` if r = 0), r = number of poles - number of zeros."""
     A, b, c, d = np.asarray(sys.A, float), np.asarray(sys.B, float)[:, 0], np.asarray(sys.C, float)[0], \
         float(np.asarray(sys.D)[0, 0])
-    Q = _krylov_basis(A, b, tol)
-    A1, b1, c1 = Q.T @ A @ Q, Q.T @ b, c @ Q
-    P = _krylov_basis(A1.T, c1, tol)
-    Am, bm, cm = P.T @ A1 @ P, P.T @ b1, c1 @ P
+    keep = _reachable(A, b) & _reachable(A.T, c)
+    A, b, c = A[np.ix_(keep, keep)], b[keep], c[keep]
+    A1, b1, c1 = _reduce(A, b, c, tol)
+    At, ct, bt = _reduce(A1.T, c1, b1, tol)
+    Am, bm, cm = At.T, bt, ct
     n = Am.shape[0]
     poles = np.linalg.eigvals(Am) if n else np.zeros(0, complex)
     if n:
@@ -119,8 +139,9 @@ def minimal_zpk(sys: control.StateSpace, tol: float = 1e-10):
 
         M = np.block([[Am, bm[:, None]], [cm[None, :], np.array([[d]])]])
         N = np.block([[np.eye(n), np.zeros((n, 1))], [np.zeros((1, n + 1))]])
-        zeros = eigvals(M, N)
-        zeros = zeros[np.isfinite(zeros)]
+        alpha, beta = eigvals(M, N, homogeneous_eigvals=True)
+        finite = np.abs(beta) > 1e-12 * np.abs(alpha)  # the pencil's infinite eigenvalues are no zeros
+        zeros = alpha[finite] / beta[finite]
     else:
         zeros = np.zeros(0, complex)
     r = n - len(zeros)
@@ -200,11 +221,8 @@ def step_response(sys: control.StateSpace, u: np.ndarray, times: np.ndarray) -> 
 # ----------------------------------------------------------------------------
 # the twins and the FMUs' interfaces
 
-SIMPLE = {PKG + n for n in SPEEDS}
-
-
 def test_every_simple_bicycle_is_exported_and_has_a_twin(fmus):
-    assert SIMPLE <= set(fmus) and SIMPLE <= set(TWINS)
+    assert set(MODELS) <= set(fmus) and set(MODELS) <= set(TWINS)
     assert set(TWINS) <= set(fmus)
 
 
@@ -304,7 +322,7 @@ def test_twin_rejects_bad_parameters():
 @pytest.mark.parametrize("model", MODELS, ids=IDS)
 def test_simulation_matches_twin(fmus, model, kind, atol):
     """Constant inputs from rest for 2 s: every output equals the twin's exact response to
-    atol times the largest |value| of that output (CS 1e-7 at tolerance 1e-8; ME 1e-5)."""
+    atol times the largest |value| of that output (CS 1e-8 at tolerance 1e-8; ME 1e-5)."""
     params, inputs = SIM_CASES[model.removeprefix(PKG)]
     twin = analytic_system(model, params)
     result = simulate(fmus[model], SIM_STOP, SIM_STEP, kind, {**params, **inputs},
@@ -415,8 +433,50 @@ def test_figure5_inverse_path_response(fmus, V):
     assert np.max(eta) > 0 and eta[-1] < 0
     crossing = t[np.argmax((t > t[first]) & (eta < 0))]
     assert 0 < crossing < 5.0
-    twin = analytic_system(PKG + "SelfStabilizing", {"V": V})
-    dc = control.dcgain(roll_subsystem(twin))[:, 0]  # phi, delta per unit torque
+    bike = simple.SimpleBicycle()  # steady state of (15) and of G_delta_T, per unit torque
+    dc = np.array([control.dcgain(simple.self_stabilizing_tf(bike, V)),
+                   control.dcgain(simple.steer_torque_tf(bike, V, "eq14"))])
     assert dc[0] > 0 > dc[1]
     np.testing.assert_allclose([result["phi"][-1], result["delta"][-1]], dc, rtol=2e-2)
     assert result["phi"][-1] > 0 > result["delta"][-1]
+
+
+# ----------------------------------------------------------------------------
+# the examples run what their documentation says
+
+EXAMPLES = ["SelfStabilizingTorqueStep", "SelfStabilizingGyroRecovery", "InvertedPendulumSteerFeedback",
+            "RearSteeredSteerFeedback", "LeaningRiderLean", "CrownedRollerRocking"]
+
+
+@pytest.fixture(scope="module")
+def example_runs(tmp_path_factory):
+    """Each example built and run over its experiment (CS): name -> result."""
+    from cosim.compiler.build import build
+
+    out = tmp_path_factory.mktemp("examples")
+    results = build([f"Bicycle.Examples.{n}" for n in EXAMPLES], output=out, jobs=2)
+    signals = ["bicycle.phi", "bicycle.psi", "bicycle.eta"]
+    return {r.model.removeprefix("Bicycle.Examples."): simulate(r.fmu, fmi_type="cs", outputs=signals)
+            for r in results}
+
+
+def _tail(result, name, seconds):
+    return result[name][result["time"] >= result["time"][-1] - seconds]
+
+
+@pytest.mark.parametrize("example", EXAMPLES)
+def test_example(example_runs, example):
+    r = example_runs[example]
+    phi = r["bicycle.phi"]
+    if example == "SelfStabilizingTorqueStep":  # Figure 5 at 6 m/s, T = 1 N m
+        assert np.max(r["bicycle.eta"]) > 0 > r["bicycle.eta"][-1] and phi[-1] > 0
+    elif example in ("SelfStabilizingGyroRecovery", "InvertedPendulumSteerFeedback"):  # lean 0.05 rad decays
+        assert phi[0] == 0.05 and np.max(np.abs(_tail(r, "bicycle.phi", 1.0))) < 0.05 * 0.05
+    elif example == "RearSteeredSteerFeedback":  # (19): lean 0.01 rad grows
+        assert phi[0] == 0.01 and np.max(np.abs(_tail(r, "bicycle.phi", 1.0))) > 10 * 0.01
+    elif example == "LeaningRiderLean":  # frame rolls against the upper body, then turns right
+        assert phi[0] == pytest.approx(-16.0 * 0.05 / 96.7, rel=1e-12)
+        assert phi[-1] > 0 and r["bicycle.psi"][-1] < 0
+    elif example == "CrownedRollerRocking":  # (27), R = 1.2 > h: undamped, period 2 pi / 1.37 s
+        omega = math.sqrt(92 * 9.81 * 0.2 / 96.7)
+        np.testing.assert_allclose(phi, 0.05 * np.cos(omega * r["time"]), rtol=0, atol=1e-8)

@@ -100,3 +100,48 @@ def lqr_gains(params: str | dict, v: float, q_roll: float = 10.0, q_steer: float
     Q = np.diag([q_roll, q_steer, q_rates, q_rates])
     K, _, _ = control.lqr(A, B[:, [1]], Q, np.array([[r]]))
     return {f"K{k + 1}": float(K[0, k]) for k in range(4)}
+
+
+class LaneChange(Static):
+    """Lane change by counter-steering (Meijaard conventions: y, psi, phi positive to the right).
+
+    A cascade on steer torque: lateral error -> heading demand -> roll demand -> torque,
+    ``T = kp (phi - phi_ref) + kd phi_dot`` with ``phi_ref = k_psi (k_y (y_cmd - y) - psi)`` and
+    ``y_cmd`` stepping to ``y_ref`` at ``t_start``. To lean into the new lane the loop first steers
+    away from it, so the path shows the inverse response of the right-half-plane zero."""
+
+    inputs = ["phi", "phi_dot", "psi", "y"]
+    outputs = ["T"]
+
+    def __init__(self, name: str, y_ref: float = 1.0, t_start: float = 1.0, k_y: float = 0.3,
+                 k_psi: float = 2.0, kp: float = 30.0, kd: float = 3.0):
+        super().__init__(name)
+        self.y_ref, self.t_start = float(y_ref), float(t_start)
+        self.k_y, self.k_psi, self.kp, self.kd = float(k_y), float(k_psi), float(kp), float(kd)
+        self._t = 0.0
+
+    def setup(self, start_time):
+        self._t = start_time
+
+    def evaluate(self, u):
+        phi, phi_dot, psi, y = u
+        y_cmd = self.y_ref if self._t >= self.t_start - 1e-12 else 0.0
+        phi_ref = self.k_psi * (self.k_y * (y_cmd - y) - psi)
+        return np.array([self.kp * (phi - phi_ref) + self.kd * phi_dot])
+
+    def step(self, t, h):
+        self._t = t + h
+        self._y[:] = self.evaluate(self._u)
+
+    def get_state(self):
+        return self._t, self._u.copy()
+
+    def set_state(self, state):
+        self._t = state[0]
+        self.set_inputs(state[1])
+
+
+def lqr(name: str, params: str = "benchmark", v: float = 5.0, q_roll: float = 10.0, q_steer: float = 1.0,
+        q_rates: float = 0.1, r: float = 0.1) -> StateFeedback:
+    """The LQR autopilot: :class:`StateFeedback` with gains from :func:`lqr_gains`."""
+    return StateFeedback(name, **lqr_gains(params, v, q_roll, q_steer, q_rates, r))

@@ -14,6 +14,8 @@ PYTHON_BLOCKS = {
     "PD": controllers.PD,
     "SteerAngleFeedback": controllers.SteerAngleFeedback,
     "StateFeedback": controllers.StateFeedback,
+    "LQR": controllers.lqr,
+    "LaneChange": controllers.LaneChange,
     "TransportDelay": blocks.TransportDelay,
     "PadeDelay": blocks.pade_delay,
     "Pulse": blocks.Pulse,

@@ -7,8 +7,6 @@ into OSP annotations, which libcosim reads.
 from __future__ import annotations
 
 import os
-import shutil
-import tempfile
 import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
@@ -91,20 +89,21 @@ def system_structure(spec: SystemSpec, fmus: dict[str, Path]) -> bytes:
     return ET.tostring(root, encoding="UTF-8", xml_declaration=True) + b"\n"
 
 
-def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | None = None) -> Path:
-    """Write the system as an SSP archive; Python components must have been replaced by FMUs.
+def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | None = None
+               ) -> tuple[Path, list[str]]:
+    """Write the system as an SSP archive; Python blocks are replaced by their Modelica twins.
+
+    Returns the archive path and one note per replaced block.
 
     Raises
     ------
     SystemError_
-        If a component is not an FMU (a Python block cannot leave the project).
+        If a Python block has no Modelica twin, or the system is not fixed-step Jacobi.
     """
     from .factory import create_components
+    from .modelica_twins import with_twins
 
-    python = [n for n, c in spec.components.items() if c.kind == "python"]
-    if python:
-        raise SystemError_(f"{spec.path or spec.name}: component(s) {', '.join(python)} are Python blocks; "
-                           "an SSP can only carry FMUs: use their Modelica twins (Bicycle.Control, Bicycle.Rider)")
+    spec, notes = with_twins(spec)
     if spec.algorithm != "jacobi":
         raise SystemError_(f"{spec.path or spec.name}: SSP export describes a fixed-step Jacobi system "
                            f"(OSP FixedStepAlgorithm); the system uses '{spec.algorithm}'")
@@ -119,12 +118,13 @@ def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | 
             comp.close()
     destination = Path(destination)
     destination.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(prefix="cosim-ssp-") as tmp:
-        partial = Path(tmp) / destination.name
+    partial = destination.with_name(f".{destination.name}.partial")
+    try:
         with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as archive:
             archive.writestr("SystemStructure.ssd", system_structure(spec, fmus))
             for name, fmu in fmus.items():
                 archive.write(fmu, f"resources/{name}.fmu")
-        shutil.move(str(partial), destination.with_suffix(destination.suffix + ".partial"))
-        os.replace(destination.with_suffix(destination.suffix + ".partial"), destination)
-    return destination
+        os.replace(partial, destination)  # the archive appears only when complete
+    finally:
+        partial.unlink(missing_ok=True)
+    return destination, notes
