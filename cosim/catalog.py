@@ -17,6 +17,7 @@ class Signal:
     value: float | str | None = None
     min: float | None = None
     max: float | None = None
+    type: str = "Real"
 
 
 @dataclass
@@ -47,7 +48,7 @@ def summarize(name: str, library: Library | None = None) -> ModelSummary:
             continue
         signal = Signal(decl.name, decl.unit, decl.description, None,
                         decl.min if isinstance(decl.min, (int, float)) else None,
-                        decl.max if isinstance(decl.max, (int, float)) else None)
+                        decl.max if isinstance(decl.max, (int, float)) else None, decl.type)
         if "parameter" in decl.prefixes:
             value = values.get(decl.name)
             signal.value = value if isinstance(value, (int, float)) else str(value)

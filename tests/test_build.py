@@ -8,7 +8,6 @@ import zipfile
 import pytest
 
 from conftest import ROOT
-from cosim.compiler.build import build
 from cosim.compiler.fmu import MANIFEST
 from cosim.compiler.library import Library
 

@@ -26,7 +26,7 @@ def test_info_fmu_and_model(fmus):
     assert result.returncode == 0, result.stderr
     info = json.loads(result.stdout)
     assert info["interfaces"] == ["ModelExchange", "CoSimulation"]
-    assert info["states"] == ["frame.phi", "frame.L"]
+    assert info["states"] == ["frame.phi", "frame.L", "path.psi", "path.eta"]
     assert info["defaultExperiment"]["tolerance"] == pytest.approx(1e-8)
     text = run_cli("info", MODEL)
     assert text.returncode == 0 and "inputs:" in text.stdout and "T" in text.stdout
@@ -73,6 +73,7 @@ def test_linearize_json(fmus):
     result = run_cli("linearize", str(fmus[MODEL]), "--speed", "6", "--json")
     assert result.returncode == 0, result.stderr
     lin = json.loads(result.stdout)
-    assert lin["states"] == ["frame.phi", "frame.L"] and lin["inputs"] == ["T"]
-    assert np.array(lin["A"]).shape == (2, 2) and len(lin["eigenvalues"]) == 2
-    assert all(re < 0 for re, _ in lin["eigenvalues"])  # V = 6 m/s is above the critical speed
+    assert lin["states"] == ["frame.phi", "frame.L", "path.psi", "path.eta"] and lin["inputs"] == ["T"]
+    assert np.array(lin["A"]).shape == (4, 4) and len(lin["eigenvalues"]) == 4
+    roll = np.linalg.eigvals(np.array(lin["A"])[:2, :2])
+    assert all(roll.real < 0)  # V = 6 m/s is above the critical speed; psi and eta are integrators

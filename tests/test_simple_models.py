@@ -23,10 +23,10 @@ import control
 import numpy as np
 import pytest
 from scipy.linalg import expm
-from scipy.optimize import linear_sum_assignment
 
 from conftest import run_cli
 from cosim.analytic import simple
+from cosim.compare import minimal_zpk, root_set_error as root_error
 from cosim.linearize import linearize
 from cosim.simulation import simulate
 from cosim.twins import TWINS, analytic_system
@@ -35,7 +35,6 @@ PKG = "Bicycle.Bicycles."
 
 # Tolerances
 LIN_RTOL = 1e-9  # poles, zeros, gains of linearization vs twin (exact Jacobians: rounding only)
-ORIGIN = 1e-6  # roots with |r| <= ORIGIN * max(1, |roots|) count as roots at the origin (integrators)
 CS_ATOL = 1e-8  # CS (own Dormand-Prince 5(4) at the model tolerance 1e-8), times the largest |signal|
 ME_ATOL = 1e-5  # ME (FMPy's CVode), times the largest |signal|
 SIM_STOP, SIM_STEP = 2.0, 0.01
@@ -80,93 +79,6 @@ def lin_ss(fmu, parameters: dict) -> control.StateSpace:
     """The FMU's linearization as a python-control StateSpace."""
     result = linearize(fmu, parameters)
     return result.to_statespace() if hasattr(result, "to_statespace") else result
-
-
-def _krylov_basis(A: np.ndarray, v: np.ndarray, tol: float) -> np.ndarray:
-    """Orthonormal basis of the Krylov space of (A, v) (Arnoldi with re-orthogonalization)."""
-    n = A.shape[0]
-    scale = max(np.linalg.norm(A, 2), 1e-300)
-    norm = np.linalg.norm(v)
-    if norm == 0:
-        return np.zeros((n, 0))
-    Q = [v / norm]
-    while len(Q) < n:
-        w = A @ Q[-1]
-        for _ in range(2):
-            for q in Q:
-                w = w - (q @ w) * q
-        if np.linalg.norm(w) <= tol * scale:
-            break
-        Q.append(w / np.linalg.norm(w))
-    return np.column_stack(Q)
-
-
-def _reachable(A: np.ndarray, start: np.ndarray) -> np.ndarray:
-    """States reachable in the graph of the non-zero entries of A (edge j -> i if A[i, j] != 0)."""
-    seen = start != 0
-    while True:
-        more = seen | np.any((A != 0) & seen[None, :], axis=1)
-        if np.array_equal(more, seen):
-            return seen
-        seen = more
-
-
-def _reduce(A, b, c, tol):
-    """Remove the unreachable states of (A, b) (basis change only if the dimension drops)."""
-    Q = _krylov_basis(A, b, tol)
-    if Q.shape[1] == A.shape[0]:
-        return A, b, c
-    return Q.T @ A @ Q, Q.T @ b, c @ Q
-
-
-def minimal_zpk(sys: control.StateSpace, tol: float = 1e-10):
-    """Zeros, poles and gain of a SISO system after removal of uncontrollable and unobservable
-    states (no slycot needed): first structurally (states not reachable from the input or not
-    reaching the output through exact non-zeros, a principal submatrix, no rounding), then by
-    orthogonal Krylov reduction if the rest is still not minimal. The gain is the first non-zero
-    Markov parameter ``c A^(r-1) b`` (``d`` if r = 0), r = number of poles - number of zeros."""
-    A, b, c, d = np.asarray(sys.A, float), np.asarray(sys.B, float)[:, 0], np.asarray(sys.C, float)[0], \
-        float(np.asarray(sys.D)[0, 0])
-    keep = _reachable(A, b) & _reachable(A.T, c)
-    A, b, c = A[np.ix_(keep, keep)], b[keep], c[keep]
-    A1, b1, c1 = _reduce(A, b, c, tol)
-    At, ct, bt = _reduce(A1.T, c1, b1, tol)
-    Am, bm, cm = At.T, bt, ct
-    n = Am.shape[0]
-    poles = np.linalg.eigvals(Am) if n else np.zeros(0, complex)
-    if n:
-        from scipy.linalg import eigvals
-
-        M = np.block([[Am, bm[:, None]], [cm[None, :], np.array([[d]])]])
-        N = np.block([[np.eye(n), np.zeros((n, 1))], [np.zeros((1, n + 1))]])
-        alpha, beta = eigvals(M, N, homogeneous_eigvals=True)
-        finite = np.abs(beta) > 1e-12 * np.abs(alpha)  # the pencil's infinite eigenvalues are no zeros
-        zeros = alpha[finite] / beta[finite]
-    else:
-        zeros = np.zeros(0, complex)
-    r = n - len(zeros)
-    gain = d if r == 0 else float(cm @ np.linalg.matrix_power(Am, r - 1) @ bm)
-    return zeros, poles, gain
-
-
-def root_error(found, expected) -> float:
-    """Largest relative distance of two root sets matched one to one; roots at the origin
-    (integrators) are compared by number. inf if the sets do not correspond."""
-    found, expected = np.asarray(found, complex), np.asarray(expected, complex)
-    if found.size != expected.size:
-        return math.inf
-    if found.size == 0:
-        return 0.0
-    threshold = ORIGIN * max(1.0, np.max(np.abs(expected)))
-    f0, e0 = np.abs(found) <= threshold, np.abs(expected) <= threshold
-    if f0.sum() != e0.sum():
-        return math.inf
-    f, e = found[~f0], expected[~e0]
-    if f.size == 0:
-        return 0.0
-    cost = np.abs(f[:, None] - e[None, :]) / np.abs(e[None, :])
-    rows, cols = linear_sum_assignment(cost)
-    return float(np.max(cost[rows, cols]))
 
 
 def compare(found: control.StateSpace, expected: control.StateSpace) -> dict:

@@ -31,8 +31,12 @@ def casadi_functions(model: ExplicitModel) -> list[ca.Function]:
     t, x, u, p = model.t, model.x, model.u, model.p
     dx, du, dp = (ca.SX.sym(n, s.numel(), 1) for n, s in (("dx", x), ("du", u), ("dp", p)))
     outputs = ca.vertcat(model.xdot, model.z)
-    seeds = ca.vertcat(dx, du, dp)
-    directional = ca.jtimes(outputs, ca.vertcat(x, u, p), seeds) if outputs.numel() else ca.SX(0, 1)
+    # Integer and Boolean parameters are not differentiated (d/dn of (-1)^n is NaN, and NaN*0 is NaN).
+    real = [k for k, s in enumerate(model.parameters) if s.python_type is float]
+    p_real = ca.vertcat(*[p[k] for k in real]) if real else ca.SX(0, 1)
+    dp_real = ca.vertcat(*[dp[k] for k in real]) if real else ca.SX(0, 1)
+    seeds = ca.vertcat(dx, du, dp_real)
+    directional = ca.jtimes(outputs, ca.vertcat(x, u, p_real), seeds) if outputs.numel() else ca.SX(0, 1)
     nx = model.xdot.numel()
     return [
         ca.Function("cosim_calc", [p], [model.c], ["p"], ["c"]),

@@ -6,11 +6,10 @@ import os
 import shutil
 import subprocess
 import tempfile
-from ctypes import (CDLL, POINTER, Structure, c_double, c_int, c_long, c_uint, c_void_p, cast)
+from ctypes import CDLL, POINTER, Structure, c_double, c_int, c_uint, c_void_p, cast
 from functools import lru_cache
 from pathlib import Path
 
-import numpy as np
 
 SOURCE = Path(__file__).with_name("fastloop.c")
 

@@ -5,34 +5,28 @@ block PadeDelay "Neuromuscular delay exp(-s*tau) of the rider as a Pade approxim
   input Real u "Signal into the delay";
   output Real y "Delayed signal";
 protected
-  Real d[n + 1] "Denominator coefficient of s^(k-1), d[1] = 1";
-  Real a[n + 1] "Denominator coefficients normalized by the leading one";
-  Real b[n + 1] "Numerator coefficients normalized by the leading denominator coefficient";
+  Real d[n + 1] "Denominator coefficient of s^(k-1), d[1] = 1 (the numerator's alternate in sign)";
   Real x[n](each start = 0, each fixed = true) "States of the controllable canonical form";
-  Real feedback[n] "Running sums of a[k]*x[k]";
-  Real output_[n] "Running sums of (b[k] - a[k]*b[n+1])*x[k]";
+  Real feedback[n] "Running sums of d[k]*x[k]";
+  Real output_[n] "Running sums of ((-1)^(k-1) - (-1)^n)*d[k]*x[k]";
 equation
-  // Pade coefficients: d[k+1] = d[k]*tau*(n-k+1)/(k*(2n-k+1)); the numerator alternates in sign.
-  d[1] = 1;
-  for k in 1:n loop
-    d[k + 1] = d[k]*tau*(n - k + 1)/(k*(2*n - k + 1));
-  end for;
+  // Pade coefficients: d[1] = 1, d[k] = d[k-1]*tau*(n-k+2)/((k-1)*(2n-k+2)). One loop defines all
+  // of d (max() keeps the unused branch in range).
   for k in 1:n + 1 loop
-    a[k] = d[k]/d[n + 1];
-    b[k] = (-1)^(k - 1)*d[k]/d[n + 1];
+    d[k] = if k == 1 then 1 else d[max(k - 1, 1)]*tau*(n - k + 2)/(max(k - 1, 1)*(2*n - k + 2));
   end for;
   for i in 1:n - 1 loop
     der(x[i]) = x[i + 1];
   end for;
   // Dot products as running sums (pymoca treats a[1:n]*x as a matrix product).
-  feedback[1] = a[1]*x[1];
-  output_[1] = (b[1] - a[1]*b[n + 1])*x[1];
+  feedback[1] = d[1]*x[1];
+  output_[1] = (1 - (-1)^n)*d[1]*x[1];
   for k in 2:n loop
-    feedback[k] = feedback[k - 1] + a[k]*x[k];
-    output_[k] = output_[k - 1] + (b[k] - a[k]*b[n + 1])*x[k];
+    feedback[k] = feedback[k - 1] + d[k]*x[k];
+    output_[k] = output_[k - 1] + ((-1)^(k - 1) - (-1)^n)*d[k]*x[k];
   end for;
-  der(x[n]) = u - feedback[n];
-  y = output_[n] + b[n + 1]*u;
+  der(x[n]) = u - feedback[n]/d[n + 1];
+  y = output_[n]/d[n + 1] + (-1)^n*u;
   annotation(__Cosim(export = true), Documentation(info = "<html>
 <p>Transfer function N(s)/D(s) with D(s) = sum d[k+1] s^k and N(s) = sum (-1)^k d[k+1] s^k, the
 [n/n] Pade approximant of exp(-s tau) (identical to python-control's <code>pade(tau, n)</code>).
