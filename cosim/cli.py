@@ -72,13 +72,14 @@ def _cmd_simulate(args) -> int:
     from .simulation import input_signals, plot, simulate, write_csv
     from .target import resolve_fmu
 
-    params = from_command_line(args.target, args.param)  # refused before anything is built
+    params = from_command_line(args.target, args.param, parameter_set=args.params)  # before any build
     fmu = resolve_fmu(args.target)
     md = read_model_description(str(fmu))
     t0 = float(md.defaultExperiment.startTime or 0.0) if md.defaultExperiment else 0.0
     inputs = input_signals(fmu, args.input, t0, args.stop_time)
+    outputs = [v.name for v in md.modelVariables if v.causality == "output"]
     result = simulate(fmu, args.stop_time, args.step, args.fmi_type, params, inputs,
-                      progress=sys.stderr.isatty())
+                      outputs=outputs or None, progress=sys.stderr.isatty())
     output = args.output or f"{fmu.stem}.csv"
     write_csv(result, output)
     print(f"wrote {output} ({len(result)} rows: {', '.join(result.dtype.names)})")
@@ -109,7 +110,7 @@ def _cmd_linearize(args) -> int:
     from .target import resolve_fmu
 
     extra = {_speed_parameter(args.target): args.speed} if args.speed is not None else {}
-    params = from_command_line(args.target, args.param, extra)
+    params = from_command_line(args.target, args.param, extra, parameter_set=args.params)
     result = linearize(resolve_fmu(args.target), params)
     if args.json:
         print(result.to_json())
@@ -139,7 +140,7 @@ def _cmd_compare(args) -> int:
         raise ParameterError("compare needs a model name (the analytic twin is chosen by model)")
     speed = _speed_parameter(args.model)
     speeds = parse_speeds(args.speeds) if args.speeds else [None]
-    base = from_command_line(args.model, args.param)
+    base = from_command_line(args.model, args.param, parameter_set=args.params)
     declared = declarations(args.model)
     for v in speeds:
         if v is not None:
@@ -250,6 +251,8 @@ def parser() -> argparse.ArgumentParser:
     s.add_argument("--step", type=float, default=None, help="output / communication interval [s]")
     s.add_argument("--fmi-type", choices=("cs", "me"), default="cs")
     s.add_argument("--param", action="append", default=[], metavar="NAME=VALUE")
+    s.add_argument("--params", default=None, metavar="NAME|FILE",
+                     help="Meijaard parameter set (benchmark, astrom2005, astrom2005-riderless or a TOML file)")
     s.add_argument("--input", action="append", default=[], metavar="NAME=FILE.csv|NAME=step:T0:VALUE")
     s.add_argument("-o", "--output", default=None, help="result CSV (default: <model>.csv)")
     s.add_argument("--plot", default=None, help="save a plot of the result (PNG)")
@@ -258,6 +261,8 @@ def parser() -> argparse.ArgumentParser:
     lin = sub.add_parser("linearize", help="A, B, C, D of an FMU or model at its initial point")
     lin.add_argument("target", help="FMU file or model name")
     lin.add_argument("--param", action="append", default=[], metavar="NAME=VALUE")
+    lin.add_argument("--params", default=None, metavar="NAME|FILE",
+                     help="Meijaard parameter set (benchmark, astrom2005, astrom2005-riderless or a TOML file)")
     lin.add_argument("--speed", type=float, default=None, help="forward speed [m/s] (sets V)")
     lin.add_argument("--json", action="store_true")
     lin.set_defaults(func=_cmd_linearize)
@@ -266,6 +271,8 @@ def parser() -> argparse.ArgumentParser:
     cmp_.add_argument("model", help="model name (with an analytic twin)")
     cmp_.add_argument("--speeds", default=None, help="A:B:STEP or V1,V2,... [m/s]")
     cmp_.add_argument("--param", action="append", default=[], metavar="NAME=VALUE")
+    cmp_.add_argument("--params", default=None, metavar="NAME|FILE",
+                     help="Meijaard parameter set (benchmark, astrom2005, astrom2005-riderless or a TOML file)")
     cmp_.add_argument("--tol", type=float, default=1e-9, help="largest accepted relative error")
     cmp_.add_argument("--json", action="store_true")
     cmp_.set_defaults(func=_cmd_compare)
@@ -287,6 +294,10 @@ def parser() -> argparse.ArgumentParser:
     fig.add_argument("-o", "--output", default="figures", help="output folder (default: figures/)")
     fig.set_defaults(func=_cmd_figures)
 
+    from . import analytic_cli
+
+    analytic_cli.add_parser(sub)
+
     d = sub.add_parser("demo", help="build, validate and simulate the bundled bicycle")
     d.add_argument("-o", "--output", default="demo", help="folder for results (default: demo/)")
     d.set_defaults(func=_cmd_demo)
@@ -304,6 +315,8 @@ def main(argv: list[str] | None = None) -> int:
     except (CosimError, FileNotFoundError, ValueError) as exc:
         print(f"cosim {args.command}: error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # e.g. `cosim info ... | head`
+        return 0
     except KeyboardInterrupt:
         print(f"cosim {args.command}: interrupted", file=sys.stderr)
         return 130

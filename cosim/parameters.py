@@ -73,8 +73,18 @@ def check(values: dict, declared: dict[str, Declared]) -> dict:
     return checked
 
 
-def from_command_line(target: str, assignments: list[str], extra: dict | None = None) -> dict:
-    """``--param`` strings (plus ``extra`` values such as ``--speed``) checked for ``target``."""
-    values = dict(split_assignment(a) for a in assignments)
+def from_command_line(target: str, assignments: list[str], extra: dict | None = None,
+                      parameter_set: str | None = None) -> dict:
+    """``--params`` set, then ``--param`` strings, then ``extra`` values (e.g. ``--speed``),
+    checked for ``target``.
+
+    ``parameter_set`` is a Meijaard parameter set (bundled name or TOML file) for models whose
+    parameters carry the Meijaard names, such as ``Bicycle.Bicycles.WhippleLinear``."""
+    values = {}
+    if parameter_set:
+        from .whipple_params import parameters_for_model
+
+        values.update(parameters_for_model(parameter_set))
+    values.update(dict(split_assignment(a) for a in assignments))
     values.update(extra or {})
     return check(values, declarations(target)) if values else {}

@@ -205,6 +205,33 @@ def _crowned_roller(p: Mapping[str, float], V: float) -> control.StateSpace:
     return _steer_angle_model(control.tf(G.num[0][0], den), bike, V)
 
 
+def _whipple_linear(p: Mapping[str, float], v: float) -> control.StateSpace:
+    """Meijaard et al. (2007) in :mod:`cosim.analytic.whipple` plus the linearized heading and
+    path (Meijaard eq. (A 9)): der(psi) = (v delta + c delta_dot) cos(lam) / w, der(y) = v psi."""
+    from .analytic import whipple
+
+    params = {k: p[k] for k in _MEIJAARD}
+    A4, B4 = whipple.state_matrices(params, v)
+    A = np.zeros((6, 6))
+    A[:4, :4] = A4
+    A[4, 1], A[4, 3] = v * math.cos(p["lam"]) / p["w"], p["c"] * math.cos(p["lam"]) / p["w"]
+    A[5, 4] = v
+    B = np.zeros((6, 2))
+    B[:4] = B4
+    names = ["phi", "delta", "phi_dot", "delta_dot", "psi", "y"]
+    return control.ss(A, B, np.eye(6), np.zeros((6, 2)), states=names, inputs=["T_phi", "T_delta"],
+                      outputs=names)
+
+
+def _meijaard_defaults() -> dict:
+    from .analytic.parameters import load_parameters
+
+    return {**load_parameters("benchmark"), "v": 5.0, "phi0": 0.0, "delta0": 0.0, "phi_dot0": 0.0,
+            "delta_dot0": 0.0}
+
+
+_MEIJAARD = ("w", "c", "lam", "g", "rR", "mR", "IRxx", "IRyy", "xB", "zB", "mB", "IBxx", "IBxz", "IByy", "IBzz",
+             "xH", "zH", "mH", "IHxx", "IHxz", "IHyy", "IHzz", "rF", "mF", "IFxx", "IFyy")
 _TORQUE_OUT = ("phi", "delta", "psi", "eta")
 _ANGLE_OUT = ("phi", "psi", "eta")
 
@@ -222,6 +249,9 @@ TWINS: dict[str, Twin] = {t.model: t for t in (
          equations="(22) + (11) = (23) with the frame (14)"),
     Twin("Bicycle.Bicycles.CrownedRoller", _crowned_roller, {**_PENDULUM, "R": 0.3}, ("delta",), _ANGLE_OUT,
          equations="(1) with m g (h - R), poles (27)"),
+    Twin("Bicycle.Bicycles.WhippleLinear", _whipple_linear, _meijaard_defaults(), ("T_phi", "T_delta"),
+         ("phi", "delta", "phi_dot", "delta_dot", "psi", "y"), speed="v",
+         equations="(24) with Meijaard et al. (2007) M, C1, K0, K2"),
 )}
 
 

@@ -1,0 +1,119 @@
+"""Figure 15 of Astrom, Klein & Lennartsson (2005): poles of an adapted bicycle with a crowned roller.
+
+The paper's adapted bicycle has a rider, a heavy front wheel, a centre of mass 0.4 m above
+the ground and a rear wheel replaced by a crowned roller of lateral (rocking) radius R (caption:
+0.3 m; text: 0.4 m, "the weave mode becomes stable at 3.9 m/s, and the capsize mode remains
+stable for all velocities"). The paper computed it with a nonlinear multibody model with
+toroidal wheels; the linear Whipple model of this project has knife-edge wheels. Both radii
+are shown, next to each other.
+
+Roller model used here (and why)
+--------------------------------
+A toroidal rear wheel (tube radius R) that rolls by phi shifts its ground contact point
+sideways by R*phi relative to the frame, towards the side the bicycle leans to. The rear normal
+force N_R = g*mT*(1 - xT/w) (static load of the rear wheel; mT total mass, xT its distance in
+front of the rear contact) then acts with a lever R*phi about the roll axis: a restoring roll
+moment -N_R*R*phi. In the linear model this is exactly a roll-torque feedback
+
+    T_phi = -k*phi,   k = g*mT*(1 - xT/w)*R,   i.e.  K0[0,0] -> mT*zT + mT*(1 - xT/w)*R,
+
+applied through the FMU's roll-torque input ``T_phi`` (``A_cl = A - k*B[:, T_phi]*e_phi'``,
+:func:`cosim.whipple_params.closed_loop`). It is the paper's eq (27) argument (the gravity term
+m*g*h of the inverted pendulum becomes m*g*(h - R)) for a roller on the rear wheel only:
+with rollers on both wheels, N_R + N_F = m*g and the correction is exactly eq (27)'s.
+Neglected (all of higher order in R/w or absent from (27)): the change of the roll axis (it runs
+from the roller's crown centre, R above the ground, to the front contact) and so of the roll
+inertia, and the effect of the moving contact point on the rear wheel's non-holonomic
+constraint and on the steering geometry. It is the simplest model consistent with the paper's
+own explanation (27), and it needs no change of the Modelica model.
+
+Adapted bicycle (the paper gives no numbers; our choice):
+Table 1 with rider, the rear frame's centre of mass lowered so that the whole bicycle's centre
+of mass is 0.4 m above the ground, and a heavy front wheel: twice Table 1's mass (3 kg) with
+all of it in the rim (IFyy = mF*rF^2, IFxx = IFyy/2); see :func:`adapted_parameters`. Every eigenvalue comes from an FMU
+linearization of ``Bicycle.Bicycles.WhippleLinear``; plotted as in Fig 9 (dot real, o complex,
+red unstable, blue stable).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from . import pyplot, save
+
+NAME = "fig15"
+TITLE = ("Adapted bicycle with crowned rear roller R = 0.3 / 0.4 m: real parts of the poles vs speed; roller "
+         "modelled as restoring roll torque T_phi = -g mT (1 - xT/w) R phi (eq (27) for a rear roller) on the "
+         "linear Whipple FMU")
+
+BASE = "astrom2005"
+CENTRE_OF_MASS_HEIGHT = 0.4  # m, whole bicycle with rider
+FRONT_WHEEL_MASS = 3.0  # kg, twice Table 1
+ROLLER_RADII = (0.3, 0.4)  # m: caption, text
+SPEEDS = np.linspace(-10.0, 15.0, 201)
+
+
+def adapted_parameters() -> dict:
+    """The adapted bicycle (Meijaard symbols, validated)."""
+    from ..analytic.parameters import BUNDLED_WAIVERS, validate_parameters
+    from ..whipple_params import parameters_for_model
+
+    p = parameters_for_model(BASE)
+    p["mF"] = FRONT_WHEEL_MASS
+    p["IFyy"] = FRONT_WHEEL_MASS * p["rF"] ** 2
+    p["IFxx"] = p["IFyy"] / 2.0
+    mT = p["mR"] + p["mB"] + p["mH"] + p["mF"]
+    # zT = (-rR mR + zB mB + zH mH - rF mF)/mT = -h  ->  zB
+    p["zB"] = (-CENTRE_OF_MASS_HEIGHT * mT + p["rR"] * p["mR"] - p["zH"] * p["mH"] + p["rF"] * p["mF"]) / p["mB"]
+    return validate_parameters(p, waive=set(BUNDLED_WAIVERS[BASE]))
+
+
+
+def roller_stiffness(params: dict, radius: float) -> float:
+    """k = g mT (1 - xT/w) R [N m/rad]: rear normal force times the contact's lateral shift per roll angle."""
+    mT = params["mR"] + params["mB"] + params["mH"] + params["mF"]
+    xT = (params["xB"] * params["mB"] + params["xH"] * params["mH"] + params["w"] * params["mF"]) / mT
+    return params["g"] * mT * (1.0 - xT / params["w"]) * radius
+
+
+def compute(fmu=None):
+    """Per roller radius: eigenvalues over SPEEDS, weave speed, capsize speed (None: none below 200 m/s)."""
+    from .. import whipple_params as WP
+
+    fmu = fmu or WP.whipple_fmu()
+    params = adapted_parameters()
+    systems = [WP.state_space(fmu, params, v) for v in SPEEDS]  # one FMU linearization per speed
+    out = {}
+    for R in (0.0,) + ROLLER_RADII:
+        k = roller_stiffness(params, R)
+        ev = np.array([WP.sorted_eigenvalues(WP.closed_loop(A, B, k)) for A, B in systems])
+        vw = WP.weave_speed(fmu, params, roll_stiffness=k, xtol=1e-9)
+        vc = WP.capsize_speed(fmu, params, v_start=vw, roll_stiffness=k, xtol=1e-9)
+        out[R] = (ev, vw, vc)
+    return params, out
+
+
+def make(output: Path) -> list[Path]:
+    from .fig9 import plot_real_parts
+
+    plt = pyplot()
+    params, results = compute()
+    fig, axes = plt.subplots(1, 2, figsize=(11.0, 4.8), sharey=True)
+    for ax, R in zip(axes, ROLLER_RADII):
+        ev, vw, vc = results[R]
+        plot_real_parts(ax, SPEEDS, ev, vw, vc, no_capsize_note="capsize mode stable at all speeds up to 200 m/s")
+        ev0, vw0, vc0 = results[0.0]
+        ax.plot(SPEEDS, ev0.real.max(axis=1), color="0.5", lw=0.8, ls="--",
+                label=f"max Re, knife-edge rear wheel (R = 0): stable {vw0:.2f}..{vc0:.2f} m/s")
+        ax.set_title(f"crowned rear roller R = {R:g} m ({'caption' if R == 0.3 else 'text'})", fontsize=9)
+        ax.legend(loc="upper right", fontsize=7)
+        ax.set_ylim(-16, 16)
+    axes[1].set_ylabel("")
+    fig.suptitle("Fig. 15: adapted bicycle with rider (CoM height 0.4 m, front wheel 3 kg in the rim), crowned rear "
+                 "roller\nroller modelled as restoring roll torque T_phi = -g mT (1 - xT/w) R phi "
+                 "(eq (27) for a rear roller) on the linear Whipple FMU", fontsize=10)
+    fig.tight_layout()
+    Path(output).mkdir(parents=True, exist_ok=True)
+    return [save(fig, Path(output) / f"{NAME}.png")]
+
