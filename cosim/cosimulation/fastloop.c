@@ -36,14 +36,15 @@ static int feed(fast_component *c, const double *signals) {
     return c->set_real(c->instance, c->in_vr, (size_t)c->n_in, c->in_buf) > 1;
 }
 
-static int read(fast_component *c, double *signals) {
+static int read_outputs(fast_component *c, double *into) {
     if (c->n_out == 0) return 0;
-    return c->get_real(c->instance, c->out_vr, (size_t)c->n_out, signals + c->out_offset) > 1;
+    return c->get_real(c->instance, c->out_vr, (size_t)c->n_out, into + c->out_offset) > 1;
 }
 
-/* Returns COMPLETED, FELL, DIVERGED or FMI_ERROR; *failed is the index of the failing component. */
+/* sampled: scratch vector of n_signals for after-transfer sampling.
+   Returns COMPLETED, FELL, DIVERGED or FMI_ERROR; *failed is the index of the failing component. */
 int cosim_fast_run(int nc, fast_component *comps, const int *order, int gauss_seidel, int after_transfer,
-                   double *signals, int n_signals, double t0, double h, long n_steps,
+                   double *signals, double *sampled, int n_signals, double t0, double h, long n_steps,
                    int n_rec, const int *rec_idx, double *rec,
                    int fall_idx, double fall_limit, long *steps_done, int *failed) {
     long k;
@@ -55,7 +56,7 @@ int cosim_fast_run(int nc, fast_component *comps, const int *order, int gauss_se
             for (j = 0; j < nc; j++) {
                 fast_component *c = &comps[order[j]];
                 if (k % c->multiple) continue;
-                if (feed(c, signals) || c->do_step(c->instance, t, h * c->multiple, 1) > 1 || read(c, signals)) {
+                if (feed(c, signals) || c->do_step(c->instance, t, h * c->multiple, 1) > 1 || read_outputs(c, signals)) {
                     *failed = order[j]; *steps_done = k; return FMI_ERROR;
                 }
             }
@@ -72,18 +73,21 @@ int cosim_fast_run(int nc, fast_component *comps, const int *order, int gauss_se
             }
             for (j = 0; j < nc; j++) {
                 fast_component *c = &comps[order[j]];
-                if (k % c->multiple == 0 && read(c, signals)) { *failed = order[j]; *steps_done = k; return FMI_ERROR; }
+                if (k % c->multiple == 0 && read_outputs(c, signals)) { *failed = order[j]; *steps_done = k; return FMI_ERROR; }
             }
         }
         if (after_transfer) {
+            /* Record the outputs once the connected inputs took the new values (direct
+               feedthrough); the next step still transfers the after-step values. */
+            for (i = 0; i < n_signals; i++) sampled[i] = signals[i];
             for (j = 0; j < nc; j++) {
                 fast_component *c = &comps[order[j]];
-                if (feed(c, signals) || read(c, signals)) { *failed = order[j]; *steps_done = k; return FMI_ERROR; }
+                if (feed(c, signals) || read_outputs(c, sampled)) { *failed = order[j]; *steps_done = k; return FMI_ERROR; }
             }
         }
         row = rec + (size_t)(k + 1) * (size_t)(n_rec + 1);
         row[0] = t0 + (double)(k + 1) * h;
-        for (i = 0; i < n_rec; i++) row[i + 1] = signals[rec_idx[i]];
+        for (i = 0; i < n_rec; i++) row[i + 1] = (after_transfer ? sampled : signals)[rec_idx[i]];
         for (i = 0; i < n_signals; i++) {
             if (!isfinite(signals[i])) { *failed = i; *steps_done = k + 1; return DIVERGED; }
         }

@@ -152,10 +152,11 @@ class System:
             indices.append(self.offset[comp] + self.components[comp].outputs.index(var))
         return names, np.array(indices, dtype=int)
 
-    def _read(self, name: str) -> None:
+    def _read(self, name: str, into: np.ndarray | None = None) -> None:
         comp = self.components[name]
         start = self.offset[name]
-        self.signals[start:start + len(comp.outputs)] = comp.get_outputs()
+        target = self.signals if into is None else into
+        target[start:start + len(comp.outputs)] = comp.get_outputs()
 
     def _feed(self, name: str) -> None:
         targets = self.targets[name]
@@ -195,6 +196,7 @@ class System:
             rows = n_steps + 1
             gauss_seidel = spec.algorithm == "gauss-seidel"
             after_transfer = spec.sampling == "after-transfer"
+            self._sampled = np.empty_like(self.signals)
             fast = self._fast_run(data, n_steps, record_idx) if self.use_fast_loop else None
             if fast is not None:
                 outcome, rows = fast
@@ -214,13 +216,18 @@ class System:
                         self.components[name].step(t, h * multiples[name])
                     for name in due:
                         self._read(name)
+                sampled = self.signals
                 if after_transfer:
+                    # Record what the outputs are once the connected inputs took the new values
+                    # (direct feedthrough); the next step still transfers the after-step values.
+                    sampled = self._sampled
+                    sampled[:] = self.signals
                     for name in self.order:
                         self._feed(name)
-                        self._read(name)
+                        self._read(name, into=sampled)
                 t_next = spec.start + (k + 1) * h
                 data[k + 1, 0] = t_next
-                data[k + 1, 1:] = self.signals[record_idx]
+                data[k + 1, 1:] = sampled[record_idx]
                 stop = self._check_outcome(t_next)
                 if stop is not None:
                     outcome, rows = stop, k + 2
@@ -268,7 +275,8 @@ class System:
         status = lib.cosim_fast_run(
             len(self.names), comps, order, int(spec.algorithm == "gauss-seidel"),
             int(spec.sampling == "after-transfer"),
-            self.signals.ctypes.data_as(POINTER(c_double)), len(self.signals), c_double(spec.start),
+            self.signals.ctypes.data_as(POINTER(c_double)), self._sampled.ctypes.data_as(POINTER(c_double)),
+            len(self.signals), c_double(spec.start),
             c_double(spec.step), c_long(n_steps), len(rec_idx), rec_idx.ctypes.data_as(POINTER(c_int)),
             data.ctypes.data_as(POINTER(c_double)), fall, c_double(spec.fall_limit or 0.0),
             byref(steps_done), byref(failed))

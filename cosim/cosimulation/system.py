@@ -16,6 +16,7 @@ Example (``connections`` stands before the first table, as TOML requires of top-
 
     [components.bike]
     model = "Bicycle.Bicycles.WhippleLinear"      # or fmu = "path.fmu", or python = "TransportDelay"
+    params = "benchmark"                          # a Meijaard parameter set (name or TOML file)
     step_multiple = 1
     parameters = { v = 4.0 }
 
@@ -48,6 +49,7 @@ class ComponentSpec:
     source: str  # model name, FMU path or Python block name
     parameters: dict = field(default_factory=dict)
     step_multiple: int = 1
+    parameter_set: str | None = None  # Meijaard parameter set (name or TOML) applied before `parameters`
 
 
 @dataclass
@@ -124,7 +126,7 @@ def system_from_dict(data: dict, path: Path | None = None) -> SystemSpec:
         kinds = [k for k in ("model", "fmu", "python") if k in entry]
         if len(kinds) != 1:
             raise SystemError_(f"{where}: component '{name}' needs exactly one of model, fmu, python")
-        extra = set(entry) - {"model", "fmu", "python", "parameters", "step_multiple"}
+        extra = set(entry) - {"model", "fmu", "python", "parameters", "step_multiple", "params"}
         if "connections" in extra:
             raise SystemError_(f"{where}: 'connections' ended up inside [components.{name}]: "
                                "write it at the top of the file, before the first [table]")
@@ -136,7 +138,19 @@ def system_from_dict(data: dict, path: Path | None = None) -> SystemSpec:
         multiple = entry.get("step_multiple", 1)
         if not isinstance(multiple, int) or multiple < 1:
             raise SystemError_(f"{where}: component '{name}': step_multiple must be a positive integer")
-        components[name] = ComponentSpec(name, kinds[0], source, dict(entry.get("parameters", {})), multiple)
+        parameters = dict(entry.get("parameters", {}))
+        parameter_set = entry.get("params")
+        if parameter_set is not None:
+            from ..errors import ParameterError
+            from ..whipple_params import parameters_for_model
+
+            if path is not None and (parameter_set.endswith(".toml") or "/" in parameter_set):
+                parameter_set = str((path.parent / parameter_set).resolve())
+            try:
+                parameters = {**parameters_for_model(parameter_set), **parameters}
+            except ParameterError as exc:
+                raise SystemError_(f"{where}: component '{name}': {exc}") from None
+        components[name] = ComponentSpec(name, kinds[0], source, parameters, multiple, parameter_set)
     if not components:
         raise SystemError_(f"{where}: no [components]")
     connections = [parse_connection(text, where) for text in data.get("connections", [])]
