@@ -39,9 +39,13 @@ def declarations(target: str) -> dict[str, Declared]:
         def number(value):
             return None if value in (None, "") else float(value)
 
-        return {v.name: Declared(v.name, v.causality, v.type, getattr(v, "unit", None),
-                                 number(getattr(v, "min", None)), number(getattr(v, "max", None)))
-                for v in md.modelVariables if v.causality in ("parameter", "input")}
+        # Parameters, inputs, and states with an exact start value (settable before initialization).
+        return {v.name: Declared(v.name, v.causality if v.causality != "local" else "start value", v.type,
+                                 getattr(v, "unit", None), number(getattr(v, "min", None)),
+                                 number(getattr(v, "max", None)))
+                for v in md.modelVariables
+                if v.causality in ("parameter", "input")
+                or (v.causality == "local" and v.initial == "exact" and v.variability == "continuous")}
     from .catalog import summarize
 
     summary = summarize(target)

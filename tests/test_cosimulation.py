@@ -83,8 +83,9 @@ def test_lane_change_counter_steers(fmu_dir):
     ("StateFeedback", "Bicycle.Control.StateFeedback", {"K1": 1, "K2": -2, "K3": 3, "K4": -4},
      ["phi", "delta", "phi_dot", "delta_dot"]),
     ("LaneChange", "Bicycle.Control.LaneChange", {"t_start": 0.5}, ["phi", "phi_dot", "psi", "y"]),
+    ("LeanSteer", "Bicycle.Control.LeanSteer", {"k": 5.0, "kd": 0.5, "k_lean": 0.3}, ["phi", "phi_dot"]),
     ("PadeDelay", "Bicycle.Rider.PadeDelay", {"tau": 0.3}, ["u"]),
-], ids=["Proportional", "PD", "SteerAngleFeedback", "StateFeedback", "LaneChange", "PadeDelay"])
+], ids=["Proportional", "PD", "SteerAngleFeedback", "StateFeedback", "LaneChange", "LeanSteer", "PadeDelay"])
 def test_python_block_equals_modelica_twin(block, twin, parameters, inputs, fmu_dir):
     """Each Python block and the FMU of its Modelica twin give the same outputs for the same
     inputs (sine signals from Pulse-free sources): 1e-8 for the integrating Pade twin (its FMU

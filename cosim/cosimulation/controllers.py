@@ -146,3 +146,20 @@ def lqr(name: str, params: str = "benchmark", v: float = 5.0, q_roll: float = 10
         q_rates: float = 0.1, r: float = 0.1) -> StateFeedback:
     """The LQR autopilot: :class:`StateFeedback` with gains from :func:`lqr_gains`."""
     return StateFeedback(name, **lqr_gains(params, v, q_roll, q_steer, q_rates, r))
+
+
+class LeanSteer(Static):
+    """A rider who uses upper-body lean as a second input: ``T = -k phi - kd phi_dot`` on the
+    handlebars and a lean angle ``theta = -k_lean phi`` of the upper body (paper conventions:
+    lean to the left to right a bicycle that rolls to the right). For models with both inputs,
+    e.g. ``Bicycle.Bicycles.LeaningRider`` (22)+(11)."""
+
+    inputs = ["phi", "phi_dot"]
+    outputs = ["T", "theta"]
+
+    def __init__(self, name: str, k: float = 10.0, kd: float = 1.0, k_lean: float = 0.5):
+        super().__init__(name)
+        self.k, self.kd, self.k_lean = float(k), float(kd), float(k_lean)
+
+    def evaluate(self, u):
+        return np.array([-self.k * u[0] - self.kd * u[1], -self.k_lean * u[0]])

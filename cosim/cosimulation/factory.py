@@ -16,6 +16,7 @@ PYTHON_BLOCKS = {
     "StateFeedback": controllers.StateFeedback,
     "LQR": controllers.lqr,
     "LaneChange": controllers.LaneChange,
+    "LeanSteer": controllers.LeanSteer,
     "TransportDelay": blocks.TransportDelay,
     "PadeDelay": blocks.pade_delay,
     "Pulse": blocks.Pulse,

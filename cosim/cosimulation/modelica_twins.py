@@ -35,6 +35,7 @@ TWINS = {
     "StateFeedback": ("Bicycle.Control.StateFeedback", _same),
     "LQR": ("Bicycle.Control.StateFeedback", _lqr),
     "LaneChange": ("Bicycle.Control.LaneChange", _same),
+    "LeanSteer": ("Bicycle.Control.LeanSteer", _same),
     "Pulse": ("Bicycle.Sources.TorquePulse", _same),
     "TransportDelay": ("Bicycle.Rider.PadeDelay", _delay),
     "PadeDelay": ("Bicycle.Rider.PadeDelay", _pade),

@@ -43,8 +43,8 @@ KanesMethod's nonholonomic partial velocities and acceleration constraints come 
 
     Mr(q) du_i/dt = Fr(q, u, T)        (3x3 mass matrix, eq (26) of Astrom et al. 2005)
 
-with ``Mr = Kd [I; A]`` and ``Fr = fd - Kd[:, dep] (dA/dt u_i)`` from KanesMethod's
-``Kd u' = fd`` (the dynamic equations projected on the independent speeds).
+with ``Mr = Kd [I; A]`` and ``Fr = -fd - Kd[:, dep] (dA/dt u_i)`` from KanesMethod's
+``Kd u' + fd = 0`` (the dynamic equations projected on the independent speeds).
 """
 from __future__ import annotations
 
@@ -71,7 +71,7 @@ class Derivation:
     placeholder matrices, ``Bi``/``Bd`` the constraint matrices (expressions of q),
     ``Bdot_i``/``Bdot_d`` their time derivatives (expressions of q, qdot), ``qdot`` the
     kinematic differential equations (expressions of q, ui, ud), ``Kd``, ``fd`` KanesMethod's
-    projected dynamics, ``M``/``F`` the reduced system ``M ui' = F``.
+    projected dynamics ``Kd u' + fd = 0``, ``M``/``F`` the reduced system ``M ui' = F``.
     """
 
     rider: bool
@@ -196,7 +196,7 @@ def derive(rider: bool = False) -> Derivation:
                         q_dependent=[theta], configuration_constraints=[PF.pos_from(PR).dot(N.z)],
                         u_dependent=ud, velocity_constraints=vel_constraints)
     km.kanes_equations(bodies, loads)
-    Kd, fd = km._k_d, km._f_d  # Kd u' = fd: dynamic equations projected with the nonholonomic partials
+    Kd, fd = km._k_d, km._f_d  # Kd u' + fd = 0: dynamic equations projected with the nonholonomic partials
     kdnh, fdnh = km._k_dnh, km._f_dnh  # acceleration constraints: kdnh u' + fdnh = 0
 
     # ------------------------------------------------------------------ plain symbols
@@ -228,7 +228,7 @@ def derive(rider: bool = False) -> Derivation:
     expected = sm.Matrix(udot_syms[ni:]) - As * sm.Matrix(udot_syms[:ni]) - Aui
     assert sm.simplify(acc - expected) == sm.zeros(nd, 1), "unexpected acceleration constraints"
     M = Kd[:, :ni] + Kd[:, ni:] * As
-    Fr = fd - Kd[:, ni:] * Aui
+    Fr = -fd - Kd[:, ni:] * Aui
 
     Bi, Bd = plain(Bi), plain(Bd)
     qdot_sym = {qs[qq]: us[qrates[qq]] for qq in q_list}
