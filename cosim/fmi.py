@@ -10,9 +10,35 @@ import numpy as np
 
 from .errors import SimulationError
 
+_EXTRACTED: dict[tuple, tuple] = {}  # (path, size, mtime) -> (unzip folder, model description)
+
+
+def _extract(path: Path):
+    """Unzip an FMU once per process (and file version); the folders are removed at exit."""
+    import atexit
+
+    from fmpy import extract, read_model_description
+
+    stat = path.stat()
+    key = (str(path.resolve()), stat.st_size, stat.st_mtime_ns)
+    if key not in _EXTRACTED:
+        if not _EXTRACTED:
+            atexit.register(_remove_extracted)
+        folder = tempfile.mkdtemp(prefix="cosim-fmu-")
+        extract(str(path), folder)
+        _EXTRACTED[key] = (folder, read_model_description(str(path)))
+    return _EXTRACTED[key]
+
+
+def _remove_extracted() -> None:
+    for folder, _ in _EXTRACTED.values():
+        if Path(folder).name.startswith("cosim-fmu-"):  # only the folders made by _extract
+            shutil.rmtree(folder, ignore_errors=True)
+    _EXTRACTED.clear()
+
 
 class FMU:
-    """An extracted FMU with its model description.
+    """An extracted FMU with its model description (unzipped once per process and file version).
 
     Parameters
     ----------
@@ -21,19 +47,15 @@ class FMU:
     """
 
     def __init__(self, path: str | Path):
-        from fmpy import extract, read_model_description
-
         self.path = Path(path)
         if not self.path.is_file():
             raise FileNotFoundError(f"{self.path}: no such FMU file")
-        self.description = read_model_description(str(self.path))
-        self._tmp = tempfile.mkdtemp(prefix="cosim-fmu-")
-        self.unzipdir = extract(str(self.path), self._tmp)
+        self.unzipdir, self.description = _extract(self.path)
         self.variables = {v.name: v for v in self.description.modelVariables}
         self.vr = {name: v.valueReference for name, v in self.variables.items()}
 
     def close(self):
-        shutil.rmtree(self._tmp, ignore_errors=True)
+        """Nothing to release: the unzipped FMU is shared within the process (see ``_extract``)."""
 
     def __enter__(self):
         return self

@@ -242,7 +242,9 @@ def derive(rider: bool = False) -> Derivation:
     Pgeo_rate = Ro.vel(N) + (rR - tR) * L.ang_vel_in(N).cross(L.z)
     xdot = plain(Pgeo_rate.dot(N.x))
     ydot = plain(Pgeo_rate.dot(N.y))
-    residual = plain(PF.pos_from(PR).dot(N.z))
+    # Height of the front contact point: N.z.(PF - PR) = N.z.(Fo - PR) + (rF - tF) sqrt(1 - (N.z.H.y)^2) + tF
+    # (the same expression as PF.pos_from(PR).dot(N.z), written compactly).
+    residual = plain(sm.trigsimp(Fo.pos_from(PR).dot(N.z)) + (rF - tF) * e_norm + tF)
     # Energy: kinetic + gravitational potential (z down), zero at the ground
     kinetic = sum(b.kinetic_energy(N) for b in bodies)
     potential = sum(-b.mass * g * b.masscenter.pos_from(PR).dot(N.z) for b in bodies)

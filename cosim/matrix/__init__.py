@@ -1,0 +1,1 @@
+"""Co-simulation test matrix: many co-simulations, each with its analytic prediction, in parallel."""

@@ -1,0 +1,434 @@
+"""The analytic prediction of a case: closed-loop eigenvalues of the linear models of its components.
+
+Every component gets a linear model (:class:`LTI`):
+
+* bicycles: the analytic twins of :mod:`cosim.twins` (the paper's equations) and, for
+  ``Bicycle.Bicycles.WhippleLinear``, :func:`cosim.analytic.whipple.state_matrices` (Meijaard et al.
+  2007) with the heading and lateral position added;
+* Python blocks and their Modelica twins (``Bicycle.Control.*``, ``Bicycle.Rider.PadeDelay``,
+  ``Bicycle.Sources.TorquePulse``): their transfer matrices; an exact ``TransportDelay`` becomes
+  python-control's Pade approximation of order ``pade_order``;
+* any other FMU: its numerical linearization (:func:`cosim.linearize.linearize`).
+
+The components are connected as in the system. With ``master_lag`` the co-simulation master's own
+delays are modelled too (Jacobi, outputs sampled after the step): an input held over a
+communication step h by a component with states lags by h/2 (zero-order hold), and a component
+without states (a static gain) answers one step late, a lag of h; each lag is a second-order Pade
+approximation. Only the states that influence the observed signal are kept (the heading and path
+integrators, which never feed back, would otherwise add eigenvalues at 0).
+
+The prediction is the largest real part of the closed-loop eigenvalues, ``max_re`` [1/s]:
+stable below ``-margin``, unstable above ``+margin``, marginal in between.
+"""
+from __future__ import annotations
+
+import inspect
+import math
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import numpy as np
+
+from ..errors import CosimError
+
+
+class PredictionError(CosimError, ValueError):
+    """No analytic prediction can be made for a case; the message says why."""
+
+
+@dataclass
+class LTI:
+    """x' = A x + B u, y = C x + D u with named inputs and outputs."""
+
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    inputs: list
+    outputs: list
+    kind: str = "dynamic"   # dynamic (inputs held by the master), static (no states), delay (interpolating)
+    source: str = ""
+
+    @property
+    def n(self) -> int:
+        return self.A.shape[0]
+
+
+def _lti(A, B, C, D, inputs, outputs, kind=None, source="") -> LTI:
+    A = np.atleast_2d(np.asarray(A, float)) if np.size(A) else np.zeros((0, 0))
+    n = A.shape[0]
+    B = np.asarray(B, float).reshape(n, len(inputs))
+    C = np.asarray(C, float).reshape(len(outputs), n)
+    D = np.asarray(D, float).reshape(len(outputs), len(inputs))
+    if kind is None:
+        kind = "static" if n == 0 else "dynamic"
+    return LTI(A, B, C, D, list(inputs), list(outputs), kind, source)
+
+
+def static(D, inputs, outputs, source="") -> LTI:
+    return _lti(np.zeros((0, 0)), np.zeros((0, len(inputs))), np.zeros((len(outputs), 0)),
+                np.asarray(D, float).reshape(len(outputs), len(inputs)), inputs, outputs, "static", source)
+
+
+def tf_to_lti(num, den, inputs=("u",), outputs=("y",), kind=None, source="") -> LTI:
+    """Controllable canonical form of a proper SISO transfer function."""
+    num = np.atleast_1d(np.asarray(num, float))
+    den = np.atleast_1d(np.asarray(den, float))
+    num, den = num / den[0], den / den[0]
+    n = len(den) - 1
+    if n == 0:
+        return static([[num[-1]]], inputs, outputs, source)
+    num = np.concatenate([np.zeros(n + 1 - len(num)), num])
+    d = num[0]
+    rest = num[1:] - d * den[1:]          # strictly proper part: coefficients of s^(n-1) ... s^0
+    A = np.zeros((n, n))
+    A[0, :] = -den[1:]
+    A[1:, :-1] = np.eye(n - 1)
+    B = np.zeros((n, 1))
+    B[0, 0] = 1.0
+    return _lti(A, B, rest.reshape(1, n), [[d]], inputs, outputs, kind, source)
+
+
+@lru_cache(maxsize=4096)
+def _pade(tau: float, n: int):
+    import control
+
+    num, den = control.pade(tau, n)
+    return tuple(num), tuple(den)
+
+
+def delay_lti(tau: float, order: int, inputs=("u",), outputs=("y",), kind="delay", source="") -> LTI:
+    """exp(-s tau) as the [order/order] Pade approximation (python-control's ``pade``)."""
+    if tau <= 0:
+        return static([[1.0]], inputs, outputs, source)
+    num, den = _pade(float(tau), int(order))
+    return tf_to_lti(num, den, inputs, outputs, kind, source)
+
+
+# --------------------------------------------------------------------------- models of blocks
+
+def _lqr(p):
+    from ..cosimulation.controllers import lqr_gains
+
+    K = lqr_gains(p["params"], p["v"], p["q_roll"], p["q_steer"], p["q_rates"], p["r"])
+    return static([[-K[f"K{k}"] for k in (1, 2, 3, 4)]], ["phi", "delta", "phi_dot", "delta_dot"], ["T"],
+                  "LQR: T = -K x")
+
+
+def _lane_change(p):
+    kp, kd, kpsi, ky = p["kp"], p["kd"], p["k_psi"], p["k_y"]
+    return static([[kp, kd, kp * kpsi, kp * kpsi * ky]], ["phi", "phi_dot", "psi", "y"], ["T"],
+                  "LaneChange: T = kp (phi - phi_ref) + kd phi_dot (reference excluded)")
+
+
+#: Linear models of Python blocks: name -> f(parameters with defaults, settings) -> LTI.
+LINEAR_BLOCKS = {
+    "Proportional": lambda p, s: static([[-p["k"]]], ["phi"], ["T"], "T = -k phi"),
+    "PD": lambda p, s: static([[-p["kp"], -p["kd"]]], ["phi", "phi_dot"], ["T"], "T = -kp phi - kd phi_dot"),
+    "SteerAngleFeedback": lambda p, s: static([[-p["k2"]]], ["phi"], ["delta"], "delta = -k2 phi (5)"),
+    "StateFeedback": lambda p, s: static([[-p[f"K{k}"] for k in (1, 2, 3, 4)]],
+                                         ["phi", "delta", "phi_dot", "delta_dot"], ["T"], "T = -K x"),
+    "LQR": lambda p, s: _lqr(p),
+    "LaneChange": lambda p, s: _lane_change(p),
+    "TransportDelay": lambda p, s: delay_lti(p["tau"], s["pade_order"],
+                                             source=f"exp(-s tau), Pade order {s['pade_order']}"),
+    "PadeDelay": lambda p, s: delay_lti(p["tau"], int(p["n"]), kind="dynamic", source=f"Pade order {int(p['n'])}"),
+    "Pulse": lambda p, s: static(np.zeros((1, 0)), [], ["y"], "source (no feedback)"),
+    "Step": lambda p, s: static(np.zeros((1, 0)), [], ["y"], "source (no feedback)"),
+}
+
+#: Modelica blocks that are twins of Python blocks (same parameter, input and output names).
+MODELICA_BLOCKS = {
+    "Bicycle.Control.Proportional": "Proportional",
+    "Bicycle.Control.PD": "PD",
+    "Bicycle.Control.SteerAngleFeedback": "SteerAngleFeedback",
+    "Bicycle.Control.StateFeedback": "StateFeedback",
+    "Bicycle.Control.LaneChange": "LaneChange",
+    "Bicycle.Rider.PadeDelay": "PadeDelay",
+    "Bicycle.Sources.TorquePulse": "Pulse",
+}
+
+WHIPPLE = "Bicycle.Bicycles.WhippleLinear"
+
+
+@lru_cache(maxsize=1)
+def _benchmark() -> dict:
+    from ..analytic.parameters import load_parameters
+
+    return load_parameters("benchmark")
+
+
+def _whipple(params: dict) -> LTI:
+    from ..analytic.parameters import PARAMETER_NAMES
+    from ..analytic.whipple import state_matrices
+
+    base = _benchmark()
+    p = {k: float(params.get(k, base[k])) for k in PARAMETER_NAMES}
+    v = float(params.get("v", 5.0))
+    A4, B4 = state_matrices(p, v)
+    A = np.zeros((6, 6))
+    A[:4, :4] = A4
+    k = math.cos(p["lam"]) / p["w"]
+    A[4, 1], A[4, 3] = v * k, p["c"] * k       # der(psi) = (v delta + c delta_dot) cos(lam) / w
+    A[5, 4] = v                                 # der(y) = v psi
+    B = np.zeros((6, 2))
+    B[:4] = B4
+    return _lti(A, B, np.eye(6), np.zeros((6, 2)), ["T_phi", "T_delta"],
+                ["phi", "delta", "phi_dot", "delta_dot", "psi", "y"], "dynamic",
+                "linear Whipple model (Meijaard et al. 2007)")
+
+
+def _twin(model: str, params: dict) -> LTI | None:
+    from ..twins import TWINS
+
+    twin = TWINS.get(model)
+    if twin is None:
+        return None
+    plain = {k: v for k, v in params.items() if "." not in k}
+    try:
+        sys = twin.system(plain)
+    except ValueError as exc:
+        raise PredictionError(f"analytic twin of {model}: {exc}") from None
+    return _lti(sys.A, sys.B, sys.C, sys.D, list(sys.input_labels), list(sys.output_labels), "dynamic",
+                f"analytic twin: {twin.equations}")
+
+
+@lru_cache(maxsize=64)
+def _fmu_info(path: str):
+    from fmpy import read_model_description
+
+    md = read_model_description(path)
+    starts = {}
+    for v in md.modelVariables:
+        if v.causality == "parameter" and v.start is not None:
+            try:
+                starts[v.name] = float(v.start)
+            except (TypeError, ValueError):
+                pass
+    return md.modelName, starts
+
+
+def _block_defaults(block: str) -> dict:
+    from ..cosimulation.factory import PYTHON_BLOCKS
+
+    factory = PYTHON_BLOCKS.get(block)
+    if factory is None:
+        return {}
+    return {n: p.default for n, p in inspect.signature(factory).parameters.items()
+            if p.default is not inspect.Parameter.empty}
+
+
+def component_lti(name: str, entry: dict, fmu_paths: dict, settings: dict) -> LTI:
+    """The linear model of one component of a system dict."""
+    params = dict(entry.get("parameters", {}))
+    if "python" in entry:
+        block = entry["python"]
+        model = LINEAR_BLOCKS.get(block)
+        if model is None:
+            raise PredictionError(f"component '{name}': no linear model of the Python block '{block}' "
+                                  "(register one in cosim.matrix.predict.LINEAR_BLOCKS)")
+        return model({**_block_defaults(block), **params}, settings)
+    path = entry.get("fmu") or fmu_paths.get(entry.get("model"))
+    model_name = entry.get("model")
+    starts = {}
+    if path:
+        md_name, starts = _fmu_info(str(path))
+        model_name = model_name or md_name
+    if model_name == WHIPPLE:
+        return _whipple(params)
+    twin = _twin(model_name, params)
+    if twin is not None:
+        return twin
+    if model_name in MODELICA_BLOCKS:
+        block = MODELICA_BLOCKS[model_name]
+        return LINEAR_BLOCKS[block]({**_block_defaults(block), **starts, **params}, settings)
+    if path:
+        from ..linearize import linearize
+
+        lin = linearize(path, dict(params))
+        return _lti(lin.A, lin.B, lin.C, lin.D, lin.inputs, lin.outputs, None, "FMU linearization")
+    raise PredictionError(f"component '{name}': no analytic model for '{model_name}'")
+
+
+# --------------------------------------------------------------------------- closed loop
+
+@dataclass
+class Prediction:
+    max_re: float
+    dominant: complex
+    eigenvalues: list = field(default_factory=list)
+    states: int = 0
+    sources: dict = field(default_factory=dict)
+
+    def classify(self, margin: float) -> str:
+        if self.max_re < -margin:
+            return "stable"
+        if self.max_re > margin:
+            return "unstable"
+        return "marginal"
+
+
+def _split(signal: str) -> tuple[str, str]:
+    comp, _, var = signal.partition(".")
+    return comp, var
+
+
+def closed_loop(system: dict, observe: str, fmu_paths: dict, settings: dict,
+                models: dict | None = None) -> Prediction:
+    """Closed-loop eigenvalues of a system dict (see the module docstring)."""
+    from ..cosimulation.system import parse_connection
+
+    comps = system["components"]
+    models = models or {n: component_lti(n, e, fmu_paths, settings) for n, e in comps.items()}
+    sysset = system.get("system", {})
+    h = float(sysset.get("step", 0.01))
+    jacobi = str(sysset.get("algorithm", "jacobi")).lower() == "jacobi"
+    blocks = dict(models)
+    wiring = []  # (source, output, target, input)
+    for text in system.get("connections", []):
+        c = parse_connection(text, "system")
+        for comp, var, attr in ((c.source, c.output, "outputs"), (c.target, c.input, "inputs")):
+            if comp not in blocks or var not in getattr(blocks[comp], attr):
+                listed = ", ".join(getattr(blocks[comp], attr)) if comp in blocks else "no such component"
+                raise PredictionError(f"connection '{c}': the linear model of '{comp}' has no "
+                                      f"{attr[:-1]} '{var}' ({listed})")
+        lag = 0.0
+        if settings.get("master_lag", True):
+            src, dst = blocks[c.source], blocks[c.target]
+            m_src = int(comps[c.source].get("step_multiple", 1))
+            m_dst = int(comps[c.target].get("step_multiple", 1))
+            if jacobi and src.kind == "static" and np.any(src.D):
+                lag += h * m_src
+            if dst.kind == "dynamic" and dst.n > 0:
+                lag += h * m_dst / 2
+        if lag > 0:
+            lname = f"lag:{c}"
+            blocks[lname] = delay_lti(lag, 2, kind="delay", source=f"master lag {lag:g} s")
+            wiring += [(c.source, c.output, lname, "u"), (lname, "y", c.target, c.input)]
+        else:
+            wiring.append((c.source, c.output, c.target, c.input))
+    names = list(blocks)
+    xo, uo, yo = {}, {}, {}
+    nx = nu = ny = 0
+    for n in names:
+        b = blocks[n]
+        xo[n], uo[n], yo[n] = nx, nu, ny
+        nx, nu, ny = nx + b.n, nu + len(b.inputs), ny + len(b.outputs)
+    A, B = np.zeros((nx, nx)), np.zeros((nx, nu))
+    C, D = np.zeros((ny, nx)), np.zeros((ny, nu))
+    for n in names:
+        b = blocks[n]
+        xs = slice(xo[n], xo[n] + b.n)
+        us = slice(uo[n], uo[n] + len(b.inputs))
+        ys = slice(yo[n], yo[n] + len(b.outputs))
+        A[xs, xs], B[xs, us], C[ys, xs], D[ys, us] = b.A, b.B, b.C, b.D
+    K = np.zeros((nu, ny))
+    for s, out, t, inp in wiring:
+        K[uo[t] + blocks[t].inputs.index(inp), yo[s] + blocks[s].outputs.index(out)] = 1.0
+    try:
+        Cy = np.linalg.solve(np.eye(ny) - D @ K, C)
+    except np.linalg.LinAlgError:
+        raise PredictionError("algebraic loop without a solution (I - D K is singular)") from None
+    Acl = A + B @ K @ Cy
+    ocomp, ovar = _split(observe)
+    if ocomp not in blocks or ovar not in blocks[ocomp].outputs:
+        raise PredictionError(f"observed signal '{observe}' is not an output of the linear model of '{ocomp}'")
+    row = Cy[yo[ocomp] + blocks[ocomp].outputs.index(ovar)]
+    keep = _influencing(Acl, row)
+    if not keep.size:
+        raise PredictionError(f"no state influences '{observe}'")
+    ev = np.linalg.eigvals(Acl[np.ix_(keep, keep)])
+    ev = ev[np.lexsort((-ev.imag, -ev.real))]
+    dom = complex(ev[0])
+    if dom.imag < 0:
+        dom = dom.conjugate()
+    return Prediction(max_re=float(ev[0].real), dominant=dom, eigenvalues=[complex(e) for e in ev],
+                      states=int(keep.size), sources={n: models[n].source for n in models})
+
+
+def _influencing(A: np.ndarray, row: np.ndarray) -> np.ndarray:
+    """States with a path in the graph of A to a state the observed output reads."""
+    if not A.size:
+        return np.zeros(0, dtype=int)
+    nz = np.abs(A) > 1e-14 * max(1.0, float(np.abs(A).max()))
+    keep = np.abs(row) > 1e-14 * max(1.0, float(np.abs(row).max()))
+    while True:
+        grown = keep | nz[keep].any(axis=0)
+        if (grown == keep).all():
+            break
+        keep = grown
+    return np.flatnonzero(keep)
+
+
+# --------------------------------------------------------------------------- cases
+
+def _set_parameter(system: dict, target: str, value: float) -> dict:
+    comp, par = _split(target)
+    out = {**system, "components": dict(system["components"])}
+    entry = dict(out["components"][comp])
+    entry["parameters"] = {**entry.get("parameters", {}), par: float(value)}
+    out["components"][comp] = entry
+    return out
+
+
+def tune(system: dict, observe: str, tune_spec: dict, fmu_paths: dict, settings: dict):
+    """The parameter value minimizing the predicted max Re (the best rider): a grid, then Brent.
+
+    Returns (system with the tuned value, {target: value}, prediction there)."""
+    from scipy.optimize import minimize_scalar
+
+    if len(tune_spec) != 1:
+        raise PredictionError(f"tune one parameter at a time, got {', '.join(tune_spec)}")
+    (target, opts), = tune_spec.items()
+    lo, hi = float(opts.get("min", 1e-3)), float(opts.get("max", 1e3))
+    points = int(opts.get("points", 48))
+    log = opts.get("scale", "log") == "log"
+    if not (hi > lo and points >= 3 and (lo > 0 or not log)):
+        raise PredictionError(f"tune '{target}': need max > min (> 0 on a log scale) and points >= 3")
+    comp, _ = _split(target)
+    fixed = {n: component_lti(n, e, fmu_paths, settings) for n, e in system["components"].items() if n != comp}
+
+    def objective(u):
+        sys = _set_parameter(system, target, math.exp(u) if log else u)
+        models = {**fixed, comp: component_lti(comp, sys["components"][comp], fmu_paths, settings)}
+        return closed_loop(sys, observe, fmu_paths, settings, models).max_re
+
+    grid = np.linspace(math.log(lo), math.log(hi), points) if log else np.linspace(lo, hi, points)
+    values = [objective(u) for u in grid]
+    k = int(np.argmin(values))
+    best_u, best = float(grid[k]), values[k]
+    a, b = grid[max(k - 1, 0)], grid[min(k + 1, points - 1)]
+    if b > a:
+        res = minimize_scalar(objective, bounds=(a, b), method="bounded",
+                              options={"xatol": 1e-5 * max(1.0, abs(best_u))})
+        if res.fun < best:
+            best_u, best = float(res.x), float(res.fun)
+    value = float(math.exp(best_u) if log else best_u)
+    tuned = _set_parameter(system, target, value)
+    return tuned, {target: value}, closed_loop(tuned, observe, fmu_paths, settings)
+
+
+def predict_case(case, fmu_paths: dict) -> tuple[dict, dict]:
+    """(system to simulate, prediction record) of a case; tuned parameters are applied."""
+    system, tuned = case.system, {}
+    if case.tune:
+        system, tuned, pred = tune(case.system, case.observe, case.tune, fmu_paths, case.settings)
+    else:
+        pred = closed_loop(system, case.observe, fmu_paths, case.settings)
+    margin = float(case.settings["margin"])
+    record = {
+        "max_re": pred.max_re,
+        "dominant": [pred.dominant.real, pred.dominant.imag],
+        "eigenvalues": [[e.real, e.imag] for e in pred.eigenvalues[:8]],
+        "states": pred.states,
+        "class": pred.classify(margin),
+        "margin": margin,
+        "tuned": tuned,
+    }
+    return system, record
+
+
+def max_re_at(study, values: dict, fmu_paths: dict) -> float:
+    """Predicted max Re of a study at arbitrary coordinates (for boundary searches)."""
+    _, record = predict_case(study.make_case(values), fmu_paths)
+    return record["max_re"]
