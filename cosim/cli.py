@@ -183,7 +183,12 @@ def _cmd_run(args) -> int:
 
     result = run_system(args.system)
     output = args.output or f"{Path(args.system).stem}.csv"
-    write_csv(result.data, output)
+    if output.endswith(".npy"):
+        import numpy as np
+
+        np.save(output, result.data)  # structured array: time and "component.output" columns
+    else:
+        write_csv(result.data, output)
     print(f"{result.outcome.message}; wrote {output} ({result.steps} steps)")
     if args.plot:
         plot(result.data, args.plot, title=Path(args.system).stem)
@@ -279,7 +284,7 @@ def parser() -> argparse.ArgumentParser:
 
     run = sub.add_parser("run", help="co-simulate a system file (FMUs and Python components)")
     run.add_argument("system", help="system file (TOML)")
-    run.add_argument("-o", "--output", default=None, help="result CSV (default: <system>.csv)")
+    run.add_argument("-o", "--output", default=None, help="result .csv or .npy (default: <system>.csv)")
     run.add_argument("--plot", default=None, help="save a plot of the recorded signals (PNG)")
     run.add_argument("--allow-fall", action="store_true", help="exit 0 even if the bicycle falls")
     run.set_defaults(func=_cmd_run)

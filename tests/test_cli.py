@@ -6,7 +6,7 @@ import json
 import numpy as np
 import pytest
 
-from conftest import run_cli
+from conftest import ROOT, run_cli
 
 MODEL = "Bicycle.Bicycles.SelfStabilizing"
 
@@ -77,3 +77,34 @@ def test_linearize_json(fmus):
     assert np.array(lin["A"]).shape == (4, 4) and len(lin["eigenvalues"]) == 4
     roll = np.linalg.eigvals(np.array(lin["A"])[:2, :2])
     assert all(roll.real < 0)  # V = 6 m/s is above the critical speed; psi and eta are integrators
+
+
+def test_figure5_command(tmp_path):
+    result = run_cli("figures", "fig5", "-o", str(tmp_path))
+    assert result.returncode == 0, result.stderr
+    assert (tmp_path / "fig5.png").stat().st_size > 10_000
+
+
+def test_unknown_figure(tmp_path):
+    result = run_cli("figures", "fig99", "-o", str(tmp_path))
+    assert result.returncode != 0 and "unknown figure(s) fig99" in result.stderr
+
+
+def test_run_and_export_ssp(tmp_path):
+    from cosim.engines import run_ssp_libcosim
+
+    system = ROOT / "cosim" / "systems" / "rider-p-control.toml"
+    npy, ssp = tmp_path / "r.npy", tmp_path / "r.ssp"
+    result = run_cli("run", str(system), "-o", str(npy))
+    assert result.returncode == 0, result.stderr
+    data = np.load(npy)
+    assert {"time", "bike.phi", "rider.T"} <= set(data.dtype.names)
+    result = run_cli("export-ssp", str(system), "-o", str(ssp))
+    assert result.returncode == 0, result.stderr
+    assert "twin: rider: Python Proportional -> Bicycle.Control.Proportional" in result.stdout
+    assert run_ssp_libcosim(ssp, ["bike.phi"])["bike.phi"].size == 2000
+
+
+def test_run_reports_fall(tmp_path):
+    result = run_cli("run", str(ROOT / "cosim" / "systems" / "rear-steered-p.toml"), "-o", str(tmp_path / "r.csv"))
+    assert result.returncode == 3 and "fell at t = " in result.stdout
