@@ -9,6 +9,7 @@ import tempfile
 import uuid
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
+from functools import lru_cache
 from pathlib import Path
 
 from .. import __version__
@@ -44,6 +45,7 @@ def _tool_versions() -> dict:
             "python": platform.python_version()}
 
 
+@lru_cache(maxsize=1)
 def compiler_digest() -> str:
     """Changes whenever the compiler, the runtime or the tools behind them change."""
     h = hashlib.sha256(json.dumps(_tool_versions(), sort_keys=True).encode())
@@ -86,10 +88,14 @@ def build_model(model_name: str, output: str | Path = DEFAULT_OUTPUT, library: L
     started = time.perf_counter()
     library = library or load_library()
     entry = library.entry(model_name)
-    flat = flatten(library, model_name)
-    fingerprint = _fingerprint(flat, entry)
     target = fmu_path(model_name, Path(output))
     manifest = read_manifest(target) if target.exists() else None
+    # Fast path: no source file and no part of the compiler changed since the FMU was built.
+    sources_digest = hashlib.sha256((library.digest() + compiler_digest()).encode()).hexdigest()
+    if not force and manifest and manifest.get("sources_digest") == sources_digest:
+        return BuildResult(model_name, target, False, time.perf_counter() - started)
+    flat = flatten(library, model_name)
+    fingerprint = _fingerprint(flat, entry)
     if not force and manifest and manifest.get("fingerprint") == fingerprint:
         return BuildResult(model_name, target, False, time.perf_counter() - started)
 
@@ -116,6 +122,7 @@ def build_model(model_name: str, output: str | Path = DEFAULT_OUTPUT, library: L
         (staging / MANIFEST).write_text(json.dumps({
             "model": model_name,
             "fingerprint": fingerprint,
+            "sources_digest": sources_digest,
             "guid": info.guid,
             "modelica_files": [str(p.relative_to(library.path)) for p in library.files],
             "tools": versions,

@@ -106,12 +106,15 @@ class Library:
 
     def digest(self) -> str:
         """SHA-256 over every source file (name and content): changes when any source changes."""
+        if getattr(self, "_digest", None):
+            return self._digest
         h = hashlib.sha256()
         for file in self.files:
             h.update(str(file.relative_to(self.path)).encode())
             h.update(b"\0")
             h.update(file.read_bytes())
-        return h.hexdigest()
+        self._digest = h.hexdigest()
+        return self._digest
 
     def _file_of(self, name: str) -> Path:
         parts = name.split(".")
