@@ -208,6 +208,7 @@ def _fmu_info(path: str):
     return md.modelName, starts
 
 
+@lru_cache(maxsize=256)
 def _block_defaults(block: str) -> dict:
     from ..cosimulation.factory import PYTHON_BLOCKS
 
@@ -273,77 +274,97 @@ def _split(signal: str) -> tuple[str, str]:
     return comp, var
 
 
+class Loop:
+    """The closed loop of a system dict, assembled once; blocks of the same shape can be swapped
+    (tuning) before :meth:`prediction` is evaluated again."""
+
+    def __init__(self, system: dict, observe: str, fmu_paths: dict, settings: dict, models: dict | None = None):
+        from ..cosimulation.system import parse_connection
+
+        comps = system["components"]
+        self.models = models or {n: component_lti(n, e, fmu_paths, settings) for n, e in comps.items()}
+        sysset = system.get("system", {})
+        h = float(sysset.get("step", 0.01))
+        jacobi = str(sysset.get("algorithm", "jacobi")).lower() == "jacobi"
+        blocks = dict(self.models)
+        wiring = []  # (source, output, target, input)
+        for text in system.get("connections", []):
+            c = parse_connection(text, "system")
+            for comp, var, attr in ((c.source, c.output, "outputs"), (c.target, c.input, "inputs")):
+                if comp not in blocks or var not in getattr(blocks[comp], attr):
+                    listed = ", ".join(getattr(blocks[comp], attr)) if comp in blocks else "no such component"
+                    raise PredictionError(f"connection '{c}': the linear model of '{comp}' has no "
+                                          f"{attr[:-1]} '{var}' ({listed})")
+            lag = 0.0
+            if settings.get("master_lag", True):
+                src, dst = blocks[c.source], blocks[c.target]
+                m_src = int(comps[c.source].get("step_multiple", 1))
+                m_dst = int(comps[c.target].get("step_multiple", 1))
+                if jacobi and src.kind == "static" and src.D.size:
+                    lag += h * m_src
+                if dst.kind == "dynamic" and dst.n > 0:
+                    lag += h * m_dst / 2
+            if lag > 0:
+                lname = f"lag:{c}"
+                blocks[lname] = delay_lti(lag, 2, kind="delay", source=f"master lag {lag:g} s")
+                wiring += [(c.source, c.output, lname, "u"), (lname, "y", c.target, c.input)]
+            else:
+                wiring.append((c.source, c.output, c.target, c.input))
+        self.blocks = blocks
+        self.slices = {}
+        nx = nu = ny = 0
+        for n, b in blocks.items():
+            self.slices[n] = (slice(nx, nx + b.n), slice(nu, nu + len(b.inputs)), slice(ny, ny + len(b.outputs)))
+            nx, nu, ny = nx + b.n, nu + len(b.inputs), ny + len(b.outputs)
+        self.A, self.B = np.zeros((nx, nx)), np.zeros((nx, nu))
+        self.C, self.D = np.zeros((ny, nx)), np.zeros((ny, nu))
+        for n, b in blocks.items():
+            self._write(n, b)
+        self.K = np.zeros((nu, ny))
+        for s, out, t, inp in wiring:
+            self.K[self.slices[t][1].start + blocks[t].inputs.index(inp),
+                   self.slices[s][2].start + blocks[s].outputs.index(out)] = 1.0
+        ocomp, ovar = _split(observe)
+        if ocomp not in blocks or ovar not in blocks[ocomp].outputs:
+            raise PredictionError(f"observed signal '{observe}' is not an output of the linear model of '{ocomp}'")
+        self.observed = self.slices[ocomp][2].start + blocks[ocomp].outputs.index(ovar)
+        self.eye = np.eye(ny)
+        self.keep = None  # states kept: fixed while tuning (the structure does not change)
+
+    def _write(self, name: str, b: LTI) -> None:
+        xs, us, ys = self.slices[name]
+        self.A[xs, xs], self.B[xs, us], self.C[ys, xs], self.D[ys, us] = b.A, b.B, b.C, b.D
+
+    def replace(self, name: str, b: LTI) -> None:
+        old = self.blocks[name]
+        if (old.A.shape, old.D.shape) != (b.A.shape, b.D.shape):
+            raise PredictionError(f"component '{name}': the tuned model changed its size")
+        self.blocks[name] = self.models[name] = b
+        self._write(name, b)
+
+    def prediction(self) -> Prediction:
+        try:
+            Cy = np.linalg.solve(self.eye - self.D @ self.K, self.C)
+        except np.linalg.LinAlgError:
+            raise PredictionError("algebraic loop without a solution (I - D K is singular)") from None
+        Acl = self.A + self.B @ self.K @ Cy
+        keep = self.keep if self.keep is not None else _influencing(Acl, Cy[self.observed])
+        if not keep.size:
+            raise PredictionError("no state influences the observed signal")
+        self.last_keep = keep
+        ev = np.linalg.eigvals(Acl[np.ix_(keep, keep)])
+        ev = ev[np.lexsort((-ev.imag, -ev.real))]
+        dom = complex(ev[0])
+        if dom.imag < 0:
+            dom = dom.conjugate()
+        return Prediction(max_re=float(ev[0].real), dominant=dom, eigenvalues=[complex(e) for e in ev],
+                          states=int(keep.size), sources={n: m.source for n, m in self.models.items()})
+
+
 def closed_loop(system: dict, observe: str, fmu_paths: dict, settings: dict,
                 models: dict | None = None) -> Prediction:
     """Closed-loop eigenvalues of a system dict (see the module docstring)."""
-    from ..cosimulation.system import parse_connection
-
-    comps = system["components"]
-    models = models or {n: component_lti(n, e, fmu_paths, settings) for n, e in comps.items()}
-    sysset = system.get("system", {})
-    h = float(sysset.get("step", 0.01))
-    jacobi = str(sysset.get("algorithm", "jacobi")).lower() == "jacobi"
-    blocks = dict(models)
-    wiring = []  # (source, output, target, input)
-    for text in system.get("connections", []):
-        c = parse_connection(text, "system")
-        for comp, var, attr in ((c.source, c.output, "outputs"), (c.target, c.input, "inputs")):
-            if comp not in blocks or var not in getattr(blocks[comp], attr):
-                listed = ", ".join(getattr(blocks[comp], attr)) if comp in blocks else "no such component"
-                raise PredictionError(f"connection '{c}': the linear model of '{comp}' has no "
-                                      f"{attr[:-1]} '{var}' ({listed})")
-        lag = 0.0
-        if settings.get("master_lag", True):
-            src, dst = blocks[c.source], blocks[c.target]
-            m_src = int(comps[c.source].get("step_multiple", 1))
-            m_dst = int(comps[c.target].get("step_multiple", 1))
-            if jacobi and src.kind == "static" and np.any(src.D):
-                lag += h * m_src
-            if dst.kind == "dynamic" and dst.n > 0:
-                lag += h * m_dst / 2
-        if lag > 0:
-            lname = f"lag:{c}"
-            blocks[lname] = delay_lti(lag, 2, kind="delay", source=f"master lag {lag:g} s")
-            wiring += [(c.source, c.output, lname, "u"), (lname, "y", c.target, c.input)]
-        else:
-            wiring.append((c.source, c.output, c.target, c.input))
-    names = list(blocks)
-    xo, uo, yo = {}, {}, {}
-    nx = nu = ny = 0
-    for n in names:
-        b = blocks[n]
-        xo[n], uo[n], yo[n] = nx, nu, ny
-        nx, nu, ny = nx + b.n, nu + len(b.inputs), ny + len(b.outputs)
-    A, B = np.zeros((nx, nx)), np.zeros((nx, nu))
-    C, D = np.zeros((ny, nx)), np.zeros((ny, nu))
-    for n in names:
-        b = blocks[n]
-        xs = slice(xo[n], xo[n] + b.n)
-        us = slice(uo[n], uo[n] + len(b.inputs))
-        ys = slice(yo[n], yo[n] + len(b.outputs))
-        A[xs, xs], B[xs, us], C[ys, xs], D[ys, us] = b.A, b.B, b.C, b.D
-    K = np.zeros((nu, ny))
-    for s, out, t, inp in wiring:
-        K[uo[t] + blocks[t].inputs.index(inp), yo[s] + blocks[s].outputs.index(out)] = 1.0
-    try:
-        Cy = np.linalg.solve(np.eye(ny) - D @ K, C)
-    except np.linalg.LinAlgError:
-        raise PredictionError("algebraic loop without a solution (I - D K is singular)") from None
-    Acl = A + B @ K @ Cy
-    ocomp, ovar = _split(observe)
-    if ocomp not in blocks or ovar not in blocks[ocomp].outputs:
-        raise PredictionError(f"observed signal '{observe}' is not an output of the linear model of '{ocomp}'")
-    row = Cy[yo[ocomp] + blocks[ocomp].outputs.index(ovar)]
-    keep = _influencing(Acl, row)
-    if not keep.size:
-        raise PredictionError(f"no state influences '{observe}'")
-    ev = np.linalg.eigvals(Acl[np.ix_(keep, keep)])
-    ev = ev[np.lexsort((-ev.imag, -ev.real))]
-    dom = complex(ev[0])
-    if dom.imag < 0:
-        dom = dom.conjugate()
-    return Prediction(max_re=float(ev[0].real), dominant=dom, eigenvalues=[complex(e) for e in ev],
-                      states=int(keep.size), sources={n: models[n].source for n in models})
+    return Loop(system, observe, fmu_paths, settings, models).prediction()
 
 
 def _influencing(A: np.ndarray, row: np.ndarray) -> np.ndarray:
@@ -381,17 +402,19 @@ def tune(system: dict, observe: str, tune_spec: dict, fmu_paths: dict, settings:
         raise PredictionError(f"tune one parameter at a time, got {', '.join(tune_spec)}")
     (target, opts), = tune_spec.items()
     lo, hi = float(opts.get("min", 1e-3)), float(opts.get("max", 1e3))
-    points = int(opts.get("points", 48))
+    points = int(opts.get("points", 32))
     log = opts.get("scale", "log") == "log"
     if not (hi > lo and points >= 3 and (lo > 0 or not log)):
         raise PredictionError(f"tune '{target}': need max > min (> 0 on a log scale) and points >= 3")
     comp, _ = _split(target)
-    fixed = {n: component_lti(n, e, fmu_paths, settings) for n, e in system["components"].items() if n != comp}
+    loop = Loop(system, observe, fmu_paths, settings)
+    loop.prediction()
+    loop.keep = loop.last_keep
 
     def objective(u):
         sys = _set_parameter(system, target, math.exp(u) if log else u)
-        models = {**fixed, comp: component_lti(comp, sys["components"][comp], fmu_paths, settings)}
-        return closed_loop(sys, observe, fmu_paths, settings, models).max_re
+        loop.replace(comp, component_lti(comp, sys["components"][comp], fmu_paths, settings))
+        return loop.prediction().max_re
 
     grid = np.linspace(math.log(lo), math.log(hi), points) if log else np.linspace(lo, hi, points)
     values = [objective(u) for u in grid]
@@ -400,7 +423,7 @@ def tune(system: dict, observe: str, tune_spec: dict, fmu_paths: dict, settings:
     a, b = grid[max(k - 1, 0)], grid[min(k + 1, points - 1)]
     if b > a:
         res = minimize_scalar(objective, bounds=(a, b), method="bounded",
-                              options={"xatol": 1e-5 * max(1.0, abs(best_u))})
+                              options={"xatol": 1e-3})
         if res.fun < best:
             best_u, best = float(res.x), float(res.fun)
     value = float(math.exp(best_u) if log else best_u)

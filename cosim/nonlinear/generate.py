@@ -111,27 +111,22 @@ DESCRIPTIONS = {
     "cU": ("RotationalDampingConstant", "Passive damping cU of the hip hinge (lean torque per lean rate)", "min = 0"),
 }
 
-# Types the library's Units package does not have: declared inline (unit strings as in Modelica.Units.SI).
+# Types the library's Units package does not have: Real with the attributes of Modelica.Units.SI.
 INLINE = {
-    "RotationalSpringConstant": 'Real(final quantity = "RotationalSpringConstant", final unit = "N.m/rad")',
-    "RotationalDampingConstant": 'Real(final quantity = "RotationalDampingConstant", final unit = "N.m.s/rad")',
-    "AngularAcceleration": 'Real(final quantity = "AngularAcceleration", final unit = "rad/s2")',
-    "Energy": 'Real(final quantity = "Energy", final unit = "J")',
+    "RotationalSpringConstant": 'final quantity = "RotationalSpringConstant", final unit = "N.m/rad"',
+    "RotationalDampingConstant": 'final quantity = "RotationalDampingConstant", final unit = "N.m.s/rad"',
+    "AngularAcceleration": 'final quantity = "AngularAcceleration", final unit = "rad/s2"',
+    "Energy": 'final quantity = "Energy", final unit = "J"',
 }
 
 
-def _type(kind: str) -> str:
-    return INLINE[kind] if kind in INLINE else f"Bicycle.Units.{kind}"
-
-
 def _declare(prefix: str, kind: str, name: str, modifiers: str, value: str | None, description: str) -> str:
-    type_text = _type(kind)
-    if kind in INLINE:  # merge the modifiers into the inline declaration
-        if modifiers:
-            type_text = type_text[:-1] + ", " + modifiers + ")"
-        mods = ""
+    if kind in INLINE:
+        type_text = "Real"
+        modifiers = ", ".join(m for m in (INLINE[kind], modifiers) if m)
     else:
-        mods = f"({modifiers})" if modifiers else ""
+        type_text = f"Bicycle.Units.{kind}"
+    mods = f"({modifiers})" if modifiers else ""
     binding = f" = {value}" if value is not None else ""
     return f"  {prefix}{type_text} {name}{mods}{binding} \"{description}\";"
 
@@ -401,11 +396,13 @@ def targets(names=None):
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m cosim.nonlinear.generate", description=__doc__.split("\n\n")[0])
-    parser.add_argument("models", nargs="*", choices=["Whipple", "WhippleRider"], default=[],
-                        help="models to generate (default: both)")
+    parser.add_argument("models", nargs="*", metavar="MODEL", help="Whipple and/or WhippleRider (default: both)")
     parser.add_argument("-o", "--output", default=str(TARGET_DIR), help="output folder (default: the library)")
     parser.add_argument("--check", action="store_true", help="do not write; exit 1 if a file on disk differs")
     args = parser.parse_args(argv)
+    unknown = sorted(set(args.models) - set(targets()))
+    if unknown:
+        parser.error(f"unknown model(s) {', '.join(unknown)}; choose from {', '.join(targets())}")
     if os.environ.get("PYTHONHASHSEED") != "0":
         # sympy's cse and printing are deterministic for a fixed hash seed: pin it.
         env = {**os.environ, "PYTHONHASHSEED": "0"}

@@ -6,6 +6,9 @@ from sympy.printing.precedence import PRECEDENCE
 from sympy.printing.str import StrPrinter
 
 
+CHAIN = 8  # longest flat sum printed
+
+
 class ModelicaPrinter(StrPrinter):
     """Modelica syntax: ``^`` for powers (never chained, never with a negative exponent),
     ``sqrt``, real literals for rationals; unary minus only where Modelica allows it."""
@@ -40,9 +43,16 @@ class ModelicaPrinter(StrPrinter):
     def _print_Integer(self, expr):
         return str(expr.p)
 
-    def _print_Mul(self, expr):
-        text = super()._print_Mul(expr)
-        return text
+    def _print_Add(self, expr, order=None):
+        # Long sums as a balanced tree of parenthesized partial sums: a flat chain of a hundred
+        # terms is a parse tree a hundred levels deep, too deep for pymoca's recursive flattening.
+        terms = list(expr.args)
+        if len(terms) <= CHAIN:
+            return super()._print_Add(expr, order)
+        half = len(terms) // 2
+        left = self._print_Add(sm.Add(*terms[:half], evaluate=False))
+        right = self._print_Add(sm.Add(*terms[half:], evaluate=False))
+        return f"({left}) + ({right})"
 
     def _print_Symbol(self, expr):
         return expr.name

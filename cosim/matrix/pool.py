@@ -1,0 +1,298 @@
+"""Executing cases: a local pool of worker processes, or a Dask cluster.
+
+Process isolation: every case runs in a worker *process* of our own (``python -m
+cosim.matrix.worker``) that the supervisor talks to over pipes. When a worker dies (an FMU
+segfaults, it is killed, it runs out of time) the supervisor sees the end of its pipe, records
+that one case as failed with the signal and the tail of the worker's log, starts a fresh worker and
+goes on. Unlike ``ProcessPoolExecutor``, nothing else breaks.
+
+With Dask (``--scheduler tcp://HOST:PORT``) cases are sent in chunks as tasks; each Dask worker
+thread keeps one such worker process of its own, so a crash fails one case and the Dask worker
+lives on.
+"""
+from __future__ import annotations
+
+import math
+import os
+import selectors
+import signal
+import subprocess
+import sys
+import threading
+import time
+import uuid
+from collections import deque
+from pathlib import Path
+
+from .worker import failed_record, read_message, write_message
+
+_PACKAGE_ROOT = str(Path(__file__).resolve().parents[2])
+
+
+class WorkerDied(Exception):
+    pass
+
+
+def _signal_name(returncode: int | None) -> str:
+    if returncode is None:
+        return "still running"
+    if returncode < 0:
+        try:
+            return f"{signal.Signals(-returncode).name} (signal {-returncode})"
+        except ValueError:
+            return f"signal {-returncode}"
+    return f"exit status {returncode}"
+
+
+class Child:
+    """One worker process; ``init`` = {"imports": [...], "fmu_paths": {...}}."""
+
+    START_TIMEOUT = 300.0
+
+    def __init__(self, init: dict, log_path: Path | None = None, wait: bool = True):
+        self.init = init
+        self.log_path = log_path
+        env = dict(os.environ)
+        env["PYTHONPATH"] = _PACKAGE_ROOT + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+        log = open(log_path, "ab") if log_path else subprocess.DEVNULL
+        try:
+            self.proc = subprocess.Popen([sys.executable, "-m", "cosim.matrix.worker"], stdin=subprocess.PIPE,
+                                         stdout=subprocess.PIPE, stderr=log, bufsize=0, env=env,
+                                         start_new_session=True)
+        finally:
+            if log_path:
+                log.close()
+        self.case: dict | None = None
+        self.started = 0.0
+        self.pid = None
+        write_message(self.proc.stdin, {"op": "init", **init})
+        if wait:
+            self.wait_ready()
+
+    def wait_ready(self) -> None:
+        """Wait for the worker's imports and warm-up (started in parallel for several workers)."""
+        ready = self._receive(self.START_TIMEOUT)
+        if ready is None or "ready" not in ready:
+            self.kill()
+            raise WorkerDied(f"worker did not start: {_signal_name(self.proc.poll())}{self.log_tail()}")
+        self.pid = ready["ready"]
+
+    def fileno(self) -> int:
+        return self.proc.stdout.fileno()
+
+    def alive(self) -> bool:
+        return self.proc.poll() is None
+
+    def send(self, case: dict) -> None:
+        self.case, self.started = case, time.monotonic()
+        write_message(self.proc.stdin, {"op": "case", "case": case})
+
+    def _receive(self, timeout: float | None):
+        if timeout is not None:
+            sel = selectors.DefaultSelector()
+            sel.register(self.proc.stdout, selectors.EVENT_READ)
+            try:
+                if not sel.select(timeout):
+                    return None
+            finally:
+                sel.close()
+        try:
+            return read_message(self.proc.stdout)
+        except Exception:  # a torn message: the worker died while writing
+            return None
+
+    def receive(self) -> dict:
+        """The record of the case in flight (the pipe is readable), or a failed record if the worker died."""
+        msg = self._receive(None)
+        case, self.case = self.case, None
+        if msg is None or "record" not in msg:
+            self.kill()
+            return failed_record(case, f"worker process died ({_signal_name(self.proc.returncode)}) "
+                                       f"while running this case{self.log_tail()}")
+        return msg["record"]
+
+    def run(self, case: dict, timeout: float) -> dict:
+        """Blocking: send, wait at most ``timeout`` s, return the record."""
+        try:
+            self.send(case)
+        except (BrokenPipeError, OSError):
+            self.kill()
+            return failed_record(case, f"worker process died ({_signal_name(self.proc.returncode)}){self.log_tail()}")
+        sel = selectors.DefaultSelector()
+        sel.register(self.proc.stdout, selectors.EVENT_READ)
+        try:
+            ready = sel.select(timeout)
+        finally:
+            sel.close()
+        if not ready:
+            self.case = None
+            self.kill()
+            return failed_record(case, f"timeout: no result after {timeout:g} s (worker killed)")
+        return self.receive()
+
+    def timed_out(self, timeout: float) -> bool:
+        return self.case is not None and time.monotonic() - self.started > timeout
+
+    def kill(self) -> None:
+        if self.proc.poll() is None:
+            try:
+                self.proc.kill()
+            except ProcessLookupError:
+                pass
+        try:
+            self.proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:  # pragma: no cover
+            pass
+        for stream in (self.proc.stdin, self.proc.stdout):
+            try:
+                stream.close()
+            except Exception:
+                pass
+
+    def stop(self) -> None:
+        try:
+            write_message(self.proc.stdin, {"op": "stop"})
+            self.proc.stdin.close()
+            self.proc.wait(timeout=10)
+        except Exception:
+            pass
+        self.kill()
+
+    def log_tail(self, chars: int = 600) -> str:
+        if not self.log_path or not Path(self.log_path).exists():
+            return ""
+        with open(self.log_path, "rb") as f:
+            f.seek(0, os.SEEK_END)
+            size = f.tell()
+            f.seek(max(0, size - chars))
+            text = f.read().decode(errors="replace").strip()
+        return f"; worker log: ...{text[-chars:]}" if text else ""
+
+
+# --------------------------------------------------------------------------- local pool
+
+def run_local(cases: list[dict], init: dict, workers: int, on_record, timeout: float,
+              log_dir: Path | None = None) -> dict:
+    """Run ``cases`` on ``workers`` worker processes; ``on_record(record)`` in the calling thread.
+
+    Returns timings: ``startup`` (s until every worker was ready) and ``run`` (s from then on)."""
+    t0 = time.perf_counter()
+    if not cases:
+        return {"startup": 0.0, "run": 0.0}
+    workers = max(1, min(workers, len(cases)))
+    pending = deque(cases)
+    counter = iter(range(1_000_000))
+
+    def spawn() -> Child:
+        log = log_dir / f"worker-{next(counter)}.log" if log_dir else None
+        return Child(init, log)
+
+    start_failures = 0
+    children: list[Child] = []
+    sel = selectors.DefaultSelector()
+    try:
+        for k in range(workers):
+            log = log_dir / f"worker-{next(counter)}.log" if log_dir else None
+            children.append(Child(init, log, wait=False))
+        for child in children:
+            child.wait_ready()
+        t1 = time.perf_counter()
+        idle = list(children)
+        while pending or any(c.case is not None for c in children):
+            while idle and pending:
+                child = idle.pop()
+                case = pending.popleft()
+                try:
+                    child.send(case)
+                except (BrokenPipeError, OSError):
+                    on_record(failed_record(case, f"worker process died ({_signal_name(child.proc.poll())})"))
+                    children.remove(child)
+                    child.kill()
+                    fresh = spawn()
+                    children.append(fresh)
+                    idle.append(fresh)
+                    continue
+                sel.register(child.proc.stdout, selectors.EVENT_READ, child)
+            events = sel.select(timeout=0.5)
+            for key, _ in events:
+                child: Child = key.data
+                sel.unregister(child.proc.stdout)
+                record = child.receive()
+                on_record(record)
+                if child.alive():
+                    idle.append(child)
+                else:
+                    children.remove(child)
+                    child.kill()
+                    try:
+                        fresh = spawn()
+                        start_failures = 0
+                    except WorkerDied:
+                        start_failures += 1
+                        if start_failures >= 3:
+                            raise
+                        continue
+                    children.append(fresh)
+                    idle.append(fresh)
+            for child in [c for c in children if c.timed_out(timeout)]:
+                case = child.case
+                sel.unregister(child.proc.stdout)
+                child.case = None
+                child.kill()
+                on_record(failed_record(case, f"timeout: no result after {timeout:g} s (worker killed)"))
+                children.remove(child)
+                fresh = spawn()
+                children.append(fresh)
+                idle.append(fresh)
+    finally:
+        sel.close()
+        for child in children:
+            child.stop()
+    return {"startup": t1 - t0, "run": time.perf_counter() - t1}
+
+
+# --------------------------------------------------------------------------- Dask
+
+_local = threading.local()
+
+
+def dask_chunk(init: dict, cases: list[dict], timeout: float) -> list[dict]:
+    """A Dask task: run cases in this Dask worker thread's own worker process."""
+    child = getattr(_local, "child", None)
+    if child is None or child.init != init or not child.alive():
+        if child is not None:
+            child.kill()
+        child = _local.child = Child(init)
+    records = []
+    for case in cases:
+        if not child.alive():
+            child = _local.child = Child(init)
+        records.append(child.run(case, timeout))
+    return records
+
+
+def run_dask(cases: list[dict], init: dict, scheduler: str, on_record, timeout: float,
+             chunk_size: int | None = None) -> None:
+    """Run ``cases`` as tasks on the Dask cluster at ``scheduler``."""
+    from distributed import Client, as_completed
+
+    if not cases:
+        return
+    with Client(scheduler, timeout=60) as client:
+        n_workers = max(1, sum(w.get("nthreads", 1) for w in client.scheduler_info()["workers"].values()))
+        size = chunk_size or max(1, min(32, math.ceil(len(cases) / (4 * n_workers))))
+        chunks = [cases[i:i + size] for i in range(0, len(cases), size)]
+        tag = uuid.uuid4().hex[:8]
+        futures = {}
+        for k, chunk in enumerate(chunks):
+            fut = client.submit(dask_chunk, init, chunk, timeout, key=f"cosim-matrix-{tag}-{k}", pure=False,
+                                retries=0)
+            futures[fut] = chunk
+        for fut in as_completed(list(futures)):
+            chunk = futures.pop(fut)
+            try:
+                records = fut.result()
+            except Exception as exc:
+                records = [failed_record(c, f"Dask task failed: {type(exc).__name__}: {exc}") for c in chunk]
+            for rec in records:
+                on_record(rec)

@@ -1,0 +1,247 @@
+"""The matrix report: ``report.md``, ``report.html`` and one PNG per study (heat map or strip)."""
+from __future__ import annotations
+
+import html
+import json
+import math
+from pathlib import Path
+
+ORDER = {"failed": 0, "disagree": 1, "marginal": 2, "agree": 3, "observed": 3}
+COLORS = {"stable": "#3a9d5d", "unstable": "#d9534f", "fell": "#a02622", "diverged": "#6b1010",
+          "marginal": "#b0b0b0", "unexcited": "#f0ad4e", None: "#000000"}
+
+
+def _num(v, fmt="{:.4g}"):
+    if v is None or (isinstance(v, float) and not math.isfinite(v)):
+        return "-"
+    return fmt.format(v)
+
+
+def _row(rec: dict) -> dict:
+    pred = rec.get("prediction") or {}
+    obs = rec.get("observed") or {}
+    out = rec.get("outcome") or {}
+    notes = []
+    if pred.get("tuned"):
+        notes.append(", ".join(f"{k} = {v:.4g}" for k, v in pred["tuned"].items()))
+    if obs.get("extended"):
+        notes.append("re-run longer")
+    if rec.get("error"):
+        notes.append(rec["error"])
+    outcome = out.get("status", "-")
+    if outcome in ("fell", "diverged"):
+        outcome += f" at {out.get('time', 0):.2f} s"
+    return {
+        "case": rec["label"], "max_re": _num(pred.get("max_re")), "predicted": pred.get("class", "-"),
+        "observed": obs.get("class") or "-", "growth": _num(obs.get("growth_rate")),
+        "max_roll": _num(obs.get("max_roll")), "settling": _num(obs.get("settling_time"), "{:.2f}"),
+        "outcome": outcome, "agreement": rec.get("agreement") or "-", "notes": "; ".join(notes),
+    }
+
+
+COLUMNS = [("case", "case"), ("max_re", "predicted max Re [1/s]"), ("predicted", "predicted"),
+           ("observed", "observed"), ("growth", "growth rate [1/s]"), ("max_roll", "max |x|"),
+           ("settling", "settling time [s]"), ("outcome", "outcome"), ("agreement", "agreement"), ("notes", "notes")]
+
+
+def _sorted(records):
+    return sorted(records, key=lambda r: (ORDER.get(r.get("agreement"), 0), r.get("index", 0)))
+
+
+# --------------------------------------------------------------------------- plots
+
+def _plot_options(study) -> dict:
+    return next((p for p in study.plots if "x" in p), {})
+
+
+def _plot_axes(study, cases):
+    p = _plot_options(study)
+    if p:
+        return p["x"], p.get("y")
+    varying = [n for n, vals in study.axes.items() if len(set(map(str, vals))) > 1]
+    if not varying:
+        varying = [n for n in cases[0].values] if cases else []
+    return (varying[0] if varying else None), (varying[1] if len(varying) > 1 else None)
+
+
+def plot_study(study, cases, records, path: Path, expected=None) -> Path | None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    by_key = {r["key"]: r for r in records}
+    pairs = [(c, by_key[c.key]) for c in cases if c.key in by_key]
+    x_name, y_name = _plot_axes(study, [c for c, _ in pairs])
+    if not pairs or x_name is None:
+        return None
+    margin = study.settings["margin"]
+
+    def val(case, name):
+        v = case.variables.get(name, case.values.get(name))
+        return float(v) if isinstance(v, (int, float)) else math.nan
+
+    options = _plot_options(study)
+    fig, ax = plt.subplots(figsize=(9.0, 4.8))
+    if y_name:
+        xs = np.array([val(c, x_name) for c, _ in pairs])
+        ys = np.array([val(c, y_name) for c, _ in pairs])
+        for cls in ("stable", "unstable", "fell", "diverged", "marginal", "unexcited", None):
+            sel = [i for i, (_, r) in enumerate(pairs) if (r.get("observed") or {}).get("class") == cls]
+            if sel:
+                ax.scatter(xs[sel], ys[sel], s=160, marker="s", c=COLORS[cls], label=f"observed {cls or 'failed'}",
+                           edgecolors="none")
+        for agreement, marker, color in (("disagree", "x", "black"), ("marginal", "o", "black"),
+                                         ("failed", "X", "orange")):
+            sel = [i for i, (_, r) in enumerate(pairs) if r.get("agreement") == agreement]
+            if sel:
+                ax.scatter(xs[sel], ys[sel], s=60, marker=marker, facecolors="none" if marker == "o" else color,
+                           edgecolors=color, label=agreement)
+        pred = np.array([(r.get("prediction") or {}).get("max_re", math.nan) or math.nan for _, r in pairs], float)
+        ok = np.isfinite(pred) & np.isfinite(xs) & np.isfinite(ys)
+        if ok.sum() >= 4 and len(set(xs[ok])) > 1 and len(set(ys[ok])) > 1:
+            try:
+                clipped = np.clip(pred[ok], -5, 5)
+                cs = ax.tricontour(xs[ok], ys[ok], clipped, levels=[0.0], colors="navy", linewidths=2)
+                ax.tricontour(xs[ok], ys[ok], clipped, levels=[-margin, margin], colors="navy",
+                              linewidths=0.8, linestyles="dashed")
+                ax.plot([], [], color="navy", lw=2, label="predicted boundary (max Re = 0)")
+                del cs
+            except Exception:
+                pass
+        for k, level in enumerate(options.get("hlines", [])):
+            ax.axhline(level, color="purple", ls=":", lw=1.2, label=f"{y_name} = {level:g}")
+        ax.margins(0.06)
+        ax.set_ylabel(y_name)
+        ax.set_title(f"{study.name}: observed stability (cells) and predicted boundary (line)")
+    else:
+        order = sorted(range(len(pairs)), key=lambda i: val(pairs[i][0], x_name))
+        xs = np.array([val(pairs[i][0], x_name) for i in order])
+        pred = np.array([((pairs[i][1].get("prediction") or {}).get("max_re") or math.nan) for i in order], float)
+        grow = np.array([((pairs[i][1].get("observed") or {}).get("growth_rate") or math.nan) for i in order], float)
+        ax.axhspan(-margin, margin, color="#dddddd", label=f"marginal band (|max Re| < {margin:g})")
+        ax.axhline(0, color="gray", lw=0.8)
+        if np.isfinite(pred).any():
+            ax.plot(xs, pred, "-", color="navy", lw=1.5, label="predicted max Re")
+        for cls in ("stable", "unstable", "fell", "diverged", "marginal", "unexcited", None):
+            sel = [k for k, i in enumerate(order) if (pairs[i][1].get("observed") or {}).get("class") == cls]
+            if sel:
+                ax.scatter(xs[sel], np.where(np.isfinite(grow[sel]), grow[sel], 0.0), s=36, c=COLORS[cls],
+                           zorder=3, label=f"observed growth rate: {cls or 'failed'}")
+        sel = [k for k, i in enumerate(order) if pairs[i][1].get("agreement") == "disagree"]
+        if sel:
+            ax.scatter(xs[sel], np.nan_to_num(grow[sel]), s=90, marker="x", c="black", zorder=4, label="disagree")
+        if expected:
+            for k, v in enumerate(expected):
+                ax.axvline(v, color="green", ls="--", lw=1, label="claimed boundary" if k == 0 else None)
+        finite = np.concatenate([pred[np.isfinite(pred)], grow[np.isfinite(grow)]])
+        if finite.size:
+            lim = min(max(abs(finite).max() * 1.3, 4 * margin), 50)
+            ax.set_ylim(-lim, lim)
+        ax.set_yscale("symlog", linthresh=max(2 * margin, 0.02))
+        ax.set_ylabel("growth rate [1/s] (symlog)")
+        ax.set_title(f"{study.name}: predicted max Re vs observed growth")
+    ax.set_xlabel(x_name)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), framealpha=0.85)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+# --------------------------------------------------------------------------- documents
+
+def _summary(result) -> dict:
+    c = result.counts
+    return {"name": result.spec.name, "passed": result.passed, **c, "ran": result.ran, "resumed": result.resumed,
+            "seconds": round(result.seconds, 2),
+            "checks": [{"study": ch.study, "kind": ch.kind, "title": ch.title, "passed": ch.passed,
+                        "details": ch.details} for ch in result.checks]}
+
+
+def write_report(result) -> dict:
+    directory = Path(result.directory)
+    spec = result.spec
+    images = {}
+    for study in spec.studies:
+        expected = None
+        for ch in study.checks:
+            if ch.get("kind") == "stable-interval":
+                expected = ch.get("expected")
+        try:
+            img = plot_study(study, [c for c in result.cases if c.study == study.name], result.records,
+                             directory / f"{study.name}.png", expected)
+        except Exception as exc:  # a plot must not take the report down
+            img = None
+            print(f"warning: plot of study {study.name} failed: {exc}")
+        if img:
+            images[study.name] = img.name
+    c = result.counts
+    verdict = "PASS" if result.passed else "FAIL"
+    s = spec.settings
+    intro = (f"{c['cases']} cases ({result.ran} run now, {result.resumed} from an earlier run) in "
+             f"{result.seconds:.1f} s. Agreement: {c['agree']} agree, {c['disagree']} disagree, "
+             f"{c['marginal']} marginal (excluded), {c['failed']} failed.")
+    method = (f"Prediction: closed-loop eigenvalues of the analytic linear models (exact delays as Pade "
+              f"approximations; the master's sample-and-hold and Jacobi lags modelled), 'marginal' when "
+              f"|max Re| < margin (default {s['margin']:g} 1/s). Observation: envelope of |x| in the last "
+              f"third vs the middle third of the run, inconclusive when the rate is below "
+              f"{s['observed_margin']:g} 1/s (re-run {s['extend']:g}x longer), 'fell' beyond the fall limit.")
+    # markdown
+    md = [f"# Co-simulation matrix: {spec.name}", "", spec.description, "",
+          f"**{verdict}** — {intro}", "", method, "", "## Checks", "",
+          "| study | check | result | details |", "|---|---|---|---|"]
+    for ch in sorted(result.checks, key=lambda ch: ch.passed):
+        md.append(f"| {ch.study} | {ch.title} | {'pass' if ch.passed else '**FAIL**'} | {ch.details} |")
+    for study in spec.studies:
+        recs = [r for r in result.records if r["study"] == study.name]
+        md += ["", f"## {study.name}: {study.title}", ""]
+        if study.claim:
+            md += [f"Claim: {study.claim}", ""]
+        if study.description:
+            md += [study.description.strip(), ""]
+        if study.name in images:
+            md += [f"![{study.name}]({images[study.name]})", ""]
+        md.append("| " + " | ".join(t for _, t in COLUMNS) + " |")
+        md.append("|" + "---|" * len(COLUMNS))
+        for rec in _sorted(recs):
+            row = _row(rec)
+            md.append("| " + " | ".join(str(row[k]).replace("|", "\\|") for k, _ in COLUMNS) + " |")
+    (directory / "report.md").write_text("\n".join(md) + "\n")
+    # html
+    e = html.escape
+    css = ("body{font-family:sans-serif;margin:2em;max-width:1200px} table{border-collapse:collapse;font-size:12px}"
+           "td,th{border:1px solid #ccc;padding:2px 6px} th{background:#eee} .pass{color:#2a7d3f;font-weight:bold}"
+           ".fail{color:#c0392b;font-weight:bold} tr.disagree{background:#f8d7da} tr.failed{background:#f5c6cb}"
+           "tr.marginal{background:#eeeeee} img{max-width:100%}")
+    h = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{e(spec.name)}</title><style>{css}</style></head><body>",
+         f"<h1>Co-simulation matrix: {e(spec.name)}</h1>", f"<p>{e(spec.description)}</p>",
+         f"<p class='{'pass' if result.passed else 'fail'}'>{verdict}</p><p>{e(intro)}</p><p>{e(method)}</p>",
+         "<h2>Checks</h2><table><tr><th>study</th><th>check</th><th>result</th><th>details</th></tr>"]
+    for ch in sorted(result.checks, key=lambda ch: ch.passed):
+        cls = "pass" if ch.passed else "fail"
+        h.append(f"<tr><td>{e(ch.study)}</td><td>{e(ch.title)}</td><td class='{cls}'>{cls}</td><td>{e(ch.details)}</td></tr>")
+    h.append("</table>")
+    for study in spec.studies:
+        recs = [r for r in result.records if r["study"] == study.name]
+        h.append(f"<h2>{e(study.name)}: {e(study.title)}</h2>")
+        if study.claim:
+            h.append(f"<p><b>Claim:</b> {e(study.claim)}</p>")
+        if study.description:
+            h.append(f"<p>{e(study.description.strip())}</p>")
+        if study.name in images:
+            h.append(f"<img src='{e(images[study.name])}' alt='{e(study.name)}'>")
+        h.append("<table><tr>" + "".join(f"<th>{e(t)}</th>" for _, t in COLUMNS) + "</tr>")
+        for rec in _sorted(recs):
+            row = _row(rec)
+            h.append(f"<tr class='{e(row['agreement'])}'>" + "".join(f"<td>{e(str(row[k]))}</td>" for k, _ in COLUMNS)
+                     + "</tr>")
+        h.append("</table>")
+    h.append("</body></html>")
+    (directory / "report.html").write_text("\n".join(h) + "\n")
+    summary = _summary(result)
+    (directory / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+    return {"markdown": str(directory / "report.md"), "html": str(directory / "report.html"),
+            "images": [str(directory / p) for p in images.values()], "summary": str(directory / "summary.json")}

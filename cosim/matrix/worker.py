@@ -1,0 +1,325 @@
+"""Running cases: in a worker process (``python -m cosim.matrix.worker``) that keeps its FMUs.
+
+A worker process reads length-prefixed pickled messages on stdin and answers on stdout:
+``{"op": "init", "imports": [...], "fmu_paths": {...}}`` (answer ``{"ready": pid}``), then
+``{"op": "case", "case": {...}}`` (answer ``{"record": {...}}``) for as long as it lives. Stray
+output of FMUs or Python goes to stderr (the worker's log), never into the protocol.
+
+Each FMU is extracted and instantiated once per worker and component name; every later case
+resets the instance (``fmi2Reset``: start values, solver state and time are restored), so a case
+gives bit-identical results whichever worker runs it and whatever ran before.
+"""
+from __future__ import annotations
+
+import importlib
+import importlib.util
+import os
+import pickle
+import signal
+import struct
+import sys
+import time
+import traceback
+from pathlib import Path
+
+import numpy as np
+
+from ..cosimulation.component import FMUComponent
+from ..errors import SimulationError
+
+_HEADER = struct.Struct(">Q")
+
+
+# --------------------------------------------------------------------------- protocol
+
+def write_message(stream, obj) -> None:
+    data = pickle.dumps(obj, protocol=pickle.HIGHEST_PROTOCOL)
+    payload = _HEADER.pack(len(data)) + data
+    view = memoryview(payload)
+    while view:
+        n = stream.write(view)
+        if n is None:  # pragma: no cover - non-blocking stream
+            continue
+        view = view[n:]
+    stream.flush()
+
+
+def _read_exact(stream, n: int) -> bytes | None:
+    chunks, left = [], n
+    while left:
+        chunk = stream.read(left)
+        if not chunk:
+            return None
+        chunks.append(chunk)
+        left -= len(chunk)
+    return b"".join(chunks)
+
+
+def read_message(stream):
+    """The next message, or None at end of stream (the other side is gone)."""
+    head = _read_exact(stream, _HEADER.size)
+    if head is None:
+        return None
+    body = _read_exact(stream, _HEADER.unpack(head)[0])
+    if body is None:
+        return None
+    return pickle.loads(body)
+
+
+# --------------------------------------------------------------------------- plugins
+
+def import_plugins(imports: list[str]) -> None:
+    """Import modules (dotted names) or Python files that register extra blocks."""
+    for item in imports:
+        if item.endswith(".py"):
+            path = Path(item)
+            name = f"cosim_matrix_plugin_{path.stem}"
+            if name in sys.modules:
+                continue
+            spec = importlib.util.spec_from_file_location(name, path)
+            if spec is None or spec.loader is None:
+                raise ImportError(f"cannot import {path}")
+            module = importlib.util.module_from_spec(spec)
+            sys.modules[name] = module
+            spec.loader.exec_module(module)
+        else:
+            importlib.import_module(item)
+
+
+# --------------------------------------------------------------------------- FMU reuse
+
+class ReusableFMUComponent(FMUComponent):
+    """An FMU component whose extraction and instance outlive one run.
+
+    ``close`` (called by the master after every run) only terminates the instance; the next
+    ``setup`` resets it. ``dispose`` frees it for good."""
+
+    def __init__(self, name: str, path: str | Path):
+        super().__init__(name, path, {})
+        md = self.fmu.description
+        self._settable = {v.name for v in md.modelVariables
+                          if v.causality in ("parameter", "input")
+                          or (v.variability not in ("constant", "fixed") and v.initial in ("exact", "approx"))}
+        from ..parameters import declarations
+
+        self._declared = declarations(str(path))
+
+    def configure(self, parameters: dict, initial: dict) -> None:
+        from ..parameters import check
+
+        values = check(parameters, self._declared)
+        for var in initial:
+            declared = self._declared.get(var)
+            if var not in self._settable or (declared is not None and declared.causality in ("parameter", "input")):
+                raise SimulationError(f"{self.name}: '{var}' is not a state start value that can be set "
+                                      "(use parameters for parameters)")
+        self.parameters = {**values, **{k: float(v) for k, v in initial.items()}}
+
+    def setup(self, start_time: float) -> None:
+        if self.instance is not None:
+            try:
+                self.instance.reset()
+            except Exception:
+                self._free()
+        if self.instance is None:
+            self.instance = self.fmu.instantiate("cs", name=self.name)
+        try:
+            self.fmu.set(self.instance, self.parameters)
+        except KeyError as exc:
+            raise SimulationError(f"{self.name}: unknown parameter {exc}") from None
+        self.instance.setupExperiment(tolerance=self.tolerance, startTime=start_time)
+        self.instance.enterInitializationMode()
+        functions = self.instance._functions
+        self._component = self.instance.component
+        self._set_real, self._get_real = functions["fmi2SetReal"], functions["fmi2GetReal"]
+        self._do_step = functions["fmi2DoStep"]
+
+    def close(self) -> None:
+        if self.instance is not None:
+            try:
+                self.instance.terminate()
+            except Exception:
+                self._free()
+
+    def _free(self) -> None:
+        if self.instance is not None:
+            try:
+                self.instance.freeInstance()
+            except Exception:
+                pass
+            self.instance = None
+
+    def dispose(self) -> None:
+        self._free()
+        self.fmu.close()
+
+
+class FMUCache:
+    """Reusable FMU components by (FMU path, component name)."""
+
+    def __init__(self):
+        self._components: dict[tuple[str, str], ReusableFMUComponent] = {}
+
+    def component(self, name: str, path: str, parameters: dict, initial: dict) -> ReusableFMUComponent:
+        key = (str(path), name)
+        comp = self._components.get(key)
+        if comp is None:
+            comp = self._components[key] = ReusableFMUComponent(name, path)
+        comp.configure(parameters, initial)
+        return comp
+
+    def close(self) -> None:
+        for comp in self._components.values():
+            comp.dispose()
+        self._components.clear()
+
+
+# --------------------------------------------------------------------------- one case
+
+def base_record(case: dict) -> dict:
+    return {"key": case["key"], "study": case["study"], "index": case["index"], "label": case["label"],
+            "values": case["values"], "status": "ok", "error": None, "prediction": None, "outcome": None,
+            "observed": None, "agreement": None}
+
+
+def failed_record(case: dict, message: str) -> dict:
+    rec = base_record(case)
+    rec.update(status="failed", error=message, agreement="failed")
+    return rec
+
+
+def _with_fmus(system: dict, fmu_paths: dict) -> dict:
+    comps = {}
+    for name, entry in system["components"].items():
+        entry = dict(entry)
+        if "model" in entry:
+            model = entry.pop("model")
+            if model not in fmu_paths:
+                raise SimulationError(f"component '{name}': model {model} was not built")
+            entry["fmu"] = str(fmu_paths[model])
+        comps[name] = entry
+    return {**system, "components": comps}
+
+
+def simulate(system: dict, initial: dict, observe: str, cache: FMUCache, fmu_paths: dict, stop: float | None = None):
+    """Co-simulate a system dict; returns (time, observed signal, outcome dict)."""
+    from ..cosimulation.factory import python_block
+    from ..cosimulation.master import run_components
+    from ..cosimulation.system import system_from_dict
+
+    system = _with_fmus(system, fmu_paths)
+    settings = dict(system.get("system", {}))
+    settings.setdefault("record", [observe])
+    if stop is not None:
+        settings["stop"] = stop
+    spec = system_from_dict({**system, "system": settings})
+    comps = {}
+    try:
+        for name, entry in spec.components.items():
+            if entry.kind == "python":
+                if initial.get(name):
+                    raise SimulationError(f"component '{name}': 'initial' applies to FMUs only")
+                comps[name] = python_block(name, entry.source, entry.parameters, spec.name)
+            else:
+                comps[name] = cache.component(name, entry.source, entry.parameters, initial.get(name, {}))
+    except BaseException:
+        for comp in comps.values():
+            comp.close()
+        raise
+    result = run_components(spec, comps)
+    outcome = {"status": result.outcome.status, "time": result.outcome.time, "message": result.outcome.message,
+               "steps": result.steps}
+    return np.asarray(result.data["time"]), np.asarray(result.data[observe]), outcome
+
+
+def run_case(case: dict, cache: FMUCache, fmu_paths: dict) -> dict:
+    """Prediction, co-simulation, classification and agreement of one case (never raises)."""
+    from . import classify
+    from .predict import predict_case
+    from .spec import Case
+
+    started = time.perf_counter()
+    rec = base_record(case)
+    try:
+        c = Case(**case)
+        settings = c.settings
+        system = c.system
+        predicted = None
+        if settings["predict"]:
+            system, rec["prediction"] = predict_case(c, fmu_paths)
+            predicted = rec["prediction"]["class"]
+        stop = float(system["system"]["stop"])
+        t, x, outcome = simulate(system, c.initial, c.observe, cache, fmu_paths)
+        obs = classify.observe(t, x, outcome["status"], settings["observed_margin"])
+        obs["extended"] = False
+        if obs["class"] == "marginal" and settings["extend"] > 1 and predicted in ("stable", "unstable"):
+            t, x, outcome = simulate(system, c.initial, c.observe, cache, fmu_paths, stop=stop * settings["extend"])
+            obs = classify.observe(t, x, outcome["status"], settings["observed_margin"])
+            obs["extended"] = True
+        rec["outcome"], rec["observed"] = outcome, obs
+        if obs["class"] == "unexcited":
+            rec.update(status="failed", error=f"'{c.observe}' stayed 0: perturb the case (an initial state "
+                                              "value or a pulse)")
+        rec["agreement"] = classify.agreement(predicted, obs["class"]) if settings["predict"] else "observed"
+        if rec["status"] == "failed":
+            rec["agreement"] = "failed"
+    except Exception as exc:  # the case fails, the matrix goes on
+        rec.update(status="failed", error=f"{type(exc).__name__}: {exc}", agreement="failed")
+        print(f"case {case.get('study')} {case.get('label')}:\n{traceback.format_exc()}", file=sys.stderr)
+    rec["elapsed"] = time.perf_counter() - started
+    rec["worker"] = os.getpid()
+    return rec
+
+
+# --------------------------------------------------------------------------- process main
+
+def warm_up() -> None:
+    """Import what every case needs (python-control alone takes seconds) before reporting ready."""
+    import control  # noqa: F401
+
+    from ..cosimulation import factory, master  # noqa: F401
+    from ..cosimulation.fastloop import library
+    from . import classify, predict  # noqa: F401
+
+    library()
+
+
+def _die_with_parent() -> None:
+    """Linux: get SIGKILL when the parent (supervisor or Dask worker) dies."""
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL("libc.so.6", use_errno=True)
+        libc.prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+    except Exception:
+        pass
+
+
+def main() -> int:
+    _die_with_parent()
+    proto_in = sys.stdin.buffer
+    proto_out = os.fdopen(os.dup(1), "wb", buffering=0)
+    os.dup2(2, 1)               # C-level printf of FMUs goes to the log
+    sys.stdout = sys.stderr
+    init = read_message(proto_in)
+    if init is None:
+        return 0
+    import_plugins(init.get("imports", []))
+    fmu_paths = init.get("fmu_paths", {})
+    warm_up()
+    cache = FMUCache()
+    write_message(proto_out, {"ready": os.getpid()})
+    try:
+        while True:
+            msg = read_message(proto_in)
+            if msg is None or msg.get("op") == "stop":
+                break
+            if msg.get("op") == "case":
+                write_message(proto_out, {"record": run_case(msg["case"], cache, fmu_paths)})
+    finally:
+        cache.close()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,159 @@
+"""The FMUs of ``Bicycle.Bicycles.Whipple`` / ``WhippleRider`` as vector fields.
+
+Everything here evaluates the FMU (Model Exchange, exact directional derivatives), never the
+sympy derivation: :class:`Bicycle` sets a parameter set and an initial state (the FMU makes the
+pitch consistent with the holonomic constraint by its generated Newton steps), reads the state
+vector and the derivatives, and linearizes.
+
+States (FMU order): ``x, y, psi, phi, theta, delta, thetaR, thetaF, [beta,] u_phi, u_delta, u_R
+[, u_beta]``. Speed: the rear wheel rate ``u_R = -v/rR`` (upright, straight running).
+"""
+from __future__ import annotations
+
+from ctypes import c_double
+from pathlib import Path
+
+import numpy as np
+
+MODEL = "Bicycle.Bicycles.Whipple"
+RIDER_MODEL = "Bicycle.Bicycles.WhippleRider"
+#: Initial-state parameters of the FMU by state name.
+START = {"x": "x0", "y": "y0", "psi": "psi0", "phi": "phi0", "delta": "delta0", "thetaR": "thetaR0",
+         "thetaF": "thetaF0", "beta": "beta0", "u_phi": "u_phi0", "u_delta": "u_delta0", "u_R": "u_R0",
+         "u_beta": "u_beta0"}
+
+
+def build(model: str = MODEL, output: str | Path | None = None) -> Path:
+    """The FMU of ``model`` built (incrementally) into ``output`` (default: the project's ``fmus/``)."""
+    from ..compiler.build import DEFAULT_OUTPUT, build_model
+    from ..compiler.library import load_library
+
+    return build_model(model, output or DEFAULT_OUTPUT, load_library()).fmu
+
+
+def parameters(name_or_path: str = "benchmark", **extra: float) -> dict[str, float]:
+    """FMU parameters of a Meijaard parameter set (bundled name or TOML file; the FMU's names are
+    Meijaard's symbols), plus ``extra`` (e.g. crown radii ``tR``, ``tF``)."""
+    from ..analytic.parameters import load_parameters
+
+    return {**load_parameters(name_or_path), **extra}
+
+
+def speed_parameters(params: dict, v: float, **state: float) -> dict[str, float]:
+    """``params`` plus the initial rear wheel rate for forward speed ``v`` (upright: ``-v/rR``) and
+    other initial values by state name (``phi=0.1`` -> ``phi0 = 0.1``)."""
+    out = dict(params)
+    out["u_R0"] = -float(v) / float(params["rR"])
+    for name, value in state.items():
+        out[START.get(name, name)] = float(value)
+    return out
+
+
+class Bicycle:
+    """A Model Exchange instance of the nonlinear bicycle FMU held for repeated evaluation.
+
+    Parameters
+    ----------
+    fmu : path
+        The FMU of ``Bicycle.Bicycles.Whipple`` or ``WhippleRider``.
+    params : dict
+        Parameter values (names as in the FMU).
+    """
+
+    def __init__(self, fmu: str | Path, params: dict | None = None):
+        from ..fmi import FMU
+
+        self.fmu = FMU(fmu)
+        self.params = dict(params or {})
+        self.states = self.fmu.states
+        self.index = {n: k for k, n in enumerate(self.states)}
+        self.nx = len(self.states)
+        self.inputs = self.fmu.names("input")
+        self.me = self.fmu.instantiate("me")
+        self._initialized = False
+        self.initialize({})
+
+    def close(self):
+        if self.me is not None:
+            self.me.terminate()
+            self.me.freeInstance()
+            self.me = None
+        self.fmu.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def initialize(self, start: dict) -> np.ndarray:
+        """Re-initialize with the parameters and ``start`` (FMU parameter names, e.g. ``phi0``);
+        returns the initial state vector (pitch from the generated Newton steps)."""
+        if self._initialized:
+            self.me.reset()
+        self.fmu.set(self.me, {**self.params, **start})
+        self.me.setupExperiment(startTime=0.0)
+        self.me.enterInitializationMode()
+        self.me.exitInitializationMode()
+        self.me.enterContinuousTimeMode()
+        self._initialized = True
+        return self.get_states()
+
+    def get_states(self) -> np.ndarray:
+        x = (c_double * self.nx)()
+        self.me.getContinuousStates(x, self.nx)
+        return np.array(x[:])
+
+    def set_states(self, x) -> None:
+        self.me.setContinuousStates((c_double * self.nx)(*np.asarray(x, float)), self.nx)
+
+    def set_inputs(self, values: dict) -> None:
+        self.fmu.set(self.me, values)
+
+    def derivatives(self, x=None) -> np.ndarray:
+        if x is not None:
+            self.set_states(x)
+        dx = (c_double * self.nx)()
+        self.me.getDerivatives(dx, self.nx)
+        return np.array(dx[:])
+
+    def get(self, names, x=None) -> np.ndarray:
+        if x is not None:
+            self.set_states(x)
+        return np.array(self.fmu.get_real(self.me, list(names)))
+
+    def jacobian(self, x=None) -> np.ndarray:
+        """d(xdot)/dx at ``x`` from the FMU's directional derivatives."""
+        if x is not None:
+            self.set_states(x)
+        md = self.fmu
+        unknown = [md.vr[n] for n in md.derivatives]
+        known = [md.vr[n] for n in self.states]
+        J = np.zeros((self.nx, self.nx))
+        for k in range(self.nx):
+            seed = [0.0] * self.nx
+            seed[k] = 1.0
+            J[:, k] = self.me.getDirectionalDerivative(unknown, known, seed)
+        return J
+
+    def state(self, **values: float) -> np.ndarray:
+        """Initial state from values by state name (pitch made consistent)."""
+        return self.initialize({START[k]: v for k, v in values.items()})
+
+
+def reduced_jacobian(J: np.ndarray, states: list[str]) -> tuple[np.ndarray, list[str]]:
+    """The Jacobian on the constraint manifold in the coordinates (roll, steer, [lean,] and the
+    independent speeds): pitch is eliminated with ``d theta = A_theta,phi d phi + A_theta,delta
+    d delta`` (its rates ``J[theta, u_phi]``, ``J[theta, u_delta]`` are exactly these
+    coefficients), and the ignorable coordinates x, y, psi and the wheel angles are dropped
+    (nothing depends on them). ``J`` is the full Jacobian at a point with ``u_phi = u_delta = 0``."""
+    ix = {n: k for k, n in enumerate(states)}
+    keep = [n for n in states if n not in ("x", "y", "psi", "theta", "thetaR", "thetaF")]
+    rows = [ix[n] for n in keep]
+    R = J[np.ix_(rows, rows)].copy()
+    th = ix["theta"]
+    dtheta = {"phi": J[th, ix["u_phi"]], "delta": J[th, ix["u_delta"]]}
+    for col, name in enumerate(keep):
+        if name in dtheta:
+            R[:, col] += J[rows, th] * dtheta[name]
+    return R, keep
