@@ -300,8 +300,10 @@ def parser() -> argparse.ArgumentParser:
     fig.set_defaults(func=_cmd_figures)
 
     from . import analytic_cli
+    from .matrix import cli as matrix_cli
 
     analytic_cli.add_parser(sub)
+    matrix_cli.add_parser(sub)
 
     d = sub.add_parser("demo", help="build, validate and simulate the bundled bicycle")
     d.add_argument("-o", "--output", default="demo", help="folder for results (default: demo/)")
