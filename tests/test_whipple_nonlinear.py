@@ -54,7 +54,9 @@ def fmu(tmp_path_factory):
 # --------------------------------------------------------------------------- generation
 
 def test_generation_is_deterministic_and_fast():
-    """Regenerating both models reproduces the committed files byte for byte, in < 2 minutes."""
+    """Regenerating both models reproduces the committed files byte for byte, in < 2 minutes
+    (needs sympy; the committed files were generated with sympy 1.14)."""
+    pytest.importorskip("sympy")
     start = time.perf_counter()
     run = subprocess.run([sys.executable, "-m", "cosim.nonlinear.generate", "--check"], cwd=ROOT,
                          capture_output=True, text=True, timeout=600)
@@ -204,3 +206,126 @@ def test_energy_and_constraint(fmu, motion):
     assert drift <= 1e-8, drift
     assert np.abs(r["residual"]).max() <= 1e-10
     assert np.abs(r["phi"]).max() < 1.2  # the bicycle has not fallen
+
+
+# --------------------------------------------------------------------------- Figure 10: limit cycle
+
+def test_limit_cycle_below_weave_speed(fmu):
+    """Riderless astrom2005 started below the weave speed settles onto a stable periodic orbit;
+    slightly above it the motion decays (cosim.figures.fig10)."""
+    from cosim.figures import fig10
+
+    data = fig10.compute(fmu)
+    v_w, v_c = data["interval"]
+    expected = W.self_stable_interval(load_parameters("astrom2005-riderless"))
+    assert v_w == pytest.approx(expected[0], rel=1e-10) and v_c == pytest.approx(expected[1], rel=1e-10)
+    assert fig10.V_BELOW < v_w < fig10.V_ABOVE < v_c
+    orbit = data["orbit"]
+    assert orbit.residual <= 1e-9  # a fixed point of the Poincare map
+    assert orbit.stable
+    rest = np.sort(np.abs(orbit.multipliers))
+    assert abs(rest[-1] - 1.0) <= 1e-6 and rest[-2] < 0.9  # family multiplier 1, the others inside
+    assert 1.2 < orbit.period < 1.5 and 0.1 < orbit.roll_amplitude < 0.3 and orbit.steer_amplitude > orbit.roll_amplitude
+    assert orbit.mean_speed < v_w
+    below, above = data["runs"]["below"], data["runs"]["above"]
+    late = below["time"] >= 30.0  # the simulation has reached the orbit's amplitude
+    assert np.abs(below["phi"][late]).max() == pytest.approx(orbit.roll_amplitude, rel=1e-3)
+    first, last = fig10._decay(above)
+    assert last < 1e-2 * first
+
+
+def test_figure_modules_write_files(fmu, tmp_path, monkeypatch):
+    from cosim.figures import fig7, fig10, registry
+    from cosim.nonlinear import model
+
+    assert {"fig7", "fig10"} <= set(registry())
+    monkeypatch.setattr(model, "build", lambda *args, **kwargs: fmu)
+    for module in (fig7, fig10):
+        written = module.make(tmp_path)
+        assert [p.suffix for p in written] == [".png", ".json"] and all(p.stat().st_size > 0 for p in written)
+
+
+# --------------------------------------------------------------------------- Figure 7: steady turns
+
+def test_upright_branch_stable_exactly_on_linear_interval(fmu):
+    from cosim.nonlinear.continuation import SteadyTurns
+
+    for name in ("astrom2005", "benchmark"):
+        p = load_parameters(name)
+        with Bicycle(fmu, p) as bike:
+            low, high = SteadyTurns(bike).upright_stable_interval()
+        a_low, a_high = W.self_stable_interval(p)
+        assert low == pytest.approx(a_low, rel=1e-10) and high == pytest.approx(a_high, rel=1e-10)
+
+
+def test_steady_turns(fmu):
+    """Continuation of the turning equilibria of the bicycle with rider (Fig. 7): the points are
+    equilibria of the FMU's own Co-Simulation, all turns are unstable (as in the paper), and one
+    branch ends on the upright branch at the capsize speed (pitchfork)."""
+    from cosim.figures import fig7
+
+    data = fig7.compute(fmu)
+    curves = data["curves"]
+    assert len(curves) >= 2
+    for curve in curves:
+        assert not any(p.stable for p in curve.points)
+    v_c = data["interval"][1]
+    ends = [c.points[-1] for c in curves]
+    assert any(abs(e.v - v_c) < 1e-2 and e.phi < 0.05 for e in ends)
+    # A turn in the middle of a branch stays a turn in the FMU's Co-Simulation for 0.5 s.
+    p = load_parameters("astrom2005")
+    turn = curves[0].points[len(curves[0].points) // 2]
+    start = speed_parameters(p, 0.0, phi=turn.phi, delta=turn.delta, u_R=turn.u_R)
+    r = simulate(fmu, 0.5, 0.05, "cs", start, relative_tolerance=1e-12, outputs=["phi", "delta", "u_psi"])
+    assert np.abs(r["phi"] - turn.phi).max() <= 1e-8 and np.abs(r["delta"] - turn.delta).max() <= 1e-8
+    assert np.allclose(r["u_psi"], turn.yaw_rate, rtol=1e-8)
+
+
+# --------------------------------------------------------------------------- WhippleRider
+
+@pytest.fixture(scope="module")
+def rider_fmu(tmp_path_factory):
+    out = tmp_path_factory.mktemp("whipple_rider")
+    (result,) = build([RIDER_MODEL], out)
+    return result.fmu
+
+
+def test_rider_interface_and_locked_hinge(rider_fmu):
+    """Defaults: rear frame + upper body with the hinge locked are the benchmark's rear frame, so a
+    stiff hinge (kU -> inf) gives the benchmark's eigenvalues (error ~ 1/kU)."""
+    with FMU(rider_fmu) as f:
+        assert f.names("input") == ["T_delta", "T_phi", "T_beta"]
+        assert {"beta", "u_beta"} <= set(f.states)
+        assert {"mU", "hU", "lU", "IUxx", "kU", "cU"} <= set(f.names("parameter"))
+    p = load_parameters("benchmark")
+    for v in (1.0, 5.0):
+        lin = linearize(rider_fmu, {"u_R0": -v / p["rR"], "kU": 1e9, "cU": 0.0})
+        ev = np.linalg.eigvals(lin.A)
+        ev = ev[(np.abs(ev) > 1e-9) & (np.abs(ev) < 1e3)]  # drop the zeros and the stiff hinge mode
+        assert root_set_error(ev, W.eigenvalues(p, v)) <= 1e-7
+
+
+def test_rider_energy(rider_fmu):
+    """Undamped hinge: energy (incl. the hinge spring) is conserved; damped: it only decreases."""
+    start = {"u_R0": -5.0 / 0.3, "u_phi0": 0.2, "beta0": 0.01}
+    r = simulate(rider_fmu, 3.0, 0.01, "cs", {**start, "cU": 0.0}, relative_tolerance=1e-12,
+                 outputs=["E", "residual"])
+    assert np.abs(r["E"] - r["E"][0]).max() / r["E"][0] <= 1e-8
+    assert np.abs(r["residual"]).max() <= 1e-10
+    r = simulate(rider_fmu, 3.0, 0.01, "cs", start, relative_tolerance=1e-12, outputs=["E"])
+    assert np.all(np.diff(r["E"]) <= 1e-9 * r["E"][0]) and r["E"][-1] < r["E"][0]
+
+
+@pytest.mark.parametrize("v", [2.0, 4.0, 5.0, 6.0])
+def test_lean_torque_removes_right_half_plane_zero(rider_fmu, v):
+    """Steer torque -> lateral position y has a real right-half-plane zero (python-control
+    zeros); with steer torque and lean torque the system has no invariant zero in the right
+    half plane: the Rosenbrock matrix keeps full rank there."""
+    from cosim.nonlinear.rider import path_zeros
+
+    z = path_zeros(rider_fmu, {}, v)
+    assert 2.5 < z.rhp_steer_zero < 4.0  # near the pendulum pole sqrt(m g h / J) of eq (21)
+    assert not np.any(z.both.real > 0)
+    assert z.rhp_rank_ratio > 1e-8  # full rank at the former zero (a zero gives ~1e-16)
+    # The one zero both inputs share is -v/c of the rear contact's path (trail c = 0.08 m).
+    assert len(z.both) == 1 and z.both[0] == pytest.approx(-v / 0.08, rel=1e-6)

@@ -12,6 +12,7 @@ lives on.
 """
 from __future__ import annotations
 
+import json
 import math
 import os
 import selectors
@@ -105,11 +106,11 @@ class Child:
         """The record of the case in flight (the pipe is readable), or a failed record if the worker died."""
         msg = self._receive(None)
         case, self.case = self.case, None
-        if msg is None or "record" not in msg:
+        if msg is None or "line" not in msg:
             self.kill()
             return failed_record(case, f"worker process died ({_signal_name(self.proc.returncode)}) "
                                        f"while running this case{self.log_tail()}")
-        return msg["record"]
+        return json.loads(msg["line"])
 
     def run(self, case: dict, timeout: float) -> dict:
         """Blocking: send, wait at most ``timeout`` s, return the record."""
@@ -172,82 +173,91 @@ class Child:
 # --------------------------------------------------------------------------- local pool
 
 def run_local(cases: list[dict], init: dict, workers: int, on_record, timeout: float,
-              log_dir: Path | None = None) -> dict:
-    """Run ``cases`` on ``workers`` worker processes; ``on_record(record)`` in the calling thread.
+              log_dir: Path | None = None, depth: int = 2) -> dict:
+    """Run ``cases`` on ``workers`` worker processes; ``on_record(record)`` in the calling thread,
+    with a record dict or ``{"key", "agreement", "line"}`` (the record encoded by the worker).
 
-    Returns timings: ``startup`` (s until every worker was ready) and ``run`` (s from then on)."""
+    Each worker has up to ``depth`` cases queued (it starts the next one while the supervisor
+    records the last). A worker that dies fails the case it was running (the first unanswered
+    one); the cases queued behind it go back to the pending list. Returns timings: ``startup``
+    (s until every worker was ready) and ``run`` (s from then on)."""
     t0 = time.perf_counter()
     if not cases:
         return {"startup": 0.0, "run": 0.0}
     workers = max(1, min(workers, len(cases)))
+    depth = max(1, depth)
     pending = deque(cases)
     counter = iter(range(1_000_000))
-
-    def spawn() -> Child:
-        log = log_dir / f"worker-{next(counter)}.log" if log_dir else None
-        return Child(init, log)
-
-    start_failures = 0
-    children: list[Child] = []
+    queued: dict[Child, deque] = {}
+    head_start: dict[Child, float] = {}
     sel = selectors.DefaultSelector()
+
+    def new_child(wait: bool = True) -> Child:
+        log = log_dir / f"worker-{next(counter)}.log" if log_dir else None
+        return Child(init, log, wait=wait)
+
+    def attach(child: Child) -> None:
+        queued[child] = deque()
+        sel.register(child.proc.stdout, selectors.EVENT_READ, child)
+
+    def detach(child: Child, reason: str) -> None:
+        """The worker is gone: fail its running case, requeue the ones behind it, replace it."""
+        sel.unregister(child.proc.stdout)
+        child.kill()
+        lost = queued.pop(child)
+        head_start.pop(child, None)
+        if lost:
+            on_record(failed_record(lost.popleft(), reason(child) if callable(reason) else reason))
+        pending.extendleft(reversed(lost))
+        if pending:
+            attach(new_child())
+
+    def died(child: Child) -> str:
+        return (f"worker process died ({_signal_name(child.proc.returncode)}) while running this case"
+                f"{child.log_tail()}")
+
+    finished = False
+    started: list[Child] = []
     try:
-        for k in range(workers):
-            log = log_dir / f"worker-{next(counter)}.log" if log_dir else None
-            children.append(Child(init, log, wait=False))
-        for child in children:
+        started = [new_child(wait=False) for _ in range(workers)]
+        for child in started:
             child.wait_ready()
+            attach(child)
         t1 = time.perf_counter()
-        idle = list(children)
-        while pending or any(c.case is not None for c in children):
-            while idle and pending:
-                child = idle.pop()
-                case = pending.popleft()
-                try:
-                    child.send(case)
-                except (BrokenPipeError, OSError):
-                    on_record(failed_record(case, f"worker process died ({_signal_name(child.proc.poll())})"))
-                    children.remove(child)
-                    child.kill()
-                    fresh = spawn()
-                    children.append(fresh)
-                    idle.append(fresh)
-                    continue
-                sel.register(child.proc.stdout, selectors.EVENT_READ, child)
-            events = sel.select(timeout=0.5)
-            for key, _ in events:
-                child: Child = key.data
-                sel.unregister(child.proc.stdout)
-                record = child.receive()
-                on_record(record)
-                if child.alive():
-                    idle.append(child)
-                else:
-                    children.remove(child)
-                    child.kill()
+        while pending or any(queued.values()):
+            for child in list(queued):
+                while pending and len(queued[child]) < depth:
+                    case = pending.popleft()
                     try:
-                        fresh = spawn()
-                        start_failures = 0
-                    except WorkerDied:
-                        start_failures += 1
-                        if start_failures >= 3:
-                            raise
-                        continue
-                    children.append(fresh)
-                    idle.append(fresh)
-            for child in [c for c in children if c.timed_out(timeout)]:
-                case = child.case
-                sel.unregister(child.proc.stdout)
-                child.case = None
-                child.kill()
-                on_record(failed_record(case, f"timeout: no result after {timeout:g} s (worker killed)"))
-                children.remove(child)
-                fresh = spawn()
-                children.append(fresh)
-                idle.append(fresh)
+                        write_message(child.proc.stdin, {"op": "case", "case": case})
+                    except (BrokenPipeError, OSError):
+                        pending.appendleft(case)
+                        break
+                    if not queued[child]:
+                        head_start[child] = time.monotonic()
+                    queued[child].append(case)
+            for key, _ in sel.select(timeout=0.5):
+                child: Child = key.data
+                if child not in queued:
+                    continue
+                msg = child._receive(None)
+                if msg is None or "line" not in msg:
+                    detach(child, died)
+                    continue
+                queued[child].popleft()
+                head_start[child] = time.monotonic()
+                on_record(msg)  # {"key", "agreement", "line"}: the record as a JSON line
+            now = time.monotonic()
+            for child in [c for c, q in queued.items() if q and now - head_start.get(c, now) > timeout]:
+                detach(child, f"timeout: no result after {timeout:g} s (worker killed)")
+        finished = True
     finally:
         sel.close()
-        for child in children:
-            child.stop()
+        for child in set(queued) | set(started):
+            if finished:
+                child.stop()
+            else:  # interrupted (Ctrl-C, an error): do not wait for running cases
+                child.kill()
     return {"startup": t1 - t0, "run": time.perf_counter() - t1}
 
 

@@ -130,6 +130,8 @@ LINEAR_BLOCKS = {
                                          ["phi", "delta", "phi_dot", "delta_dot"], ["T"], "T = -K x"),
     "LQR": lambda p, s: _lqr(p),
     "LaneChange": lambda p, s: _lane_change(p),
+    "LeanSteer": lambda p, s: static([[-p["k"], -p["kd"]], [-p["k_lean"], 0.0]], ["phi", "phi_dot"], ["T", "theta"],
+                                     "T = -k phi - kd phi_dot, theta = -k_lean phi"),
     "TransportDelay": lambda p, s: delay_lti(p["tau"], s["pade_order"],
                                              source=f"exp(-s tau), Pade order {s['pade_order']}"),
     "PadeDelay": lambda p, s: delay_lti(p["tau"], int(p["n"]), kind="dynamic", source=f"Pade order {int(p['n'])}"),
@@ -144,6 +146,7 @@ MODELICA_BLOCKS = {
     "Bicycle.Control.SteerAngleFeedback": "SteerAngleFeedback",
     "Bicycle.Control.StateFeedback": "StateFeedback",
     "Bicycle.Control.LaneChange": "LaneChange",
+    "Bicycle.Control.LeanSteer": "LeanSteer",
     "Bicycle.Rider.PadeDelay": "PadeDelay",
     "Bicycle.Sources.TorquePulse": "Pulse",
 }

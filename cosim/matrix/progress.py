@@ -22,12 +22,15 @@ class Progress:
         self.started = time.monotonic()
         self.failed = self.disagree = 0
         self._drawn = 0.0
+        self._first = None
         self._next_line = 0.1
         if self.enabled:
             self.draw(force=True)
 
     def update(self, record: dict) -> None:
         self.done += 1
+        if self._first is None:  # rate and ETA count from the first result (the workers have started)
+            self._first = (time.monotonic(), self.done)
         if record.get("agreement") == "failed":
             self.failed += 1
         elif record.get("agreement") == "disagree":
@@ -37,10 +40,11 @@ class Progress:
     def line(self) -> str:
         frac = self.done / self.total if self.total else 1.0
         filled = int(round(frac * self.width))
-        elapsed = time.monotonic() - self.started
-        ran = self.done - self.start_done
-        rate = ran / elapsed * 60 if elapsed > 0 and ran else 0.0
-        eta = (self.total - self.done) * elapsed / ran if ran else None
+        t_first, n_first = self._first or (time.monotonic(), self.done)
+        elapsed = time.monotonic() - t_first
+        ran = self.done - n_first
+        rate = ran / elapsed * 60 if elapsed > 0 and ran > 0 else 0.0
+        eta = (self.total - self.done) * elapsed / ran if ran > 0 else None
         bar = "#" * filled + "-" * (self.width - filled)
         text = f"[{bar}] {self.done}/{self.total} {frac:4.0%}  {rate:6.0f} runs/min  "
         text += f"ETA {_duration(eta)}" if eta is not None else "ETA --:--"

@@ -40,7 +40,7 @@ def _row(rec: dict) -> dict:
 
 
 COLUMNS = [("case", "case"), ("max_re", "predicted max Re [1/s]"), ("predicted", "predicted"),
-           ("observed", "observed"), ("growth", "growth rate [1/s]"), ("max_roll", "max |x|"),
+           ("observed", "observed"), ("growth", "growth rate [1/s]"), ("max_roll", "max abs(x)"),
            ("settling", "settling time [s]"), ("outcome", "outcome"), ("agreement", "agreement"), ("notes", "notes")]
 
 

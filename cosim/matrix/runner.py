@@ -84,14 +84,17 @@ def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = Non
         "cases": len(cases), "fmus": fmu_paths, "scheduler": scheduler, "workers": None if scheduler else workers,
     }, indent=2) + "\n")
     keys = {c.key for c in cases}
-    done = {k for k in store.records if k in keys}
+    done = {k for k in store.keys() if k in keys}
     todo = [c for c in cases if c.key not in done]
     init = {"imports": spec.imports, "fmu_paths": fmu_paths}
     bar = Progress(len(cases), len(done), stream=stream, enabled=progress)
     timeout = max(float(c.settings["timeout"]) for c in cases)
 
     def on_record(record: dict) -> None:
-        store.append(record)
+        if "line" in record:
+            store.append_line(record["key"], record["line"])
+        else:
+            store.append(record)
         bar.update(record)
 
     try:
@@ -103,11 +106,14 @@ def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = Non
         else:
             logs = directory / "logs"
             logs.mkdir(exist_ok=True)
+            cpu = time.process_time()
             timing = run_local(payload, init, workers, on_record, timeout, logs)
+            timing["supervisor_cpu"] = time.process_time() - cpu
     finally:
         bar.close()
         store.close()
-    records = [store.records[c.key] for c in cases if c.key in store.records]
+    stored = store.records
+    records = [stored[c.key] for c in cases if c.key in stored]
     result = MatrixResult(spec=spec, directory=directory, cases=cases, records=records, ran=len(todo),
                           resumed=len(done), timing=timing)
     result.checks = checks_mod.evaluate(spec, cases, records, fmu_paths)

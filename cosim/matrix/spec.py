@@ -28,7 +28,7 @@ cases (their cartesian product, last axis fastest), ``[[study.cases]]`` add expl
     expected = [4.29, 6.02]
     tolerance = 0.01
 
-See ``docs`` in :mod:`cosim.matrix` for every key.
+Every key is documented in the docstring of :mod:`cosim.matrix`.
 """
 from __future__ import annotations
 
@@ -38,7 +38,8 @@ import itertools
 import json
 import math
 import tomllib
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
+from functools import lru_cache
 from pathlib import Path
 
 from ..errors import ParameterError
@@ -88,7 +89,7 @@ class Case:
     settings: dict           # margin, observed_margin, extend, pade_order, master_lag, timeout, predict
 
     def to_dict(self) -> dict:
-        return asdict(self)
+        return {k: getattr(self, k) for k in self.__dataclass_fields__}
 
 
 @dataclass
@@ -140,9 +141,7 @@ class Study:
                 params = {}
                 pset = entry.pop("parameter_set", None)
                 if pset is not None:
-                    from ..whipple_params import parameters_for_model
-
-                    params.update(parameters_for_model(_resolve_path(pset, self.where)))
+                    params.update(_parameter_set(_resolve_path(pset, self.where)))
                 params.update(expr.resolve(entry.pop("parameters", {}), scope))
                 init = expr.resolve(entry.pop("initial", {}), scope)
                 if init:
@@ -200,6 +199,17 @@ class MatrixSpec:
             if s.name == name:
                 return s
         raise KeyError(name)
+
+
+@lru_cache(maxsize=32)
+def _parameter_set_cached(name: str) -> tuple:
+    from ..whipple_params import parameters_for_model
+
+    return tuple(parameters_for_model(name).items())
+
+
+def _parameter_set(name: str) -> dict:
+    return dict(_parameter_set_cached(name))
 
 
 def _short(value) -> str:

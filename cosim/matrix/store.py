@@ -64,7 +64,7 @@ class ResultStore:
         self.directory = Path(directory)
         self.directory.mkdir(parents=True, exist_ok=True)
         self.path = self.directory / RESULTS
-        self.records: dict[str, dict] = {}
+        self._records: dict[str, dict | bytes] = {}  # bytes: a line written, parsed when asked for
         self.torn = 0
         if resume:
             found, valid = read_records(self.path)
@@ -73,19 +73,35 @@ class ResultStore:
                 with open(self.path, "r+b") as f:
                     f.truncate(valid)
             for rec in found:
-                self.records[rec["key"]] = rec
+                self._records[rec["key"]] = rec
         else:
             self.path.unlink(missing_ok=True)
         self._fd = os.open(self.path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644)
         self._synced = time.monotonic()
 
+    @property
+    def records(self) -> dict[str, dict]:
+        """Every record by key (as read back from JSON)."""
+        for key, value in self._records.items():
+            if isinstance(value, bytes):
+                self._records[key] = json.loads(value)
+        return self._records  # type: ignore[return-value]
+
+    def keys(self) -> set[str]:
+        return set(self._records)
+
     def append(self, record: dict) -> None:
-        data = encode(record)
-        view = memoryview(data)
+        self.append_line(record["key"], encode(record))
+
+    def append_line(self, key: str, line: bytes) -> None:
+        """Append one encoded record (a complete line, see :func:`encode`) with a single write."""
+        if not line.endswith(b"\n") or b"\n" in line[:-1]:
+            raise ValueError("a record must be exactly one line")
+        view = memoryview(line)
         while view:
             n = os.write(self._fd, view)
             view = view[n:]
-        self.records[record["key"]] = json.loads(data)
+        self._records[key] = line
         if time.monotonic() - self._synced > 1.0:
             os.fsync(self._fd)
             self._synced = time.monotonic()

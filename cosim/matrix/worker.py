@@ -209,7 +209,7 @@ def simulate(system: dict, initial: dict, observe: str, cache: FMUCache, fmu_pat
 
     system = _with_fmus(system, fmu_paths)
     settings = dict(system.get("system", {}))
-    settings.setdefault("record", [observe])
+    settings["record"] = list(dict.fromkeys([observe, *(settings.get("record") or [])]))
     if stop is not None:
         settings["stop"] = stop
     spec = system_from_dict({**system, "system": settings})
@@ -315,7 +315,11 @@ def main() -> int:
             if msg is None or msg.get("op") == "stop":
                 break
             if msg.get("op") == "case":
-                write_message(proto_out, {"record": run_case(msg["case"], cache, fmu_paths)})
+                from .store import encode
+
+                rec = run_case(msg["case"], cache, fmu_paths)
+                # the JSON line is made here, in parallel, so the supervisor only writes it
+                write_message(proto_out, {"key": rec["key"], "agreement": rec["agreement"], "line": encode(rec)})
     finally:
         cache.close()
     return 0

@@ -39,6 +39,14 @@ def parameters(name_or_path: str = "benchmark", **extra: float) -> dict[str, flo
     return {**load_parameters(name_or_path), **extra}
 
 
+def defaults(fmu: str | Path, names) -> dict[str, float]:
+    """Default (start) values of FMU variables."""
+    from ..fmi import FMU
+
+    with FMU(fmu) as f:
+        return {n: float(f.variables[n].start) for n in names}
+
+
 def speed_parameters(params: dict, v: float, **state: float) -> dict[str, float]:
     """``params`` plus the initial rear wheel rate for forward speed ``v`` (upright: ``-v/rR``) and
     other initial values by state name (``phi=0.1`` -> ``phi0 = 0.1``)."""

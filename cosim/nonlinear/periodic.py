@@ -35,6 +35,7 @@ class Orbit:
     multipliers: np.ndarray = field(default_factory=lambda: np.zeros(0))
     residual: float = float("nan")  # |P(z) - z| of the returned point
     iterations: int = 0
+    trajectory: dict = field(default_factory=dict)  # one period: time and states by name
 
     @property
     def stable(self) -> bool:
@@ -129,7 +130,8 @@ def periodic_orbit(bike: Bicycle, z0, *, tol: float = 1e-10, max_iter: int = 12,
     t = np.linspace(0.0, period, 2001)
     xs = sol.sol(t)
     speeds = np.array([bike.get(["v"], xs[:, k])[0] for k in range(0, t.size, 10)])
+    trajectory = {"time": t, **{name: xs[k] for name, k in bike.index.items()}}
     return Orbit(z=z, period=period, roll_amplitude=float(np.abs(xs[bike.index["phi"]]).max()),
                  steer_amplitude=float(np.abs(xs[bike.index["delta"]]).max()),
                  mean_speed=float(np.mean(speeds[:-1])), multipliers=np.linalg.eigvals(Jm),
-                 residual=residual, iterations=k)
+                 residual=residual, iterations=k, trajectory=trajectory)
