@@ -162,8 +162,9 @@ class Study:
             sysset["fall"] = {"signal": self.observe, "limit": float(settings["fall_limit"])}
         tune = {k: dict(v) for k, v in self.raw.get("tune", {}).items()}
         label = ", ".join(f"{k}={_short(v)}" for k, v in values.items())
+        # what determines the result (not the timeout, which only bounds the wall time)
         body = {"study": self.name, "system": system, "initial": initial, "observe": self.observe,
-                "tune": tune, "settings": settings}
+                "tune": tune, "settings": {k: v for k, v in settings.items() if k != "timeout"}}
         key = hashlib.sha256(json.dumps(body, sort_keys=True, default=repr).encode()).hexdigest()[:16]
         return Case(key=key, study=self.name, index=index, label=label or f"case {index}",
                     values=dict(values), variables={k: v for k, v in scope.items() if _plain(v)},
