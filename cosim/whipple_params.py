@@ -35,6 +35,7 @@ __all__ = [
     "SPEED",
     "PARAMETER_MAP",
     "parameters_for_model",
+    "speed_sweep",
     "whipple_fmu",
     "linearization",
     "INPUTS",
@@ -267,3 +268,14 @@ def capsize_speed(fmu: str | Path, params: Mapping[str, float], *, v_start: floa
         a, fa = b, fb
         step *= growth
     return None
+
+
+def speed_sweep(fmu, parameter_set: str, speeds):
+    """Eigenvalues at each speed (FMU linearizations) and the weave and capsize speeds.
+
+    Returns ``(fmu, params, eigenvalues (len(speeds) x 4), weave speed, capsize speed)``."""
+    fmu = fmu or whipple_fmu()
+    params = parameters_for_model(parameter_set)
+    ev = np.array([eigenvalues(fmu, params, v) for v in speeds])
+    vw = weave_speed(fmu, params)
+    return fmu, params, ev, vw, capsize_speed(fmu, params, v_start=vw)

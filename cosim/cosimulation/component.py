@@ -99,8 +99,12 @@ class FMUComponent(Component):
     def feedthrough(self, output: str) -> set[str]:
         return self._depends.get(output, set(self.inputs))
 
-    def setup(self, start_time: float) -> None:
+    def _instantiate(self) -> None:
+        """A fresh FMI instance (subclasses may reuse one, see cosim.matrix.worker)."""
         self.instance = self.fmu.instantiate("cs", name=self.name)
+
+    def setup(self, start_time: float) -> None:
+        self._instantiate()
         try:
             self.fmu.set(self.instance, self.parameters)
         except KeyError as exc:

@@ -28,11 +28,7 @@ def compute(fmu=None):
     """Speeds, eigenvalues (len(SPEEDS) x 4), weave and capsize speeds, all from the FMU."""
     from .. import whipple_params as WP
 
-    fmu = fmu or WP.whipple_fmu()
-    params = WP.parameters_for_model(PARAMS)
-    ev = np.array([WP.eigenvalues(fmu, params, v) for v in SPEEDS])
-    vw = WP.weave_speed(fmu, params)
-    vc = WP.capsize_speed(fmu, params, v_start=vw)
+    fmu, params, ev, vw, vc = WP.speed_sweep(fmu, PARAMS, SPEEDS)
     marks = {v: WP.eigenvalues(fmu, params, v) for v in (vw, vc) if v is not None}
     return SPEEDS, ev, vw, vc, marks
 

@@ -57,11 +57,7 @@ def plot_real_parts(ax, speeds, ev, vw=None, vc=None, shade=True, no_capsize_not
 def compute(fmu=None):
     from .. import whipple_params as WP
 
-    fmu = fmu or WP.whipple_fmu()
-    params = WP.parameters_for_model(PARAMS)
-    ev = np.array([WP.eigenvalues(fmu, params, v) for v in SPEEDS])
-    vw = WP.weave_speed(fmu, params)
-    vc = WP.capsize_speed(fmu, params, v_start=vw)
+    _, _, ev, vw, vc = WP.speed_sweep(fmu, PARAMS, SPEEDS)
     return SPEEDS, ev, vw, vc
 
 

@@ -115,24 +115,15 @@ class ReusableFMUComponent(FMUComponent):
                                       "(use parameters for parameters)")
         self.parameters = {**values, **{k: float(v) for k, v in initial.items()}}
 
-    def setup(self, start_time: float) -> None:
+    def _instantiate(self) -> None:
+        """Reuse the instance of the previous case (fmi2Reset) where possible."""
         if self.instance is not None:
             try:
                 self.instance.reset()
             except Exception:
                 self._free()
         if self.instance is None:
-            self.instance = self.fmu.instantiate("cs", name=self.name)
-        try:
-            self.fmu.set(self.instance, self.parameters)
-        except KeyError as exc:
-            raise SimulationError(f"{self.name}: unknown parameter {exc}") from None
-        self.instance.setupExperiment(tolerance=self.tolerance, startTime=start_time)
-        self.instance.enterInitializationMode()
-        functions = self.instance._functions
-        self._component = self.instance.component
-        self._set_real, self._get_real = functions["fmi2SetReal"], functions["fmi2GetReal"]
-        self._do_step = functions["fmi2DoStep"]
+            super()._instantiate()
 
     def close(self) -> None:
         if self.instance is not None:
