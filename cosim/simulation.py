@@ -56,15 +56,18 @@ def input_signals(fmu: Path, specs: list[str], start_time: float, stop_time: flo
     times = np.unique(np.concatenate([t for t, _ in signals.values()]))
     rows = []
     for t in times:
-        # Emit two rows where any signal jumps at t (left and right limits).
-        left = {n: np.interp(t, ts, vs, left=vs[0], right=vs[-1]) for n, (ts, vs) in signals.items()}
-        right = {n: vs[np.searchsorted(ts, t, side="right") - 1] if np.any(ts == t) else left[n]
-                 for n, (ts, vs) in signals.items()}
-        first = {n: vs[np.searchsorted(ts, t, side="left")] if np.any(ts == t) else left[n]
-                 for n, (ts, vs) in signals.items()}
-        rows.append((t, *first.values()))
-        if any(first[n] != right[n] for n in signals):
-            rows.append((t, *right.values()))
+        # At a time where a signal jumps (repeated time stamp) emit its left and its right value.
+        def value(ts, vs, side):
+            if np.any(ts == t):
+                return vs[np.searchsorted(ts, t, side="left") if side == "left" else
+                          np.searchsorted(ts, t, side="right") - 1]
+            return np.interp(t, ts, vs)
+
+        left = [value(ts, vs, "left") for ts, vs in signals.values()]
+        right = [value(ts, vs, "right") for ts, vs in signals.values()]
+        rows.append((t, *left))
+        if left != right:
+            rows.append((t, *right))
     dtype = [("time", np.float64)] + [(n, np.float64) for n in signals]
     return np.array(rows, dtype=dtype)
 

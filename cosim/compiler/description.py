@@ -6,7 +6,6 @@ ModelStructure index of a variable is its value reference + 1.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import casadi as ca
@@ -170,7 +169,3 @@ def _dependencies(info: ModelInfo, model: ExplicitModel) -> None:
             info.derivative_dependencies[v.vr] = sorted(deps[v.vr])
         elif v.causality == "output":
             info.output_dependencies[v.vr] = sorted(deps[v.vr]) if v.role == "algebraic" else [v.vr]
-
-
-def finite_or_none(value):
-    return value if value is not None and math.isfinite(value) else None

@@ -47,7 +47,7 @@ class ExplicitModel:
     algebraics: list[Symbolic]
 
 
-def _column(symbols, name):
+def _column(symbols):
     return ca.vertcat(*symbols) if symbols else ca.SX(0, 1)
 
 
@@ -162,7 +162,7 @@ def make_explicit(flat: FlatModel) -> ExplicitModel:
 
     # Calculated parameters as expressions of the tunable ones (bindings may chain).
     cexpr = tr([v.value for v in calculated]) if calculated else ca.SX(0, 1)
-    cexpr = ca.substitute(cexpr, _column(consts, "k"), ca.vertcat(*const_values)) if consts else cexpr
+    cexpr = ca.substitute(cexpr, _column(consts), ca.vertcat(*const_values)) if consts else cexpr
     for _ in range(len(csym) + 1):
         if not calculated or not ca.depends_on(cexpr, ca.vertcat(*csym)):
             break
@@ -187,7 +187,7 @@ def make_explicit(flat: FlatModel) -> ExplicitModel:
             f"{name}: the model is unbalanced: {neq} equations for {nw} unknowns "
             f"({len(xd)} state derivatives, {len(z)} algebraic variables)")
 
-    W = _column(w, "w")
+    W = _column(w)
     jac = ca.jacobian(residual, W)
     sp = jac.sparsity()
     rows = [[] for _ in range(neq)]
@@ -210,7 +210,7 @@ def make_explicit(flat: FlatModel) -> ExplicitModel:
         else:
             x0 += ca.vertsplit(known(tr([v.start])))
             state_starts += [None] * v.symbol.numel()
-    P = _column(p, "p")
+    P = _column(p)
     x0 = ca.vertcat(*x0) if x0 else ca.SX(0, 1)
     for label, expr in (("start values of states", x0), ("calculated parameters", cexpr)):
         free = ca.symvar(expr)
@@ -234,7 +234,7 @@ def make_explicit(flat: FlatModel) -> ExplicitModel:
         return element
 
     return ExplicitModel(
-        name=name, t=t, x=_column(x, "x"), u=_column(u, "u"), p=P,
+        name=name, t=t, x=_column(x), u=_column(u), p=P,
         xdot=ca.vertcat(*xdot) if xdot else ca.SX(0, 1),
         z=ca.vertcat(*zsol) if zsol else ca.SX(0, 1),
         c=cexpr, x0=x0,
