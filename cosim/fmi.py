@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import shutil
 import tempfile
+from ctypes import c_double
 from pathlib import Path
 
 import numpy as np
@@ -35,6 +36,21 @@ def _remove_extracted() -> None:
         if Path(folder).name.startswith("cosim-fmu-"):  # only the folders made by _extract
             shutil.rmtree(folder, ignore_errors=True)
     _EXTRACTED.clear()
+
+
+def get_continuous_states(instance, nx: int) -> np.ndarray:
+    """The continuous states of an FMPy Model Exchange instance."""
+    x = (c_double * nx)()
+    if nx:
+        instance.getContinuousStates(x, nx)
+    return np.array(x[:])
+
+
+def set_continuous_states(instance, x) -> None:
+    """Set the continuous states of an FMPy Model Exchange instance."""
+    x = np.asarray(x, float)
+    if x.size:
+        instance.setContinuousStates((c_double * x.size)(*x), x.size)
 
 
 class FMU:

@@ -6,13 +6,12 @@ without it, central finite differences are used.
 from __future__ import annotations
 
 import json
-from ctypes import c_double
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from .fmi import FMU
+from .fmi import FMU, get_continuous_states, set_continuous_states
 
 FD_STEP = 1e-6  # relative step of the central differences
 
@@ -71,14 +70,10 @@ class _Point:
         self.x0 = self.get_states()
 
     def get_states(self) -> np.ndarray:
-        x = (c_double * self.nx)()
-        if self.nx:
-            self.me.getContinuousStates(x, self.nx)
-        return np.array(x[:])
+        return get_continuous_states(self.me, self.nx)
 
     def set_states(self, x) -> None:
-        if self.nx:
-            self.me.setContinuousStates((c_double * self.nx)(*x), self.nx)
+        set_continuous_states(self.me, x)
 
     def close(self):
         self.me.terminate()

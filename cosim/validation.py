@@ -2,13 +2,12 @@
 from __future__ import annotations
 
 import zipfile
-from ctypes import c_double
 from pathlib import Path
 
 import numpy as np
 
 from .compiler.fmu import MANIFEST
-from .fmi import FMU
+from .fmi import FMU, get_continuous_states, set_continuous_states
 
 DERIVATIVE_RTOL = 1e-6
 
@@ -41,8 +40,8 @@ def _runtime_problems(fmu: FMU) -> list[str]:
             me.exitInitializationMode()
             me.enterContinuousTimeMode()
             nx = len(md.derivatives)
-            x = _get_states(me, nx) + 0.01 * (1 + np.arange(nx))  # away from the trivial point
-            _set_states(me, x)
+            x = get_continuous_states(me, nx) + 0.01 * (1 + np.arange(nx))  # away from the trivial point
+            set_continuous_states(me, x)
             if md.modelExchange.providesDirectionalDerivative:
                 unknowns = [fmu.vr[n] for n in fmu.derivatives]
                 knowns = [fmu.vr[n] for n in fmu.states]
@@ -54,11 +53,11 @@ def _runtime_problems(fmu: FMU) -> list[str]:
                     xp, xm = x.copy(), x.copy()
                     xp[k] += h
                     xm[k] -= h
-                    _set_states(me, xp)
+                    set_continuous_states(me, xp)
                     fp = np.array(me.getReal(unknowns))
-                    _set_states(me, xm)
+                    set_continuous_states(me, xm)
                     fm = np.array(me.getReal(unknowns))
-                    _set_states(me, x)
+                    set_continuous_states(me, x)
                     fd = (fp - fm) / (2 * h)
                     worst = np.max(np.abs(ad - fd) / np.maximum(1.0, np.abs(fd)))
                     if worst > DERIVATIVE_RTOL:
@@ -104,16 +103,6 @@ def _runtime_problems(fmu: FMU) -> list[str]:
         except Exception as exc:
             problems.append(f"Co-Simulation: {exc}")
     return problems
-
-
-def _get_states(instance, nx: int) -> np.ndarray:
-    x = (c_double * nx)()
-    instance.getContinuousStates(x, nx)
-    return np.array(x[:])
-
-
-def _set_states(instance, x) -> None:
-    instance.setContinuousStates((c_double * len(x))(*x), len(x))
 
 
 def validate(path: str | Path) -> list[str]:

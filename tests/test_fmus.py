@@ -6,7 +6,6 @@ from __future__ import annotations
 import math
 import shutil
 import zipfile
-from ctypes import c_double
 
 import numpy as np
 import pytest
@@ -14,7 +13,7 @@ import pytest
 from cosim.compiler.library import DEFAULT_LIBRARY, Library
 from cosim.engines import run_ecos, run_libcosim
 from cosim.twins import TWINS
-from cosim.fmi import FMU
+from cosim.fmi import FMU, set_continuous_states
 from cosim.simulation import simulate
 from cosim.validation import validate
 from reference import SELF_STABILIZING_DEFAULTS, simulate_self_stabilizing
@@ -135,10 +134,6 @@ def _analytic_jacobian(V: float):
     return A, B
 
 
-def _set_states(instance, x):
-    instance.setContinuousStates((c_double * len(x))(*x), len(x))
-
-
 @pytest.mark.parametrize("V", [1.0, 6.0, -3.0], ids=["V=1", "V=6", "V=-3"])
 def test_directional_derivatives(fmus, V):
     """fmi2GetDirectionalDerivative equals central finite differences (≤1e-6 relative) and the
@@ -151,7 +146,7 @@ def test_directional_derivatives(fmus, V):
         me.exitInitializationMode()
         me.enterContinuousTimeMode()
         x = np.array([0.05, 0.3, 0.01, 0.02])
-        _set_states(me, x)
+        set_continuous_states(me, x)
         fmu.set(me, {"T": 0.7})
         assert fmu.states == ["frame.phi", "frame.L", "path.psi", "path.eta"]
         states = fmu.states[:2]  # the roll dynamics; psi and eta do not act back on them
@@ -168,10 +163,10 @@ def test_directional_derivatives(fmus, V):
                 if k < 2:
                     xs = x.copy()
                     xs[k] += sign * h
-                    _set_states(me, xs)
+                    set_continuous_states(me, xs)
                     fmu.set(me, {"T": 0.7})
                 else:
-                    _set_states(me, x)
+                    set_continuous_states(me, x)
                     fmu.set(me, {"T": 0.7 + sign * h})
                 values.append(np.array(me.getReal(der)))
             fd[:, k] = (values[0] - values[1]) / (2 * h)

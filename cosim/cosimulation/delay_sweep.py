@@ -35,6 +35,14 @@ class DelayCase:
         return self.predicted == "marginal" or (self.predicted == "stable") == (self.observed == "stable")
 
 
+def pendulum_pole(V: float) -> float:
+    """The unstable pole p = sqrt(m g h / J), eq (2), of the model at speed V [1/s]."""
+    from ..analytic.simple import pendulum_poles
+    from ..twins import TWINS, bicycle
+
+    return float(np.max(pendulum_poles(bicycle(TWINS[MODEL].parameters({"V": V})))))
+
+
 def coupling_delay(tau: float, step: float) -> float:
     """Extra delay of the Jacobi loop: half a step of zero-order hold plus one step for each
     direct-feedthrough block (the controller, and the delay block itself when tau < step)."""
@@ -97,11 +105,8 @@ def run_case(fmu, parameters: dict, k2: float, tau: float, step: float = 0.005, 
 
 def sweep(fmu, taus, k2: float = 1.0, V: float = 5.0, step: float = 0.005) -> list[DelayCase]:
     """Every delay of ``taus`` co-simulated and predicted."""
-    from ..analytic.simple import pendulum_poles
-    from ..twins import TWINS, bicycle
-
     parameters = {"V": V}
-    p = float(np.max(pendulum_poles(bicycle(TWINS[MODEL].parameters(parameters)))))  # sqrt(m g h / J), (2)
+    p = pendulum_pole(V)
     cases = []
     for tau in taus:
         re = predicted_max_real(parameters, k2, tau, step)
@@ -127,11 +132,8 @@ def largest_stabilizable_p_tau(gains, V: float = 5.0) -> float:
     paper's p*tau < 2."""
     from scipy.optimize import brentq
 
-    from ..analytic.simple import pendulum_poles
-    from ..twins import TWINS, bicycle
-
     parameters = {"V": V}
-    p = float(np.max(pendulum_poles(bicycle(TWINS[MODEL].parameters(parameters)))))
+    p = pendulum_pole(V)
     best = 0.0
     for k2 in gains:
         def margin(tau):

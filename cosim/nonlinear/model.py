@@ -15,6 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..fmi import get_continuous_states, set_continuous_states
+
 MODEL = "Bicycle.Bicycles.Whipple"
 RIDER_MODEL = "Bicycle.Bicycles.WhippleRider"
 #: Initial-state parameters of the FMU by state name.
@@ -108,12 +110,10 @@ class Bicycle:
         return self.get_states()
 
     def get_states(self) -> np.ndarray:
-        x = (c_double * self.nx)()
-        self.me.getContinuousStates(x, self.nx)
-        return np.array(x[:])
+        return get_continuous_states(self.me, self.nx)
 
     def set_states(self, x) -> None:
-        self.me.setContinuousStates((c_double * self.nx)(*np.asarray(x, float)), self.nx)
+        set_continuous_states(self.me, x)
 
     def set_inputs(self, values: dict) -> None:
         self.fmu.set(self.me, values)
