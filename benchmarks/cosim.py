@@ -37,7 +37,7 @@ def main() -> int:
     from cosim.cosimulation.modelica_twins import with_twins
     from cosim.cosimulation.ssp import export_ssp
     from cosim.cosimulation.system import load_system
-    from cosim.engines import _unpack_ssp
+    from cosim.engines import _unpacked_ssp
 
     log_output_level(CosimLogLevel.WARNING)
     print(f"{'system':<16} {'steps':>7} {'ours [steps/s]':>15} {'libcosim [steps/s]':>19} {'ratio':>7}")
@@ -59,13 +59,12 @@ def main() -> int:
             def ours():
                 assemble(spec, create_components(spec, tmp)).run()
 
-            folder, *_ = _unpack_ssp(ssp)
+            with _unpacked_ssp(ssp) as (folder, *_):
+                def libcosim():
+                    execution = CosimExecution.from_ssp_file(str(folder))
+                    execution.simulate_until(int(round(STOP * 1e9)))
 
-            def libcosim():
-                execution = CosimExecution.from_ssp_file(str(folder))
-                execution.simulate_until(int(round(STOP * 1e9)))
-
-            t_ours, t_lib = best_of(ours), best_of(libcosim)
+                t_ours, t_lib = best_of(ours), best_of(libcosim)
             ratio = t_lib / t_ours
             ratios.append(ratio)
             print(f"{name:<16} {steps:>7} {steps / t_ours:15.0f} {steps / t_lib:19.0f} {ratio:6.2f}x")

@@ -5,13 +5,66 @@ fixed communication step and the results are returned as FMPy-style structured a
 """
 from __future__ import annotations
 
+import contextlib
+import ctypes
+import shutil
+import site
+import sys
 from pathlib import Path
 
 import numpy as np
 
-from .errors import SimulationError
+from .errors import CosimError, SimulationError
 
 NANOSECONDS = 1_000_000_000
+
+
+class EngineUnavailable(CosimError, ImportError):
+    """An independent FMI engine cannot be loaded here; the message says what is missing."""
+
+
+def _preload_tbb() -> None:
+    """Load Intel TBB's ``libtbb.so.12`` by path, for Ecos.
+
+    Ecos' native library links ``libtbb.so.12``. The pip ``tbb`` wheel (part of the test extra)
+    installs it into ``<prefix>/lib``, which the dynamic loader does not search; a library that is
+    already loaded satisfies the dependency by its soname, so loading it first with RTLD_GLOBAL
+    makes ``import ecospy`` work without Debian's ``libtbb12``.
+    """
+    for prefix in dict.fromkeys((sys.prefix, site.USER_BASE or "", sys.base_prefix)):
+        candidate = Path(prefix) / "lib" / "libtbb.so.12"
+        if prefix and candidate.is_file():
+            ctypes.CDLL(str(candidate), mode=ctypes.RTLD_GLOBAL)
+            return
+
+
+def ecospy():
+    """The ``ecospy`` module, importable once TBB is loaded.
+
+    Raises
+    ------
+    EngineUnavailable
+        If ecospy is not installed or its native library cannot be loaded.
+    """
+    _preload_tbb()
+    try:
+        import ecospy as module
+    except ImportError as exc:
+        raise EngineUnavailable(f"Ecos (ecospy) is not installed: pip install ecospy ({exc})") from None
+    except OSError as exc:
+        raise EngineUnavailable(f"Ecos (ecospy) cannot load its native library: {exc}; "
+                                "pip install tbb (in the test extra) or apt-get install libtbb12") from None
+    return module
+
+
+def libcosimpy():
+    """The ``libcosimpy`` module; :class:`EngineUnavailable` if it cannot be imported."""
+    try:
+        import libcosimpy as module
+        import libcosimpy.CosimExecution  # noqa: F401  loads the native library
+    except (ImportError, OSError) as exc:
+        raise EngineUnavailable(f"libcosim (libcosimpy) cannot be loaded: {exc}") from None
+    return module
 
 
 def _result(times, columns: dict[str, list[float]]) -> np.ndarray:
@@ -30,6 +83,7 @@ def _steps(stop_time: float, step: float) -> int:
 def run_libcosim(fmu: str | Path, stop_time: float, step: float, start_values: dict | None = None,
                  outputs: list[str] | None = None) -> np.ndarray:
     """Simulate one FMU in libcosim with a fixed step; returns time and the ``outputs`` columns."""
+    libcosimpy()
     from libcosimpy import _internal
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimObserver import CosimObserver
@@ -75,6 +129,7 @@ def run_libcosim(fmu: str | Path, stop_time: float, step: float, start_values: d
 def run_ecos(fmu: str | Path, stop_time: float, step: float, start_values: dict | None = None,
              outputs: list[str] | None = None) -> np.ndarray:
     """Simulate one FMU in Ecos with a fixed step; returns time and the ``outputs`` columns."""
+    ecospy()
     from ecospy import EcosSimulation
     from ecospy.EcosSimulationStructure import EcosSimulationStructure
     from fmpy import read_model_description
@@ -104,8 +159,8 @@ def run_ecos(fmu: str | Path, stop_time: float, step: float, start_values: dict 
 def run_ssp_libcosim(ssp: str | Path, signals: list[str], stop_time: float | None = None,
                      step: float | None = None) -> np.ndarray:
     """Run an SSP archive in libcosim and record ``signals`` ("component.variable") after each step."""
+    libcosimpy()
     from libcosimpy import _internal
-    from libcosimpy.CosimEnums import CosimVariableType
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
     from libcosimpy.CosimObserver import CosimObserver
@@ -113,61 +168,73 @@ def run_ssp_libcosim(ssp: str | Path, signals: list[str], stop_time: float | Non
     from .cosimulation.system import SystemError_
 
     log_output_level(CosimLogLevel.WARNING)
-    folder, start, stop, base = _unpack_ssp(ssp)
-    execution = CosimExecution.from_ssp_file(str(folder), step) if step else CosimExecution.from_ssp_file(str(folder))
-    if execution is None:
-        raise SimulationError(f"libcosim cannot load {ssp}: {_internal.get_last_error_message()}")
-    observer = CosimObserver.create_last_value()
-    execution.add_observer(observer)
-    slaves = {info.name.decode() if isinstance(info.name, bytes) else info.name: info.index
-              for info in execution.slave_infos()}
-    refs = []
-    for signal in signals:
-        comp, _, var = signal.partition(".")
-        if comp not in slaves:
-            raise SystemError_(f"libcosim: no component '{comp}' in {ssp}")
-        variables = {(v.name.decode() if isinstance(v.name, bytes) else v.name): v.reference
-                     for v in execution.slave_variables(slaves[comp])}
-        refs.append((slaves[comp], variables[var]))
-    h = step or base
-    n = _steps((stop_time or stop) - start, h)
-    times, rows = [], []
-    for k in range(1, n + 1):
-        if not execution.step(1):
-            raise SimulationError(f"libcosim step {k} failed: {_internal.get_last_error_message()}")
-        times.append(start + k * h)
-        rows.append([observer.last_real_values(s, [r])[0] for s, r in refs])
-    del CosimVariableType
+    with _unpacked_ssp(ssp) as (folder, start, stop, base):
+        execution = (CosimExecution.from_ssp_file(str(folder), step) if step
+                     else CosimExecution.from_ssp_file(str(folder)))
+        if execution is None:
+            raise SimulationError(f"libcosim cannot load {ssp}: {_internal.get_last_error_message()}")
+        observer = CosimObserver.create_last_value()
+        execution.add_observer(observer)
+        slaves = {info.name.decode() if isinstance(info.name, bytes) else info.name: info.index
+                  for info in execution.slave_infos()}
+        refs = []
+        for signal in signals:
+            comp, _, var = signal.partition(".")
+            if comp not in slaves:
+                raise SystemError_(f"libcosim: no component '{comp}' in {ssp}")
+            variables = {(v.name.decode() if isinstance(v.name, bytes) else v.name): v.reference
+                         for v in execution.slave_variables(slaves[comp])}
+            refs.append((slaves[comp], variables[var]))
+        h = step or base
+        n = _steps((stop_time or stop) - start, h)
+        times, rows = [], []
+        for k in range(1, n + 1):
+            if not execution.step(1):
+                raise SimulationError(f"libcosim step {k} failed: {_internal.get_last_error_message()}")
+            times.append(start + k * h)
+            rows.append([observer.last_real_values(s, [r])[0] for s, r in refs])
     return _result(times, {s: [row[j] for row in rows] for j, s in enumerate(signals)})
 
 
 def run_ssp_ecos(ssp: str | Path, signals: list[str], stop_time: float | None = None,
                  step: float | None = None) -> np.ndarray:
     """Run an SSP archive in Ecos and record ``signals`` ("component.variable") after each step."""
+    ecospy()
     from ecospy import EcosSimulation
 
     from .cosimulation.ssp import PARAMETER_SET
 
-    folder, start, stop, base = _unpack_ssp(ssp)
-    h = step or base
-    n = _steps((stop_time or stop) - start, h)
-    try:
-        simulation = EcosSimulation(ssp_path=str(folder), step_size=h)
-        simulation.init(parameter_set=PARAMETER_SET)
-        times, columns = [], {s: [] for s in signals}
-        for _ in range(n):
-            times.append(simulation.step(1))
-            for s in signals:
-                comp, _, var = s.partition(".")
-                columns[s].append(simulation.get_real(f"{comp}::{var}"))
-        simulation.terminate()
-    except Exception as exc:
-        raise SimulationError(f"Ecos: {exc}") from None
+    with _unpacked_ssp(ssp) as (folder, start, stop, base):
+        h = step or base
+        n = _steps((stop_time or stop) - start, h)
+        try:
+            simulation = EcosSimulation(ssp_path=str(folder), step_size=h)
+            simulation.init(parameter_set=PARAMETER_SET)
+            times, columns = [], {s: [] for s in signals}
+            for _ in range(n):
+                times.append(simulation.step(1))
+                for s in signals:
+                    comp, _, var = s.partition(".")
+                    columns[s].append(simulation.get_real(f"{comp}::{var}"))
+            simulation.terminate()
+        except Exception as exc:
+            raise SimulationError(f"Ecos: {exc}") from None
     return _result(times, columns)
 
 
+@contextlib.contextmanager
+def _unpacked_ssp(ssp: str | Path):
+    """:func:`_unpack_ssp` as a context: the folder is removed afterwards."""
+    unpacked = _unpack_ssp(ssp)
+    try:
+        yield unpacked
+    finally:
+        shutil.rmtree(unpacked[0], ignore_errors=True)
+
+
 def _unpack_ssp(ssp: str | Path):
-    """Extract an SSP next to a cache folder; returns (folder, start, stop, base step)."""
+    """Extract an SSP into a new temporary folder (the caller removes it); returns
+    (folder, start, stop, base step)."""
     import tempfile
     import xml.etree.ElementTree as ET
     import zipfile

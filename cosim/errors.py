@@ -34,3 +34,19 @@ class BuildError(CosimError, RuntimeError):
 
 class SimulationError(CosimError, RuntimeError):
     """Running an FMU failed."""
+
+
+class OutputError(CosimError, OSError):
+    """An output file or folder cannot be written; the message names the path."""
+
+    def __str__(self):  # OSError would format (errno, strerror)
+        return str(self.args[0]) if self.args else ""
+
+
+class FMUError(CosimError, ValueError):
+    """A file given as an FMU is not a readable FMU (not a zip, no or broken modelDescription.xml,
+    unsafe member names, unsupported FMI version); the message names the file and the problem."""
+
+
+class InputDataError(CosimError, ValueError):
+    """Input data (a CSV, TOML or parameter file) is malformed; the message names file, row and column."""

@@ -22,9 +22,10 @@ from .library import Library, load_library
 from .model_description import model_description_xml
 from .ode import make_explicit
 
-# Where `cosim build` and every command that builds on demand put FMUs: fmus/ of the project, or
-# the folder named by COSIM_FMU_DIR (the tests point it to a temporary folder).
-DEFAULT_OUTPUT = Path(os.environ.get("COSIM_FMU_DIR") or Path(__file__).resolve().parents[2] / "fmus")
+# Where `cosim build` and every command that builds on demand put FMUs: fmus/ of the working
+# directory (never the installed package), or the folder named by COSIM_FMU_DIR (the tests point
+# it to a temporary folder).
+DEFAULT_OUTPUT = Path(os.environ.get("COSIM_FMU_DIR") or Path.cwd() / "fmus").absolute()
 
 
 @dataclass

@@ -14,14 +14,23 @@ from pathlib import Path
 
 from ..errors import ModelicaError, UnknownModelError
 
-DEFAULT_LIBRARY = Path(__file__).resolve().parents[2] / "modelica"
+
+def _bundled_library() -> Path:
+    """``cosim/modelica`` of an installed wheel, else ``modelica/`` of the source tree (editable
+    install or checkout): setup.py maps the one to the other."""
+    package = Path(__file__).resolve().parents[1]
+    installed = package / "modelica"
+    return installed if (installed / "Bicycle").is_dir() else package.parent / "modelica"
+
+
+DEFAULT_LIBRARY = _bundled_library()
 
 
 def library_path(path: str | os.PathLike | None = None) -> Path:
     """The folder that holds the top-level Modelica packages.
 
     Taken from ``path``, else the environment variable ``COSIM_MODELICA_PATH``, else the
-    ``modelica`` folder of this project.
+    library that ships with the package (``modelica/`` of the source tree).
     """
     chosen = path or os.environ.get("COSIM_MODELICA_PATH") or DEFAULT_LIBRARY
     chosen = Path(chosen).resolve()
