@@ -1,10 +1,13 @@
 """What the library offers: models with their interface (for `cosim list` and `cosim info MODEL`)."""
 from __future__ import annotations
 
+import sys
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 
 from .compiler.flatten import flatten
 from .compiler.library import Library, load_library
+from .errors import CosimError
 
 
 @dataclass
@@ -17,7 +20,7 @@ class Signal:
     value: float | str | None = None
     min: float | None = None
     max: float | None = None
-    type: str = "Real"
+    type: str = "Real"  # the declared type: Real, Integer or Boolean
 
 
 @dataclass
@@ -37,7 +40,14 @@ class ModelSummary:
 
 
 def summarize(name: str, library: Library | None = None) -> ModelSummary:
-    """Flatten ``name`` and list its top-level inputs, outputs and parameters."""
+    """Flatten ``name`` and list its top-level inputs, outputs and parameters, each with its
+    declared type (Real, Integer or Boolean, also behind a derived type such as
+    ``Bicycle.Units.Angle``), unit, description, ``min``/``max`` and, for parameters, value.
+
+    Raises
+    ------
+    UnknownModelError, ModelicaError
+    """
     library = library or load_library()
     entry = library.entry(name)
     flat = flatten(library, name)
@@ -60,7 +70,38 @@ def summarize(name: str, library: Library | None = None) -> ModelSummary:
     return summary
 
 
-def catalog(library: Library | None = None, exported_only: bool = False) -> list[ModelSummary]:
-    """Summaries of all (or only exported) models of the library."""
+def _warn_on_stderr(message: str) -> None:
+    print(f"cosim: warning: {message}", file=sys.stderr)
+
+
+def catalog(library: Library | None = None, exported_only: bool = False,
+            warn: Callable[[str], None] | None = None) -> list[ModelSummary]:
+    """Summaries of all (or only exported) models of the library that can be summarized.
+
+    The others are left out with a warning of one line each: one per Modelica file that did
+    not parse (naming the file, the position and the models left out because they are defined
+    in it or use its classes), one per other model that cannot be flattened.
+
+    Parameters
+    ----------
+    warn : callable, optional
+        Called with each warning (default: printed as one line on stderr).
+    """
     library = library or load_library()
-    return [summarize(e.name, library) for e in library.models(exported_only=exported_only)]
+    warn = warn or _warn_on_stderr
+    left_out: dict = {file: [] for file in library.errors}
+    summaries = []
+    for entry in library.models(exported_only=exported_only):
+        try:
+            summaries.append(summarize(entry.name, library))
+        except CosimError as exc:
+            text = str(exc)
+            file = next((f for f, error in library.errors.items() if text.startswith(str(error))), None)
+            if file is not None:
+                left_out[file].append(entry.name)
+            else:
+                warn(f"{entry.name} is not listed: {text.splitlines()[0]}")
+    for file, error in library.errors.items():
+        models = f"; not listed: {', '.join(left_out[file])}" if left_out[file] else ""
+        warn(f"{str(error).splitlines()[0]}{models}")
+    return summaries

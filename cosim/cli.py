@@ -1,33 +1,142 @@
-"""The `cosim` command line."""
+"""The `cosim` command line.
+
+Exit status of every command (also in ``cosim --help``):
+
+====  ==========================================================================================
+0     success
+1     a check found problems (``validate``, ``compare`` beyond ``--tol``, ``matrix``)
+2     bad input or usage: one message ``cosim VERB: error: ...`` names the file, parameter, key
+      or row; nothing was written under the final output name
+3     ``run``: the bicycle fell (the system's fall criterion); the result was written
+4     incomplete result: the solver failed part-way; the rows up to the failure were written to
+      ``NAME.incomplete.csv`` (``.npy``) and the message names the cause
+70    internal error (a bug): one line; ``COSIM_DEBUG=1`` shows the traceback
+130   interrupted (Ctrl-C)
+====  ==========================================================================================
+"""
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import sys
+import traceback
 from pathlib import Path
 
 from . import __version__
-from .errors import CosimError
+from .errors import CosimError, ParameterError
+
+EXIT_OK, EXIT_CHECK_FAILED, EXIT_BAD_INPUT, EXIT_FELL, EXIT_INCOMPLETE = 0, 1, 2, 3, 4
+EXIT_INTERNAL, EXIT_INTERRUPTED = 70, 130
+
+EXIT_CODES = """\
+exit status:
+  0    success
+  1    a check found problems (validate, compare beyond --tol, matrix)
+  2    bad input or usage: one message names the file, parameter, key or row; nothing is
+       written under the final output name
+  3    run: the bicycle fell (the system's fall criterion); the result was written
+  4    incomplete result: the solver failed part-way; the rows up to the failure are written to
+       NAME.incomplete.csv (or .npy) beside the requested NAME.csv, and the message names the
+       cause (e.g. roll or steer angle near +-pi/2, the constraint residual growing)
+  70   internal error (a bug): one line; set COSIM_DEBUG=1 for the traceback
+  130  interrupted"""
+
+FMU_FOLDER = """\
+where FMUs go: commands given a model name build it first (incrementally) into ./fmus of the
+working directory, or into the folder named by the environment variable COSIM_FMU_DIR; the
+Modelica library ships with the package (COSIM_MODELICA_PATH or --library name another)."""
+
+RESULTS = """\
+results: -o NAME.csv writes CSV (a header row, then one row per output time); -o NAME.npy a
+NumPy structured array (numpy.load). Files appear under their final name only when complete
+(written to a hidden temporary name, then renamed). If the solver fails part-way, the rows up to
+the failure go to NAME.incomplete.csv (.npy, and NAME.incomplete.png for --plot) and the exit
+status is 4; NAME.csv is not written."""
+
+SIMULATE_EPILOG = f"""\
+parameters: --param NAME=VALUE sets a parameter (or a state's start value) of the FMU; Integer
+parameters take whole numbers, Boolean ones true/false. Inputs are not parameters: give them with
+--input NAME=FILE.csv (a header row, then rows of time [s], value; a column named NAME is used if
+the file has several) or --input NAME=step:T0:VALUE. Every FMU built here has the parameter
+solver.fixedStepSize [s] (default 0: error-controlled Dormand-Prince 5(4); > 0: fixed steps of that
+size in Co-Simulation; refused with --fmi-type me, where FMPy's CVode integrates).
+
+{RESULTS}
+
+{FMU_FOLDER}
+
+{EXIT_CODES}"""
+
+RUN_EPILOG = f"""\
+time grid: the master takes communication steps of [system] step from start to stop; if step does
+not divide stop - start, the last step is the shorter remainder, so the run ends on stop exactly
+(the message reports the end time and the number of steps). step must be finite, > 0 and not
+longer than the run; start and stop finite with stop > start.
+
+{RESULTS} A run that ends by the fall criterion is complete (exit 3).
+
+{FMU_FOLDER}
+
+{EXIT_CODES}"""
+
+MAIN_EPILOG = f"""\
+Run `cosim VERB --help` for the options of a command.
+
+{FMU_FOLDER}
+
+{EXIT_CODES}"""
+
+
+def positive_int(text: str) -> int:
+    """argparse type of counts such as -j/--jobs and --workers: an integer >= 1."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got '{text}'") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
+    return value
+
+
+def _finite(text: str) -> float:
+    """argparse type of times, steps and tolerances: a finite number."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got '{text}'") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"must be finite, got '{text}'")
+    return value
 
 
 def _cmd_build(args) -> int:
     from .compiler.build import build
 
-    results = build(args.models or None, args.output, jobs=args.jobs, library_path=args.library, force=args.force)
-    for r in results:
-        print(f"{'built ' if r.rebuilt else 'up to date'} {r.fmu}  ({r.seconds:.1f} s)")
-    return 0
+    def report(results):
+        for r in results:
+            print(f"{'built ' if r.rebuilt else 'up to date'} {r.fmu}  ({r.seconds:.1f} s)")
+
+    try:
+        results = build(args.models or None, args.output, jobs=args.jobs, library_path=args.library,
+                        force=args.force)
+    except CosimError as exc:
+        report(getattr(exc, "results", []))  # what did build is kept and shown before the error
+        raise
+    report(results)
+    return EXIT_OK
 
 
 def _cmd_list(args) -> int:
     from .catalog import catalog
     from .compiler.library import load_library
 
-    summaries = catalog(load_library(args.library), exported_only=args.exported)
+    summaries = catalog(load_library(args.library), exported_only=args.exported,
+                        warn=lambda message: print(f"cosim list: warning: {message}", file=sys.stderr))
     if args.json:
         print(json.dumps([s.to_dict() for s in summaries], indent=2))
-        return 0
+        return EXIT_OK
     for s in summaries:
         mark = "*" if s.exported else " "
         print(f"{mark} {s.name}: {s.description}")
@@ -37,24 +146,31 @@ def _cmd_list(args) -> int:
         if s.parameters:
             print("      parameters: " + ", ".join(f"{p.name}={p.value}" for p in s.parameters))
     print("\n* exported by `cosim build`")
-    return 0
+    return EXIT_OK
 
 
 def _cmd_info(args) -> int:
     from .info import describe_target
 
     print(describe_target(args.target, as_json=args.json))
-    return 0
+    return EXIT_OK
 
 
 def _cmd_validate(args) -> int:
+    """Each target is validated; one that cannot be read as an FMU (or built) gets its error
+    line and the others are still checked."""
     from .target import resolve_fmu
     from .validation import validate
 
-    failed = 0
+    failed = unreadable = 0
     for target in args.targets:
-        fmu = resolve_fmu(target)
-        problems = validate(fmu)
+        try:
+            fmu = resolve_fmu(target)
+            problems = validate(fmu)
+        except CosimError as exc:
+            unreadable += 1
+            print(f"cosim validate: error: {exc}", file=sys.stderr)
+            continue
         if problems:
             failed += 1
             print(f"{fmu}: {len(problems)} problem(s)")
@@ -62,31 +178,73 @@ def _cmd_validate(args) -> int:
                 print(f"  - {p}")
         else:
             print(f"{fmu}: valid")
-    return 1 if failed else 0
+    return EXIT_BAD_INPUT if unreadable else (EXIT_CHECK_FAILED if failed else EXIT_OK)
+
+
+def _default_result(target: str, suffix: str = ".csv") -> Path:
+    """``<FMU stem>.csv`` in the working directory, known before the model is built."""
+    from .target import is_fmu_path
+
+    if is_fmu_path(target):
+        return Path(Path(target).stem + suffix)
+    from .compiler.description import model_identifier
+
+    return Path(model_identifier(target) + suffix)
+
+
+def _check_outputs(output: Path, plot_path: str | None) -> None:
+    """Refuse unwritable or unknown-format outputs before any work."""
+    from .simulation import check_plot_output, check_result_output
+
+    check_result_output(output)
+    if plot_path:
+        check_plot_output(plot_path)
+
+
+def _write_incomplete(exc, output: Path, plot_path: str | None, title: str, verb: str) -> int:
+    """Keep what was computed before a solver failure: write it beside the final name."""
+    from .simulation import incomplete_path, plot, write_result
+
+    result = exc.result
+    if result is None or len(result) == 0:
+        print(f"cosim {verb}: error: {exc} (nothing computed to write)", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    partial = write_result(result, incomplete_path(output))
+    written = [str(partial)]
+    if plot_path:
+        written.append(str(plot(result, incomplete_path(plot_path), title=f"{title} (incomplete)")))
+    stale = f"; note: {output} is from an earlier run" if output.exists() else ""
+    print(f"cosim {verb}: incomplete: {exc}; wrote the {len(result)} rows up to t = {result['time'][-1]:.6g} s "
+          f"to {', '.join(written)}{stale}", file=sys.stderr)
+    return EXIT_INCOMPLETE
 
 
 def _cmd_simulate(args) -> int:
-    from fmpy import read_model_description
-
+    from .fmi import read_fmu
     from .parameters import from_command_line
-    from .simulation import input_signals, plot, simulate, write_csv
+    from .simulation import IncompleteResult, check_run, input_signals, plot, simulate, write_result
     from .target import resolve_fmu
 
-    params = from_command_line(args.target, args.param, parameter_set=args.params)  # before any build
+    output = Path(args.output) if args.output else _default_result(args.target)
+    _check_outputs(output, args.plot)  # before any build or run
+    params = from_command_line(args.target, args.param, parameter_set=args.params)
+    check_run(None, args.stop_time, args.step, args.fmi_type, parameters=params)
     fmu = resolve_fmu(args.target)
-    md = read_model_description(str(fmu))
-    t0 = float(md.defaultExperiment.startTime or 0.0) if md.defaultExperiment else 0.0
-    inputs = input_signals(fmu, args.input, t0, args.stop_time)
+    md = read_fmu(fmu)
+    t0, t1 = check_run(md, args.stop_time, args.step, args.fmi_type, parameters=params)
+    inputs = input_signals(fmu, args.input, t0, t1)
     outputs = [v.name for v in md.modelVariables if v.causality == "output"]
-    result = simulate(fmu, args.stop_time, args.step, args.fmi_type, params, inputs,
-                      outputs=outputs or None, progress=sys.stderr.isatty())
-    output = args.output or f"{fmu.stem}.csv"
-    write_csv(result, output)
+    try:
+        result = simulate(fmu, args.stop_time, args.step, args.fmi_type, params, inputs,
+                          outputs=outputs or None, progress=sys.stderr.isatty())
+    except IncompleteResult as exc:
+        return _write_incomplete(exc, output, args.plot, md.modelName, "simulate")
+    write_result(result, output)
     print(f"wrote {output} ({len(result)} rows: {', '.join(result.dtype.names)})")
     if args.plot:
         plot(result, args.plot, title=md.modelName)
         print(f"wrote {args.plot}")
-    return 0
+    return EXIT_OK
 
 
 SPEED_NAMES = ("V", "v")
@@ -99,9 +257,33 @@ def _speed_parameter(target: str) -> str:
     for name in SPEED_NAMES:
         if name in declared and declared[name].causality == "parameter":
             return name
-    from .errors import ParameterError
-
     raise ParameterError(f"{target} has no speed parameter ({' or '.join(SPEED_NAMES)})")
+
+
+def _operating_point(target: str, assignments: list[str]) -> dict:
+    """``--input NAME=VALUE`` of linearize: input values of the operating point."""
+    from .parameters import declarations, split_assignment
+
+    declared = declarations(target)
+    inputs = {}
+    for text in assignments:
+        name, raw = split_assignment(text, "--input")
+        d = declared.get(name)
+        if d is None or d.causality != "input":
+            known = ", ".join(n for n, v in declared.items() if v.causality == "input") or "(none)"
+            raise ParameterError(f"--input: '{name}' is not an input; inputs are: {known}")
+        inputs[name] = _finite_value(raw, f"--input {name}")
+    return inputs
+
+
+def _finite_value(raw: str, what: str) -> float:
+    try:
+        value = float(raw)
+    except ValueError:
+        raise ParameterError(f"{what}: '{raw}' is not a number") from None
+    if not math.isfinite(value):
+        raise ParameterError(f"{what}: must be finite, got {raw}")
+    return value
 
 
 def _cmd_linearize(args) -> int:
@@ -110,50 +292,67 @@ def _cmd_linearize(args) -> int:
     from .target import resolve_fmu
 
     extra = {_speed_parameter(args.target): args.speed} if args.speed is not None else {}
-    params = from_command_line(args.target, args.param, extra, parameter_set=args.params)
-    result = linearize(resolve_fmu(args.target), params)
+    params = from_command_line(args.target, args.param, extra, parameter_set=args.params,
+                               input_hint="give its operating-point value with --input {name}=VALUE")
+    inputs = _operating_point(args.target, args.input)
+    result = linearize(resolve_fmu(args.target), params, inputs or None)
     if args.json:
         print(result.to_json())
-        return 0
+        return EXIT_OK
     import numpy as np
 
     np.set_printoptions(precision=6, suppress=False, linewidth=120)
-    print(f"{result.model} linearized ({result.method}) at {params or 'default parameters'}")
+    point = {**params, **inputs}
+    print(f"{result.model} linearized ({result.method}) at {point or 'default parameters'}")
     print(f"states:  {', '.join(result.states)}\ninputs:  {', '.join(result.inputs)}\n"
           f"outputs: {', '.join(result.outputs)}")
     for name in "ABCD":
         print(f"{name} =\n{getattr(result, name)}")
     print("eigenvalues:", ", ".join(f"{e:.6g}" for e in result.eigenvalues))
-    return 0
+    return EXIT_OK
+
+
+def _analytic(model: str, parameters: dict):
+    """The analytic twin's system; its refusals (ValueError, KeyError) as ParameterError."""
+    from .twins import analytic_system
+
+    try:
+        return analytic_system(model, parameters)
+    except CosimError:
+        raise
+    except (KeyError, ValueError) as exc:
+        raise ParameterError(f"{model}: the analytic model refuses these parameters: "
+                             f"{exc.args[0] if exc.args else exc}") from None
 
 
 def _cmd_compare(args) -> int:
     from .compare import compare_systems, format_table, parse_speeds
     from .linearize import linearize
-    from .parameters import declarations, from_command_line
+    from .parameters import check, declarations, from_command_line
     from .target import is_fmu_path, resolve_fmu
-    from .twins import analytic_system
+    from .twins import TWINS
 
     if is_fmu_path(args.model):
-        from .errors import ParameterError
-
         raise ParameterError("compare needs a model name (the analytic twin is chosen by model)")
+    if not args.tol > 0:
+        raise ParameterError(f"--tol must be > 0, got {args.tol:g}")
+    if args.model not in TWINS:
+        raise ParameterError(f"no analytic twin for '{args.model}'; twins exist for: {', '.join(TWINS)}")
     speed = _speed_parameter(args.model)
     speeds = parse_speeds(args.speeds) if args.speeds else [None]
-    base = from_command_line(args.model, args.param, parameter_set=args.params)
+    base = from_command_line(args.model, args.param, parameter_set=args.params,
+                             input_hint="compare linearizes at the inputs' start values")
     declared = declarations(args.model)
     for v in speeds:
         if v is not None:
-            from .parameters import check
-
             check({speed: v}, declared)
     fmu = resolve_fmu(args.model)
     defaults = _parameter_defaults(fmu)
     comparisons = []
     for v in speeds:
         params = {**base, **({speed: v} if v is not None else {})}
+        expected = _analytic(args.model, {**defaults, **params})  # refusals before the linearization
         found = linearize(fmu, params).to_statespace()
-        expected = analytic_system(args.model, {**defaults, **params})
         comparisons.append(compare_systems(args.model, {**defaults, **params}, found, expected))
     worst = max(c.error for c in comparisons)
     if args.json:
@@ -162,49 +361,59 @@ def _cmd_compare(args) -> int:
     else:
         print(f"{args.model}: FMU linearization vs analytic model (relative errors)")
         print(format_table(comparisons, speed))
-    if worst > args.tol:
+    if not worst <= args.tol:
         print(f"cosim compare: largest relative error {worst:.2e} exceeds --tol {args.tol:g}", file=sys.stderr)
-        return 1
-    return 0
+        return EXIT_CHECK_FAILED
+    return EXIT_OK
 
 
 def _parameter_defaults(fmu) -> dict:
     """Start values of the FMU's top-level Real parameters."""
-    from fmpy import read_model_description
+    from .fmi import read_fmu
 
-    md = read_model_description(str(fmu))
+    md = read_fmu(fmu)
     return {v.name: float(v.start) for v in md.modelVariables
             if v.causality == "parameter" and "." not in v.name and v.type == "Real" and v.start is not None}
 
 
 def _cmd_run(args) -> int:
     from .cosimulation.factory import run_system
-    from .simulation import plot, write_csv
+    from .cosimulation.master import RunFailed
+    from .cosimulation.system import load_system
+    from .simulation import IncompleteResult, plot, write_result
 
-    result = run_system(args.system)
-    output = args.output or f"{Path(args.system).stem}.csv"
-    if output.endswith(".npy"):
-        import numpy as np
-
-        np.save(output, result.data)  # structured array: time and "component.output" columns
-    else:
-        write_csv(result.data, output)
-    print(f"{result.outcome.message}; wrote {output} ({result.steps} steps)")
+    output = Path(args.output) if args.output else Path(f"{Path(args.system).stem}.csv")
+    _check_outputs(output, args.plot)  # before any build or run
+    spec = load_system(args.system)
+    try:
+        result = run_system(spec)
+    except RunFailed as exc:  # an FMU failed a step: the rows before it are kept
+        result = exc.result
+    outcome = result.outcome
+    if not outcome.complete:  # an FMU failed or a signal turned non-finite: keep the rows
+        exc = IncompleteResult(outcome.message, result.data, outcome.time, outcome.message)
+        return _write_incomplete(exc, output, args.plot, spec.name, "run")
+    write_result(result.data, output)
+    end = float(result.data["time"][-1])
+    print(f"{outcome.message}; wrote {output} ({result.steps} steps, {len(result.data)} rows, "
+          f"t = {spec.start:g} .. {end:g} s)")
     if args.plot:
-        plot(result.data, args.plot, title=Path(args.system).stem)
+        plot(result.data, args.plot, title=spec.name)
         print(f"wrote {args.plot}")
-    return 0 if result.outcome.status == "completed" or args.allow_fall else 3
+    return EXIT_OK if outcome.status == "completed" or args.allow_fall else EXIT_FELL
 
 
 def _cmd_export_ssp(args) -> int:
     from .cosimulation.ssp import export_ssp
     from .cosimulation.system import load_system
+    from .outputs import check_output
 
+    check_output(args.output, "SSP file")  # before anything is built
     path, notes = export_ssp(load_system(args.system), args.output)
     for note in notes:
         print(f"twin: {note}")
     print(f"wrote {path}")
-    return 0
+    return EXIT_OK
 
 
 def _cmd_figures(args) -> int:
@@ -212,27 +421,40 @@ def _cmd_figures(args) -> int:
 
     for path in make_figures(args.names, args.output):
         print(f"wrote {path}")
-    return 0
+    return EXIT_OK
 
 
 def _cmd_demo(args) -> int:
     from .demo import run_demo
 
     run_demo(Path(args.output))
-    return 0
+    return EXIT_OK
+
+
+def _parameter_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                   help="a parameter value (repeatable; the last of a repeated NAME wins)")
+    p.add_argument("--params", default=None, metavar="NAME|FILE",
+                   help="Meijaard parameter set (benchmark, astrom2005, astrom2005-riderless or a TOML file)")
 
 
 def parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="cosim", description="Bicycle models of Astrom, Klein and Lennartsson (2005) as FMI 2.0 FMUs: build, validate, simulate.")
+    raw = argparse.RawDescriptionHelpFormatter
+    p = argparse.ArgumentParser(
+        prog="cosim", formatter_class=raw, epilog=MAIN_EPILOG,
+        description="Bicycle models of Astrom, Klein and Lennartsson (2005) as FMI 2.0 FMUs: build, validate, "
+                    "simulate, linearize, co-simulate.")
     p.add_argument("--version", action="version", version=f"cosim {__version__}")
-    sub = p.add_subparsers(dest="command", required=True)
+    sub = p.add_subparsers(dest="command", required=True, metavar="VERB")
 
-    b = sub.add_parser("build", help="compile Modelica models to FMUs (ME + CS)")
+    b = sub.add_parser("build", help="compile Modelica models to FMUs (ME + CS)", formatter_class=raw,
+                       epilog=f"{FMU_FOLDER}\n\n{EXIT_CODES}")
     b.add_argument("models", nargs="*", help="model names (default: every exported model)")
-    b.add_argument("-o", "--output", default=None, help="output folder (default: fmus/)")
-    b.add_argument("-j", "--jobs", type=int, default=os.cpu_count() or 1, help="parallel builds")
+    b.add_argument("-o", "--output", default=None, help="output folder (default: ./fmus or $COSIM_FMU_DIR)")
+    b.add_argument("-j", "--jobs", type=positive_int, default=os.cpu_count() or 1,
+                   help="parallel builds (>= 1; default: number of CPUs)")
     b.add_argument("--force", action="store_true", help="rebuild even if up to date")
-    b.add_argument("--library", default=None, help="Modelica library folder (default: modelica/)")
+    b.add_argument("--library", default=None, help="Modelica library folder (default: the one shipped)")
     b.set_defaults(func=_cmd_build)
 
     ls = sub.add_parser("list", help="models of the library with inputs, outputs, parameters")
@@ -241,60 +463,65 @@ def parser() -> argparse.ArgumentParser:
     ls.add_argument("--library", default=None)
     ls.set_defaults(func=_cmd_list)
 
-    i = sub.add_parser("info", help="describe an FMU or a model")
+    i = sub.add_parser("info", help="describe an FMU or a model", formatter_class=raw, epilog=EXIT_CODES)
     i.add_argument("target", help="FMU file or model name")
     i.add_argument("--json", action="store_true")
     i.set_defaults(func=_cmd_info)
 
-    v = sub.add_parser("validate", help="check FMUs (FMPy validation + own checks)")
+    v = sub.add_parser("validate", help="check FMUs (FMPy validation + own checks)", formatter_class=raw,
+                       epilog="Every target is checked; a file that cannot be read as an FMU gets an error line "
+                              "(exit 2), an FMU with problems lists them (exit 1).\n\n" + EXIT_CODES)
     v.add_argument("targets", nargs="+", help="FMU files or model names")
     v.set_defaults(func=_cmd_validate)
 
-    s = sub.add_parser("simulate", help="simulate an FMU or model")
+    s = sub.add_parser("simulate", help="simulate an FMU or model", formatter_class=raw, epilog=SIMULATE_EPILOG)
     s.add_argument("target", help="FMU file or model name (built first if needed)")
-    s.add_argument("--stop-time", type=float, required=True, help="stop time [s]")
-    s.add_argument("--step", type=float, default=None, help="output / communication interval [s]")
+    s.add_argument("--stop-time", type=_finite, required=True, help="stop time [s]")
+    s.add_argument("--step", type=_finite, default=None, help="output / communication interval [s], > 0")
     s.add_argument("--fmi-type", choices=("cs", "me"), default="cs")
-    s.add_argument("--param", action="append", default=[], metavar="NAME=VALUE")
-    s.add_argument("--params", default=None, metavar="NAME|FILE",
-                     help="Meijaard parameter set (benchmark, astrom2005, astrom2005-riderless or a TOML file)")
+    _parameter_options(s)
     s.add_argument("--input", action="append", default=[], metavar="NAME=FILE.csv|NAME=step:T0:VALUE")
-    s.add_argument("-o", "--output", default=None, help="result CSV (default: <model>.csv)")
-    s.add_argument("--plot", default=None, help="save a plot of the result (PNG)")
+    s.add_argument("-o", "--output", default=None, help="result .csv or .npy (default: <model>.csv)")
+    s.add_argument("--plot", default=None, help="save a plot of the result (PNG, PDF, SVG, ...)")
     s.set_defaults(func=_cmd_simulate)
 
-    lin = sub.add_parser("linearize", help="A, B, C, D of an FMU or model at its initial point")
+    lin = sub.add_parser("linearize", help="A, B, C, D of an FMU or model at its initial point",
+                         formatter_class=raw, epilog=EXIT_CODES)
     lin.add_argument("target", help="FMU file or model name")
-    lin.add_argument("--param", action="append", default=[], metavar="NAME=VALUE")
-    lin.add_argument("--params", default=None, metavar="NAME|FILE",
-                     help="Meijaard parameter set (benchmark, astrom2005, astrom2005-riderless or a TOML file)")
-    lin.add_argument("--speed", type=float, default=None, help="forward speed [m/s] (sets V)")
+    _parameter_options(lin)
+    lin.add_argument("--input", action="append", default=[], metavar="NAME=VALUE",
+                     help="input value at the operating point (default: the input's start value)")
+    lin.add_argument("--speed", type=_finite, default=None, help="forward speed [m/s] (sets V or v)")
     lin.add_argument("--json", action="store_true")
     lin.set_defaults(func=_cmd_linearize)
 
-    cmp_ = sub.add_parser("compare", help="FMU linearization vs the analytic model")
+    cmp_ = sub.add_parser("compare", help="FMU linearization vs the analytic model", formatter_class=raw,
+                          epilog=EXIT_CODES)
     cmp_.add_argument("model", help="model name (with an analytic twin)")
     cmp_.add_argument("--speeds", default=None, help="A:B:STEP or V1,V2,... [m/s]")
-    cmp_.add_argument("--param", action="append", default=[], metavar="NAME=VALUE")
-    cmp_.add_argument("--params", default=None, metavar="NAME|FILE",
-                     help="Meijaard parameter set (benchmark, astrom2005, astrom2005-riderless or a TOML file)")
-    cmp_.add_argument("--tol", type=float, default=1e-9, help="largest accepted relative error")
+    _parameter_options(cmp_)
+    cmp_.add_argument("--tol", type=_finite, default=1e-9, help="largest accepted relative error (> 0)")
     cmp_.add_argument("--json", action="store_true")
     cmp_.set_defaults(func=_cmd_compare)
 
-    run = sub.add_parser("run", help="co-simulate a system file (FMUs and Python components)")
+    run = sub.add_parser("run", help="co-simulate a system file (FMUs and Python components)",
+                         formatter_class=raw, epilog=RUN_EPILOG)
     run.add_argument("system", help="system file (TOML)")
     run.add_argument("-o", "--output", default=None, help="result .csv or .npy (default: <system>.csv)")
-    run.add_argument("--plot", default=None, help="save a plot of the recorded signals (PNG)")
+    run.add_argument("--plot", default=None, help="save a plot of the recorded signals (PNG, PDF, SVG, ...)")
     run.add_argument("--allow-fall", action="store_true", help="exit 0 even if the bicycle falls")
     run.set_defaults(func=_cmd_run)
 
-    ssp = sub.add_parser("export-ssp", help="export a system as SSP 1.0 (FMUs in resources/)")
+    ssp = sub.add_parser("export-ssp", help="export a system as SSP 1.0 (FMUs in resources/)",
+                         formatter_class=raw,
+                         epilog="The OSP fixed-step algorithm of the SSP needs a step that divides stop - start.\n\n"
+                                f"{FMU_FOLDER}\n\n{EXIT_CODES}")
     ssp.add_argument("system", help="system file (TOML); Python blocks must be replaced by Modelica twins")
     ssp.add_argument("-o", "--output", required=True, help="the .ssp file to write")
     ssp.set_defaults(func=_cmd_export_ssp)
 
-    fig = sub.add_parser("figures", help="the paper's figures from FMU simulation and linearization")
+    fig = sub.add_parser("figures", help="the paper's figures from FMU simulation and linearization",
+                         formatter_class=raw, epilog=f"{FMU_FOLDER}\n\n{EXIT_CODES}")
     fig.add_argument("names", nargs="*", help="figure names, e.g. fig5 fig8 (default: all)")
     fig.add_argument("-o", "--output", default="figures", help="output folder (default: figures/)")
     fig.set_defaults(func=_cmd_figures)
@@ -305,13 +532,19 @@ def parser() -> argparse.ArgumentParser:
     analytic_cli.add_parser(sub)
     matrix_cli.add_parser(sub)
 
-    d = sub.add_parser("demo", help="build, validate and simulate the bundled bicycle")
+    d = sub.add_parser("demo", help="build, validate and simulate the bundled bicycle", formatter_class=raw,
+                       epilog=f"{FMU_FOLDER}\n\n{EXIT_CODES}")
     d.add_argument("-o", "--output", default="demo", help="folder for results (default: demo/)")
     d.set_defaults(func=_cmd_demo)
     return p
 
 
+def _debug() -> bool:
+    return os.environ.get("COSIM_DEBUG", "").strip() not in ("", "0")
+
+
 def main(argv: list[str] | None = None) -> int:
+    """Run one command; see the module docstring for the exit status."""
     args = parser().parse_args(argv)
     if getattr(args, "output", None) is None and args.command == "build":
         from .compiler.build import DEFAULT_OUTPUT
@@ -319,14 +552,24 @@ def main(argv: list[str] | None = None) -> int:
         args.output = DEFAULT_OUTPUT
     try:
         return args.func(args)
-    except (CosimError, FileNotFoundError, ValueError) as exc:
+    except CosimError as exc:
         print(f"cosim {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+        return EXIT_BAD_INPUT
+    except FileNotFoundError as exc:  # a path the user named (e.g. --params FILE) does not exist
+        print(f"cosim {args.command}: error: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
     except BrokenPipeError:  # e.g. `cosim info ... | head`
-        return 0
+        return EXIT_OK
     except KeyboardInterrupt:
         print(f"cosim {args.command}: interrupted", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
+    except Exception as exc:  # the safety net: a bug, reported in one line
+        if _debug():
+            traceback.print_exc()
+        text = " ".join(str(exc).split())
+        print(f"cosim {args.command}: internal error: {type(exc).__name__}: {text} "
+              "(set COSIM_DEBUG=1 for the traceback)", file=sys.stderr)
+        return EXIT_INTERNAL
 
 
 if __name__ == "__main__":

@@ -24,11 +24,31 @@ def steady_state(T: float, m: float, a: float, h: float, b: float, c: float, lam
     return phi, k1 * T - k2 * phi
 
 
+#: The files the demo writes into its output folder.
+OUTPUTS = ("self_stabilizing_cs.csv", "self_stabilizing_me.csv", "self_stabilizing.png", "lane_change.csv",
+           "lane_change.png")
+
+
 def run_demo(output: Path) -> None:
+    """Build, validate, simulate and co-simulate; results into ``output``.
+
+    Raises
+    ------
+    OutputError
+        If ``output`` or one of its files cannot be written, before anything is built.
+    SimulationError
+        If a built FMU fails validation.
+    """
     from .compiler.build import DEFAULT_OUTPUT, build
+    from .errors import SimulationError
+    from .outputs import check_output, check_output_folder
     from .simulation import input_signals, plot, simulate, write_csv
     from .validation import validate
-    from .errors import SimulationError
+
+    output = check_output_folder(Path(output), "demo folder")  # before the minutes of work below
+    for name in OUTPUTS:
+        check_output(output / name, "demo result")
+    check_output_folder(DEFAULT_OUTPUT, "FMU folder")
 
     print("1. building every exported model (pymoca -> CasADi -> C -> gcc) ...")
     results = build(output=DEFAULT_OUTPUT, jobs=2)
@@ -43,7 +63,6 @@ def run_demo(output: Path) -> None:
     V, T = 6.0, 1.0
     print(f"2. simulating {MODEL} at V = {V} m/s, steer torque step T = {T} N.m at t = 0.5 s ...")
     inputs = input_signals(fmu, [f"T=step:0.5:{T}"], 0.0, STOP)
-    output.mkdir(parents=True, exist_ok=True)
     runs = {}
     for kind in ("cs", "me"):
         result = simulate(fmu, STOP, 0.01, kind, {"V": V}, inputs, outputs=["phi", "delta", "T"])
@@ -67,5 +86,4 @@ def run_demo(output: Path) -> None:
     y = lane.data["bike.y"]
     print(f"   {lane.outcome.message}; lateral position first {y.min():.3f} m (counter-steer), "
           f"finally {y[-1]:.3f} m")
-    print(f"4. results in {output}/: self_stabilizing_cs.csv, self_stabilizing_me.csv, self_stabilizing.png, "
-          "lane_change.csv, lane_change.png")
+    print(f"4. results in {output}/: {', '.join(OUTPUTS)}")

@@ -1,38 +1,211 @@
-"""A thin layer over FMPy for one FMI 2.0 FMU: extract once, instantiate as ME or CS, address
-variables by name. Linearization, validation and the co-simulation master build on it."""
+"""A thin layer over FMPy for one FMI 2.0 FMU: open it safely, extract once, instantiate as ME or
+CS, address variables by name. Every command, linearization, validation and the co-simulation
+master go through :func:`read_fmu` / :class:`FMU`, so an FMU file is checked in one place:
+
+- it is a file and a zip archive (not random bytes, not truncated);
+- no member name could land outside the extraction folder (``../x``, ``/abs``, ``C:x``,
+  backslashes, symbolic links) and the unpacked size is bounded (no zip bomb);
+- ``modelDescription.xml`` exists, is well-formed XML without a DOCTYPE, declares FMI 2.0 (the
+  version check is :func:`check_fmi_version`, the one place to extend for FMI 3) and passes FMPy's
+  schema and consistency checks;
+- at instantiation, the binary for this platform exists and loads.
+
+Any failure raises :class:`cosim.errors.FMUError` naming the file and the problem.
+"""
 from __future__ import annotations
 
+import os
+import re
 import shutil
+import stat
 import tempfile
+import zipfile
+import zlib
 from ctypes import c_double
 from pathlib import Path
 
 import numpy as np
 
-from .errors import SimulationError
+from .errors import FMUError
 
-_EXTRACTED: dict[tuple, tuple] = {}  # (path, size, mtime) -> (unzip folder, model description)
+#: The FMI version this package runs (FMI 3 support is planned; see :func:`check_fmi_version`).
+SUPPORTED_FMI_VERSIONS = ("2.0",)
+#: Largest total unpacked size of an FMU's members [bytes]; beyond it the archive is refused.
+MAX_UNPACKED_BYTES = 2 * 1024**3
+MODEL_DESCRIPTION = "modelDescription.xml"
+
+_DESCRIPTIONS: dict[tuple, object] = {}  # (path, size, mtime) -> checked model description
+_EXTRACTED: dict[tuple, str] = {}  # (path, size, mtime) -> unzip folder
+
+
+def _key(path: Path) -> tuple:
+    status = path.stat()
+    return str(path.resolve()), status.st_size, status.st_mtime_ns
+
+
+def unsafe_member(info: zipfile.ZipInfo) -> str | None:
+    """Why a zip member may not be extracted (None: it is safe).
+
+    FMI 2.0 (section 2.3) requires relative paths with forward slashes; anything else could
+    write outside the extraction folder."""
+    name = info.filename
+    if "\x00" in name:
+        return "contains a NUL character"
+    if "\\" in name:
+        return "uses backslashes (FMI requires forward slashes)"
+    if name.startswith("/") or re.match(r"^[A-Za-z]:", name):
+        return "is an absolute path"
+    if ".." in name.split("/"):
+        return "points outside the FMU ('..')"
+    if stat.S_ISLNK(info.external_attr >> 16):
+        return "is a symbolic link"
+    return None
+
+
+def check_fmi_version(path: Path, version: str | None) -> None:
+    """Refuse every FMI version but 2.0: the one place that decides which FMUs are run.
+
+    Raises
+    ------
+    FMUError
+        For FMI 1.0, FMI 3.x (not supported yet) or a missing/unknown ``fmiVersion``.
+    """
+    if version in SUPPORTED_FMI_VERSIONS:
+        return
+    if version is None or not version.strip():
+        raise FMUError(f"{path}: modelDescription.xml has no fmiVersion attribute")
+    if version.startswith("3."):
+        raise FMUError(f"{path}: FMI {version} FMUs are not supported yet (this tool runs FMI 2.0)")
+    raise FMUError(f"{path}: FMI version '{version}' is not supported (this tool runs FMI 2.0)")
+
+
+def _open_archive(path: Path) -> zipfile.ZipFile:
+    if not path.exists():
+        raise FMUError(f"{path}: no such FMU file")
+    if path.is_dir():
+        raise FMUError(f"{path}: is a directory, not an FMU file")
+    try:
+        archive = zipfile.ZipFile(path)
+    except zipfile.BadZipFile:
+        raise FMUError(f"{path}: not an FMU: not a zip archive (random bytes or a truncated file)") from None
+    except (OSError, ValueError) as exc:  # unreadable, or a corrupt central directory
+        raise FMUError(f"{path}: cannot read the FMU: {exc}") from None
+    try:
+        total = 0
+        for info in archive.infolist():
+            why = unsafe_member(info)
+            if why:
+                raise FMUError(f"{path}: unsafe member name '{info.filename}' in the archive ({why}); "
+                               "refusing to extract it")
+            total += info.file_size
+        if total > MAX_UNPACKED_BYTES:
+            raise FMUError(f"{path}: the archive would unpack to {total / 1024**3:.1f} GiB "
+                           f"(more than {MAX_UNPACKED_BYTES / 1024**3:.0f} GiB); refusing to extract it")
+    except BaseException:
+        archive.close()
+        raise
+    return archive
+
+
+def _model_description_root(path: Path, archive: zipfile.ZipFile):
+    from lxml import etree
+
+    if MODEL_DESCRIPTION not in archive.namelist():
+        raise FMUError(f"{path}: not an FMU: no {MODEL_DESCRIPTION} in the archive")
+    try:
+        data = archive.read(MODEL_DESCRIPTION)
+    except (zipfile.BadZipFile, zlib.error, OSError, EOFError, NotImplementedError) as exc:
+        raise FMUError(f"{path}: cannot unpack {MODEL_DESCRIPTION}: {exc}") from None
+    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False)
+    try:
+        root = etree.fromstring(data, parser)
+    except etree.XMLSyntaxError as exc:
+        where = "" if "line" in str(exc.msg) else f" (line {exc.lineno})"
+        raise FMUError(f"{path}: {MODEL_DESCRIPTION} is not well-formed XML: {exc.msg}{where}") from None
+    if root.getroottree().docinfo.doctype:
+        raise FMUError(f"{path}: {MODEL_DESCRIPTION} has a DOCTYPE declaration, which FMI does not allow")
+    if root.tag != "fmiModelDescription":
+        raise FMUError(f"{path}: {MODEL_DESCRIPTION}: the root element is <{root.tag}>, "
+                       "not <fmiModelDescription>")
+    return root
+
+
+def read_fmu(path: str | os.PathLike):
+    """The checked model description of an FMU file (cached per file version).
+
+    Returns
+    -------
+    fmpy.model_description.ModelDescription
+
+    Raises
+    ------
+    FMUError
+        If the file is missing, not a zip archive, has unsafe member names, lacks or has a broken
+        ``modelDescription.xml``, is not FMI 2.0 or fails FMPy's model-description checks.
+    """
+    from fmpy.model_description import ValidationError, read_model_description
+
+    path = Path(path)
+    with _open_archive(path) as archive:
+        key = _key(path)
+        if key in _DESCRIPTIONS:
+            return _DESCRIPTIONS[key]
+        root = _model_description_root(path, archive)
+        check_fmi_version(path, root.get("fmiVersion"))
+        try:
+            md = read_model_description(str(path), validate=True)
+        except ValidationError as exc:
+            problems = [str(p).strip() for p in exc.problems]
+            more = f" (and {len(problems) - 3} more)" if len(problems) > 3 else ""
+            raise FMUError(f"{path}: {MODEL_DESCRIPTION} is invalid: {'; '.join(problems[:3])}{more}") from None
+        except Exception as exc:  # FMPy raises bare Exception, ValueError, KeyError, ... on odd XML
+            raise FMUError(f"{path}: cannot read {MODEL_DESCRIPTION}: {type(exc).__name__}: {exc}") from None
+    if md.modelExchange is None and md.coSimulation is None:
+        raise FMUError(f"{path}: {MODEL_DESCRIPTION} declares neither ModelExchange nor CoSimulation")
+    _DESCRIPTIONS[key] = md
+    return md
+
+
+def _extract_members(path: Path, folder: Path) -> None:
+    """Unpack every member below ``folder`` (names were checked by :func:`_open_archive`)."""
+    root = folder.resolve()
+    with _open_archive(path) as archive:
+        for info in archive.infolist():
+            target = (root / info.filename).resolve()
+            if target != root and root not in target.parents:  # belt and braces after unsafe_member
+                raise FMUError(f"{path}: member '{info.filename}' would be extracted outside the FMU folder")
+            if info.is_dir():
+                target.mkdir(parents=True, exist_ok=True)
+                continue
+            target.parent.mkdir(parents=True, exist_ok=True)
+            try:
+                with archive.open(info) as source, open(target, "wb") as sink:
+                    shutil.copyfileobj(source, sink)
+            except (zipfile.BadZipFile, zlib.error, EOFError, NotImplementedError) as exc:
+                raise FMUError(f"{path}: member '{info.filename}' is damaged: {exc}") from None
 
 
 def _extract(path: Path):
-    """Unzip an FMU once per process (and file version); the folders are removed at exit."""
+    """Check and unzip an FMU once per process (and file version); the folders go at exit."""
     import atexit
 
-    from fmpy import extract, read_model_description
-
-    stat = path.stat()
-    key = (str(path.resolve()), stat.st_size, stat.st_mtime_ns)
+    md = read_fmu(path)
+    key = _key(path)
     if key not in _EXTRACTED:
         if not _EXTRACTED:
             atexit.register(_remove_extracted)
         folder = tempfile.mkdtemp(prefix="cosim-fmu-")
-        extract(str(path), folder)
-        _EXTRACTED[key] = (folder, read_model_description(str(path)))
-    return _EXTRACTED[key]
+        try:
+            _extract_members(path, Path(folder))
+        except BaseException:
+            shutil.rmtree(folder, ignore_errors=True)
+            raise
+        _EXTRACTED[key] = folder
+    return _EXTRACTED[key], md
 
 
 def _remove_extracted() -> None:
-    for folder, _ in _EXTRACTED.values():
+    for folder in _EXTRACTED.values():
         if Path(folder).name.startswith("cosim-fmu-"):  # only the folders made by _extract
             shutil.rmtree(folder, ignore_errors=True)
     _EXTRACTED.clear()
@@ -53,6 +226,54 @@ def set_continuous_states(instance, x) -> None:
         instance.setContinuousStates((c_double * x.size)(*x), x.size)
 
 
+class FMULog:
+    """Collects an FMU's log messages (instead of FMPy printing them to stdout).
+
+    ``callbacks()`` gives the fmi2CallbackFunctions for ``fmi2Instantiate``; ``logger`` is the
+    callable that ``fmpy.simulate_fmu(logger=...)`` takes."""
+
+    LABELS = ("OK", "Warning", "Discard", "Error", "Fatal", "Pending")
+
+    def __init__(self, size: int = 50):
+        from collections import deque
+
+        self.messages: deque = deque(maxlen=size)  # (status, text)
+        self._callbacks = None
+
+    def logger(self, component, instance_name, status, category, message) -> None:
+        text = message.decode("utf-8", "replace") if isinstance(message, bytes) else str(message)
+        self.messages.append((int(status), text.strip()))
+
+    def callbacks(self):
+        """fmi2CallbackFunctions whose logger is this object (kept alive with it)."""
+        from ctypes import byref
+
+        from fmpy import calloc, free
+        from fmpy.fmi2 import (fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
+                               fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+
+        if self._callbacks is None:
+            callbacks = fmi2CallbackFunctions()
+            callbacks.logger = fmi2CallbackLoggerTYPE(self.logger)
+            callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+            callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+            try:  # formats the FMU's printf-style messages
+                from fmpy.logging import addLoggerProxy
+
+                addLoggerProxy(byref(callbacks))
+            except Exception:  # without the proxy the unformatted text is logged
+                pass
+            self._callbacks = callbacks
+        return self._callbacks
+
+    def last_error(self) -> str | None:
+        """The last message with status Discard or worse (None if there is none)."""
+        for status, text in reversed(self.messages):
+            if status >= 2:
+                return text
+        return None
+
+
 class FMU:
     """An extracted FMU with its model description (unzipped once per process and file version).
 
@@ -64,8 +285,6 @@ class FMU:
 
     def __init__(self, path: str | Path):
         self.path = Path(path)
-        if not self.path.is_file():
-            raise FileNotFoundError(f"{self.path}: no such FMU file")
         self.unzipdir, self.description = _extract(self.path)
         self.variables = {v.name: v for v in self.description.modelVariables}
         self.vr = {name: v.valueReference for name, v in self.variables.items()}
@@ -92,17 +311,47 @@ class FMU:
     def derivatives(self) -> list[str]:
         return [d.variable.name for d in self.description.derivatives]
 
-    def instantiate(self, kind: str = "cs", name: str = "instance", logger=None):
-        """An FMPy FMU2Slave (``cs``) or FMU2Model (``me``), instantiated but not initialized."""
+    def library(self, kind: str = "cs") -> Path:
+        """The shared library of the interface ``kind`` for this platform.
+
+        Raises
+        ------
+        FMUError
+            If the FMU does not offer ``kind`` or has no binary for this platform.
+        """
+        from fmpy import platform, sharedLibraryExtension
+
+        section = self.description.coSimulation if kind == "cs" else self.description.modelExchange
+        if section is None:
+            raise FMUError(f"{self.path}: the FMU does not support "
+                           f"{'Co-Simulation' if kind == 'cs' else 'Model Exchange'}")
+        library = Path(self.unzipdir, "binaries", platform, section.modelIdentifier + sharedLibraryExtension)
+        if not library.is_file():
+            raise FMUError(f"{self.path}: no binary for this platform "
+                           f"(binaries/{platform}/{library.name} is missing from the archive)")
+        return library
+
+    def instantiate(self, kind: str = "cs", name: str = "instance", log: "FMULog | None" = None):
+        """An FMPy FMU2Slave (``cs``) or FMU2Model (``me``), instantiated but not initialized.
+
+        The FMU's log messages go to ``log`` (a fresh :class:`FMULog` if None), available as
+        ``instance.log``, so that an error message can quote what the FMU said.
+        """
         from fmpy.fmi2 import FMU2Model, FMU2Slave
 
         cls = FMU2Slave if kind == "cs" else FMU2Model
+        library = self.library(kind)
         section = self.description.coSimulation if kind == "cs" else self.description.modelExchange
-        if section is None:
-            raise SimulationError(f"{self.path}: the FMU does not support {kind.upper()}")
-        instance = cls(guid=self.description.guid, unzipDirectory=self.unzipdir,
-                       modelIdentifier=section.modelIdentifier, instanceName=name)
-        instance.instantiate(loggingOn=False)
+        log = log if log is not None else FMULog()
+        try:
+            instance = cls(guid=self.description.guid, unzipDirectory=self.unzipdir,
+                           modelIdentifier=section.modelIdentifier, instanceName=name)
+            instance.instantiate(loggingOn=False, callbacks=log.callbacks())
+        except Exception as exc:  # FMPy raises bare Exception for a library that does not load
+            said = log.last_error()
+            raise FMUError(f"{self.path}: cannot instantiate {library.name}: {exc}"
+                           + (f" (the FMU says: {said})" if said else "")) from None
+        instance.log = log
         return instance
 
     def set(self, instance, values: dict) -> None:

@@ -12,9 +12,9 @@ def _number(value):
 
 def fmu_info(path) -> dict:
     """Model description of an FMU as a plain dict."""
-    from fmpy import read_model_description
+    from .fmi import read_fmu
 
-    md = read_model_description(str(path))
+    md = read_fmu(path)
     experiment = md.defaultExperiment
     groups: dict[str, list] = {}
     for v in md.modelVariables:

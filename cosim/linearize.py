@@ -10,7 +10,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from fmpy.fmi1 import FMICallException
 
+from .errors import FMUError, ParameterError, SimulationError
 from .fmi import FMU, get_continuous_states, set_continuous_states
 
 FD_STEP = 1e-6  # relative step of the central differences
@@ -61,13 +63,26 @@ class _Point:
     def __init__(self, fmu: FMU, parameters: dict):
         self.fmu = fmu
         self.me = fmu.instantiate("me")
-        fmu.set(self.me, parameters)
-        self.me.setupExperiment(startTime=0.0)
-        self.me.enterInitializationMode()
-        self.me.exitInitializationMode()
-        self.me.enterContinuousTimeMode()
+        self.status = 0  # worst FMI status seen (decides the clean-up, see close)
+        try:
+            fmu.set(self.me, parameters)
+            self.me.setupExperiment(startTime=0.0)
+            self.me.enterInitializationMode()
+            self.me.exitInitializationMode()
+            self.me.enterContinuousTimeMode()
+        except FMICallException as exc:  # the FMU refused the parameters or the initialization
+            self.fail(exc)
+            self.close()
+            raise SimulationError(f"{fmu.path}: initialization failed: {self.said(exc)}") from None
         self.nx = len(fmu.states)
         self.x0 = self.get_states()
+
+    def fail(self, exc: Exception) -> None:
+        self.status = max(self.status, int(getattr(exc, "status", 3) or 3))
+
+    def said(self, exc: Exception) -> str:
+        """What the FMU logged about a failed call, else the call's exception text."""
+        return self.me.log.last_error() or str(exc)
 
     def get_states(self) -> np.ndarray:
         return get_continuous_states(self.me, self.nx)
@@ -76,8 +91,18 @@ class _Point:
         set_continuous_states(self.me, x)
 
     def close(self):
-        self.me.terminate()
-        self.me.freeInstance()
+        """fmi2Terminate where FMI allows it (not after fmi2Error), then fmi2FreeInstance."""
+        if self.status >= 4:
+            return
+        if self.status < 3:
+            try:
+                self.me.terminate()
+            except Exception:  # freeing is still allowed
+                pass
+        try:
+            self.me.freeInstance()
+        except Exception:
+            pass
 
 
 def linearize(fmu_path: str | Path, parameters: dict | None = None, inputs: dict | None = None,
@@ -105,52 +130,60 @@ def linearize(fmu_path: str | Path, parameters: dict | None = None, inputs: dict
     with FMU(fmu_path) as fmu:
         md = fmu.description
         if md.modelExchange is None:
-            raise ValueError(f"{fmu_path}: linearization needs Model Exchange")
-        use_dd = method == "directional" or (method == "auto" and md.modelExchange.providesDirectionalDerivative)
+            raise FMUError(f"{fmu_path}: linearization needs Model Exchange, which the FMU does not offer")
         if method not in ("auto", "directional", "finite-differences"):
-            raise ValueError(f"method must be 'auto', 'directional' or 'finite-differences', got '{method}'")
+            raise ParameterError(f"method must be 'auto', 'directional' or 'finite-differences', got '{method}'")
+        use_dd = method == "directional" or (method == "auto" and md.modelExchange.providesDirectionalDerivative)
         states, derivatives = fmu.states, fmu.derivatives
         input_names, output_names = fmu.names("input"), fmu.names("output")
         point = _Point(fmu, {**parameters, **(inputs or {})})
         try:
-            x0 = point.x0
-            u0 = fmu.get_real(point.me, input_names)
-            state_index = {n: k for k, n in enumerate(states)}
-            # Outputs that are states have an identity row; the others are unknowns to differentiate.
-            computed = [n for n in output_names if n not in state_index]
-            unknowns = derivatives + computed
-            unknown_vrs = [fmu.vr[n] for n in unknowns]
-            knowns = states + input_names
-            known_vrs = [fmu.vr[n] for n in knowns]
-            nx, nu = len(states), len(input_names)
-            J = np.zeros((len(unknowns), nx + nu))
-            if use_dd:
-                for k in range(nx + nu):
-                    seed = [0.0] * (nx + nu)
-                    seed[k] = 1.0
-                    J[:, k] = point.me.getDirectionalDerivative(unknown_vrs, known_vrs, seed)
-            else:
-                def evaluate(x, u):
-                    point.set_states(x)
-                    fmu.set(point.me, dict(zip(input_names, u)))
-                    return np.array(point.me.getReal(unknown_vrs))
-
-                for k in range(nx + nu):
-                    x, u = x0.copy(), u0.copy()
-                    base = x0[k] if k < nx else u0[k - nx]
-                    h = FD_STEP * max(1.0, abs(base))
-                    values = []
-                    for sign in (1, -1):
-                        x, u = x0.copy(), u0.copy()
-                        if k < nx:
-                            x[k] += sign * h
-                        else:
-                            u[k - nx] += sign * h
-                        values.append(evaluate(x, u))
-                    J[:, k] = (values[0] - values[1]) / (2 * h)
-                evaluate(x0, u0)
+            return _jacobians(fmu, md, point, use_dd, parameters, states, derivatives, input_names, output_names)
+        except FMICallException as exc:  # an FMI call refused at the operating point
+            point.fail(exc)
+            raise SimulationError(f"{fmu_path}: linearization failed: {point.said(exc)}") from None
         finally:
             point.close()
+
+
+def _jacobians(fmu, md, point, use_dd, parameters, states, derivatives, input_names, output_names):
+    """The matrices at the point (see :func:`linearize`)."""
+    x0 = point.x0
+    u0 = fmu.get_real(point.me, input_names)
+    state_index = {n: k for k, n in enumerate(states)}
+    # Outputs that are states have an identity row; the others are unknowns to differentiate.
+    computed = [n for n in output_names if n not in state_index]
+    unknowns = derivatives + computed
+    unknown_vrs = [fmu.vr[n] for n in unknowns]
+    knowns = states + input_names
+    known_vrs = [fmu.vr[n] for n in knowns]
+    nx, nu = len(states), len(input_names)
+    J = np.zeros((len(unknowns), nx + nu))
+    if use_dd:
+        for k in range(nx + nu):
+            seed = [0.0] * (nx + nu)
+            seed[k] = 1.0
+            J[:, k] = point.me.getDirectionalDerivative(unknown_vrs, known_vrs, seed)
+    else:
+        def evaluate(x, u):
+            point.set_states(x)
+            fmu.set(point.me, dict(zip(input_names, u)))
+            return np.array(point.me.getReal(unknown_vrs))
+
+        for k in range(nx + nu):
+            x, u = x0.copy(), u0.copy()
+            base = x0[k] if k < nx else u0[k - nx]
+            h = FD_STEP * max(1.0, abs(base))
+            values = []
+            for sign in (1, -1):
+                x, u = x0.copy(), u0.copy()
+                if k < nx:
+                    x[k] += sign * h
+                else:
+                    u[k - nx] += sign * h
+                values.append(evaluate(x, u))
+            J[:, k] = (values[0] - values[1]) / (2 * h)
+        evaluate(x0, u0)
     A, B = J[:nx, :nx], J[:nx, nx:]
     C = np.zeros((len(output_names), nx))
     D = np.zeros((len(output_names), nu))

@@ -1,12 +1,25 @@
-"""Parameter values given on the command line (``--param NAME=VALUE``), checked against the
-model's declarations (names, numbers, ``min``/``max``) before anything is built or run."""
+"""Parameter values given on the command line (``--param NAME=VALUE``) or in system files,
+checked against the model's declarations (names, types, ``min``/``max``) before anything is
+built or run.
+
+Every FMU built here also has the parameter ``solver.fixedStepSize`` [s]: 0 (the default) lets
+the FMU's Co-Simulation solver choose its steps (error-controlled Dormand-Prince 5(4)); a value
+> 0 makes it take fixed steps of that size (the last step of a communication interval is
+shortened to end on it). It is accepted by model name and by FMU, must be finite and >= 0, and
+has no effect in Model Exchange (FMPy's CVode integrates there; ``cosim simulate`` refuses it).
+"""
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 
 from .errors import ParameterError
 from .target import is_fmu_path
+
+#: The solver parameter every FMU built by this package has (see the module docstring).
+FIXED_STEP_PARAMETER = "solver.fixedStepSize"
+_BOOLEAN_WORDS = {"true": True, "false": False, "1": True, "0": False}
 
 
 @dataclass
@@ -14,8 +27,8 @@ class Declared:
     """What a model says about one parameter or input."""
 
     name: str
-    causality: str  # parameter or input
-    type: str = "Real"
+    causality: str  # parameter, input or "start value"
+    type: str = "Real"  # Real, Integer, Boolean, String or Enumeration
     unit: str | None = None
     min: float | None = None
     max: float | None = None
@@ -29,56 +42,128 @@ def split_assignment(text: str, option: str = "--param") -> tuple[str, str]:
     return name.strip(), value.strip()
 
 
-def declarations(target: str) -> dict[str, Declared]:
-    """Settable variables of an FMU file (from modelDescription.xml) or a model (from its source)."""
-    if is_fmu_path(target):
-        from fmpy import read_model_description
+def _solver_parameter() -> Declared:
+    return Declared(FIXED_STEP_PARAMETER, "parameter", "Real", "s", 0.0, None)
 
-        md = read_model_description(target)
+
+def declarations(target: str) -> dict[str, Declared]:
+    """Settable variables of an FMU file (from modelDescription.xml) or a model (from its source).
+
+    Raises
+    ------
+    FMUError
+        If ``target`` is an FMU file that cannot be read (see :func:`cosim.fmi.read_fmu`).
+    UnknownModelError, ModelicaError
+        If ``target`` is a model name that is not in the library or does not parse.
+    """
+    if is_fmu_path(target):
+        from .fmi import read_fmu
+
+        md = read_fmu(target)
 
         def number(value):
-            return None if value in (None, "") else float(value)
+            try:
+                return None if value in (None, "") else float(value)
+            except (TypeError, ValueError):
+                return None
 
         # Parameters, inputs, and states with an exact start value (settable before initialization).
-        return {v.name: Declared(v.name, v.causality if v.causality != "local" else "start value", v.type,
-                                 getattr(v, "unit", None), number(getattr(v, "min", None)),
-                                 number(getattr(v, "max", None)))
-                for v in md.modelVariables
-                if v.causality in ("parameter", "input")
-                or (v.causality == "local" and v.initial == "exact" and v.variability == "continuous")}
+        found = {v.name: Declared(v.name, v.causality if v.causality != "local" else "start value", v.type,
+                                  getattr(v, "unit", None), number(getattr(v, "min", None)),
+                                  number(getattr(v, "max", None)))
+                 for v in md.modelVariables
+                 if v.causality in ("parameter", "input")
+                 or (v.causality == "local" and v.initial == "exact" and v.variability == "continuous")}
+        solver = found.get(FIXED_STEP_PARAMETER)
+        if solver is not None and solver.min is None:  # a step size is never negative
+            solver.min = 0.0
+        return found
     from .catalog import summarize
 
     summary = summarize(target)
-    found = {s.name: Declared(s.name, "parameter", "Real", s.unit, s.min, s.max) for s in summary.parameters}
-    found.update({s.name: Declared(s.name, "input", "Real", s.unit, s.min, s.max) for s in summary.inputs})
+    found = {s.name: Declared(s.name, "parameter", getattr(s, "type", None) or "Real", s.unit, s.min, s.max)
+             for s in summary.parameters}
+    found.update({s.name: Declared(s.name, "input", getattr(s, "type", None) or "Real", s.unit, s.min, s.max)
+                  for s in summary.inputs})
+    found[FIXED_STEP_PARAMETER] = _solver_parameter()  # every FMU built here has it
     return found
 
 
-def check(values: dict, declared: dict[str, Declared]) -> dict:
-    """Validate values by name against declarations; returns them converted to the declared types."""
+def _convert(name: str, raw, d: Declared):
+    """``raw`` (a string from the command line or a TOML value) as a value of type ``d.type``."""
+    if d.type == "String":
+        if isinstance(raw, (bool, numbers.Number)) or not isinstance(raw, str):
+            raise ParameterError(f"parameter '{name}' is a String; got {raw!r}")
+        return raw
+    if d.type == "Boolean":
+        if isinstance(raw, bool):
+            return raw
+        if isinstance(raw, str) and raw.strip().lower() in _BOOLEAN_WORDS:
+            return _BOOLEAN_WORDS[raw.strip().lower()]
+        raise ParameterError(f"parameter '{name}' is a Boolean: give true or false, got {raw!r}")
+    if isinstance(raw, bool) or not isinstance(raw, (str, numbers.Real)):
+        raise ParameterError(f"parameter '{name}': expected a number, got {raw!r}")
+    try:
+        value = float(raw)
+    except (TypeError, ValueError):
+        raise ParameterError(f"parameter '{name}': '{raw}' is not a number") from None
+    except OverflowError:
+        raise ParameterError(f"parameter '{name}': value must be finite, got {raw}") from None
+    if not math.isfinite(value):
+        raise ParameterError(f"parameter '{name}': value must be finite, got {raw}")
+    if d.type in ("Integer", "Enumeration"):
+        if value != int(value):
+            raise ParameterError(f"parameter '{name}' is an {d.type}; {raw} is not a whole number")
+        if abs(value) > 2**31 - 1:
+            raise ParameterError(f"parameter '{name}' is an {d.type}; {raw} is out of range (32 bit)")
+        return int(value)
+    return value
+
+
+SIMULATE_INPUT_HINT = "give it with --input {name}=FILE.csv or --input {name}=step:T0:VALUE"
+
+
+def check(values: dict, declared: dict[str, Declared], input_hint: str | None = SIMULATE_INPUT_HINT) -> dict:
+    """Validate values by name against declarations; returns them converted to the declared types.
+
+    Parameters
+    ----------
+    values : dict
+        Name -> value (a string from ``--param`` or a TOML value).
+    declared : dict
+        From :func:`declarations`.
+    input_hint : str or None
+        How inputs are given where ``values`` come from, added to the refusal of an input
+        (``{name}`` is replaced by the input's name).
+
+    Raises
+    ------
+    ParameterError
+        Naming the parameter: unknown, an input (inputs are not constants), not a number or not
+        a whole number for an Integer, non-finite, or outside ``min``/``max``.
+    """
     checked = {}
     for name, raw in values.items():
         d = declared.get(name)
         if d is None:
             known = ", ".join(n for n, v in declared.items() if v.causality == "parameter" and "." not in n)
             raise ParameterError(f"unknown parameter '{name}'; top-level parameters are: {known}")
-        try:
-            value = float(raw)
-        except (TypeError, ValueError):
-            raise ParameterError(f"parameter '{name}': '{raw}' is not a number") from None
-        if not math.isfinite(value):
-            raise ParameterError(f"parameter '{name}': value must be finite, got {raw}")
+        if d.causality == "input":
+            how = f"; {input_hint.format(name=name)}" if input_hint else ""
+            raise ParameterError(f"'{name}' is an input, not a parameter{how}")
+        value = _convert(name, raw, d)
         unit = f" {d.unit}" if d.unit else ""
-        if d.min is not None and value < d.min:
-            raise ParameterError(f"parameter '{name}' = {value:g}{unit} is below its minimum {d.min:g}{unit}")
-        if d.max is not None and value > d.max:
-            raise ParameterError(f"parameter '{name}' = {value:g}{unit} is above its maximum {d.max:g}{unit}")
-        checked[name] = int(value) if d.type == "Integer" else (value != 0 if d.type == "Boolean" else value)
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            if d.min is not None and value < d.min:
+                raise ParameterError(f"parameter '{name}' = {value:g}{unit} is below its minimum {d.min:g}{unit}")
+            if d.max is not None and value > d.max:
+                raise ParameterError(f"parameter '{name}' = {value:g}{unit} is above its maximum {d.max:g}{unit}")
+        checked[name] = value
     return checked
 
 
 def from_command_line(target: str, assignments: list[str], extra: dict | None = None,
-                      parameter_set: str | None = None) -> dict:
+                      parameter_set: str | None = None, input_hint: str | None = SIMULATE_INPUT_HINT) -> dict:
     """``--params`` set, then ``--param`` strings, then ``extra`` values (e.g. ``--speed``),
     checked for ``target``.
 
@@ -88,7 +173,10 @@ def from_command_line(target: str, assignments: list[str], extra: dict | None = 
     if parameter_set:
         from .whipple_params import parameters_for_model
 
-        values.update(parameters_for_model(parameter_set))
-    values.update(dict(split_assignment(a) for a in assignments))
+        try:
+            values.update(parameters_for_model(parameter_set))
+        except FileNotFoundError:
+            raise ParameterError(f"--params {parameter_set}: no such bundled set or file") from None
+    values.update(dict(split_assignment(a) for a in assignments))  # a repeated name: the last wins
     values.update(extra or {})
-    return check(values, declarations(target)) if values else {}
+    return check(values, declarations(target), input_hint) if values else {}

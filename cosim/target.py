@@ -8,14 +8,16 @@ from .compiler.library import load_library
 
 
 def is_fmu_path(target: str) -> bool:
+    """A target is an FMU file if it ends in ``.fmu`` or names an existing file (else a model)."""
     return target.endswith(".fmu") or Path(target).is_file()
 
 
 def resolve_fmu(target: str, output: str | Path | None = None) -> Path:
     """The FMU of ``target``: the file itself, or the model built (if needed) into ``output``."""
     if is_fmu_path(target):
+        from .fmi import read_fmu
+
         path = Path(target)
-        if not path.is_file():
-            raise FileNotFoundError(f"{target}: no such FMU file")
+        read_fmu(path)  # FMUError naming the file and the problem if it is not a usable FMU
         return path
     return build_model(target, output or DEFAULT_OUTPUT, load_library()).fmu

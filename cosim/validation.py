@@ -106,16 +106,24 @@ def _runtime_problems(fmu: FMU) -> list[str]:
 
 
 def validate(path: str | Path) -> list[str]:
-    """All problems found in the FMU (empty list: valid)."""
+    """All problems found in the FMU (empty list: valid).
+
+    Raises
+    ------
+    FMUError
+        If the file cannot be read as an FMU at all (see :func:`cosim.fmi.read_fmu`): not a zip,
+        unsafe member names, no or broken ``modelDescription.xml``, not FMI 2.0.
+    """
     from fmpy.validation import validate_fmu
 
+    from .fmi import read_fmu
+
     path = Path(path)
-    if not path.is_file():
-        return [f"{path}: no such file"]
+    read_fmu(path)  # refuses what must not even be unpacked
     try:
         problems = [f"fmpy: {p}" for p in validate_fmu(str(path))]
-    except Exception as exc:  # not a zip, no modelDescription.xml, ...
-        return [f"cannot read the FMU: {exc}"]
+    except Exception as exc:  # FMPy's checks raise bare exceptions on odd content
+        problems = [f"fmpy: the validation stopped: {type(exc).__name__}: {exc}"]
     if problems:
         return problems  # the model description is unusable for the checks below
     with FMU(path) as fmu:

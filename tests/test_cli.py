@@ -37,12 +37,15 @@ def test_validate_fmu(fmus):
     assert result.returncode == 0 and "valid" in result.stdout, result.stdout + result.stderr
 
 
-def test_validate_reports_broken_fmu(tmp_path):
+def test_validate_reports_broken_fmu_and_checks_the_others(fmus, tmp_path):
+    """A file that is not an FMU gets one error line (exit 2); the valid FMU after it is still checked."""
     broken = tmp_path / "broken.fmu"
     broken.write_bytes(b"not a zip")
-    result = run_cli("validate", str(broken))
-    assert result.returncode != 0
-    assert "problem" in result.stdout and "Traceback" not in result.stderr
+    result = run_cli("validate", str(broken), str(fmus[MODEL]))
+    assert result.returncode == 2
+    assert f"cosim validate: error: {broken}: not an FMU: not a zip archive" in result.stderr
+    assert f"{fmus[MODEL]}: valid" in result.stdout
+    assert "Traceback" not in result.stderr and "internal error" not in result.stderr
 
 
 def test_simulate_with_csv_input_and_plot(fmus, tmp_path):

@@ -73,8 +73,9 @@ def test_gauss_seidel_loop_through_transport_delay_is_fine(fmus):
 
 
 @pytest.mark.parametrize("text,message", [
-    ('[system]\nstep = -1\n[components.a]\npython = "Step"\n', "step must be positive"),
-    ('[system]\nalgorithm = "rk4"\n[components.a]\npython = "Step"\n', "algorithm must be one of"),
+    ('[system]\nstep = -1\n[components.a]\npython = "Step"\n', "[system] step: must be > 0, got -1"),
+    ('[system]\nalgorithm = "rk4"\n[components.a]\npython = "Step"\n',
+     "[system] algorithm: must be one of jacobi, gauss-seidel, got 'rk4'"),
     ('[components.a]\npython = "Nope"\n', "unknown Python block 'Nope'"),
     ('[components.a]\npython = "Step"\nparameters = { amplitud = 1 }\n', "unknown parameter(s) amplitud"),
     ('[components.a]\npython = "Step"\nconnections = ["a.y -> a.y"]\n', "'connections' ended up inside"),
@@ -88,3 +89,79 @@ def test_cli_run_reports_bad_file(tmp_path, text, message):
     assert message in result.stderr, result.stderr
     assert "Traceback" not in result.stderr
     assert not out.exists()
+
+
+STEP = '[components.a]\npython = "Step"\n'
+# (TOML text, the one problem it has: key and expected type)
+WRONG_TYPES = {
+    "algorithm-integer": (f"[system]\nalgorithm = 5\n{STEP}",
+                          "[system] algorithm: expected a string ('jacobi' or 'gauss-seidel'), got an integer (5)"),
+    "fall-integer": (f"[system]\nfall = 3\n{STEP}", "[system] fall: expected a table { signal = "),
+    "fall-limit-string": (f'[system]\nfall = {{ signal = "a.y", limit = "1" }}\n{STEP}',
+                          "[system] fall.limit: expected a number, got a string ('1')"),
+    "stop-string": (f'[system]\nstop = "2"\n{STEP}', "[system] stop: expected a number, got a string ('2')"),
+    "step-boolean": (f"[system]\nstep = true\n{STEP}", "[system] step: expected a number, got a boolean (true)"),
+    "stop-inf": (f"[system]\nstop = inf\n{STEP}", "[system] stop: must be finite, got inf"),
+    "initialize-integer": (f"[system]\ninitialize = 1\n{STEP}",
+                           "[system] initialize: expected a boolean (true or false), got an integer (1)"),
+    "record-string": (f'[system]\nrecord = "a.y"\n{STEP}',
+                      "[system] record: expected an array of strings, got a string ('a.y')"),
+    "sampling-integer": (f"[system]\nsampling = 2\n{STEP}", "[system] sampling: expected a string"),
+    "system-integer": (f"system = 5\n{STEP}", "[system]: expected a table, got an integer (5)"),
+    "params-integer": ('[components.bike]\nmodel = "Bicycle.Bicycles.WhippleLinear"\nparams = 5\n',
+                       "[components.bike] params: expected a string, got an integer (5)"),
+    "parameters-integer": ('[components.a]\npython = "Step"\nparameters = 5\n',
+                           "[components.a] parameters: expected a table { NAME = VALUE, ... }, got an integer (5)"),
+    "parameter-array": ('[components.a]\npython = "Step"\nparameters = { amplitude = [1, 2] }\n',
+                        "[components.a] parameters amplitude: expected a number, boolean or string, got an array"),
+    "block-parameter-string": ('[components.a]\npython = "Step"\nparameters = { amplitude = "big" }\n',
+                               "component 'a' (Step): parameter 'amplitude': expected a number, got 'big'"),
+    "step-multiple-float": ('[components.a]\npython = "Step"\nstep_multiple = 1.5\n',
+                            "[components.a] step_multiple: must be a positive integer, got a number (1.5)"),
+    "component-integer": ("[components]\na = 5\n", "[components.a]: expected a table, got an integer (5)"),
+    "model-integer": ("[components.a]\nmodel = 5\n", "[components.a] model: expected a string, got an integer (5)"),
+    "connections-string": (f'connections = "a.y -> b.u"\n{STEP}',
+                           "connections: expected an array of strings, got a string"),
+    "unknown-top-level-key": (f"[component.a]\npython = 'Step'\n{STEP}", "unknown top-level keys: component"),
+}
+
+
+@pytest.mark.parametrize("case", list(WRONG_TYPES))
+def test_wrong_toml_type_in_system_file_names_file_key_and_type(tmp_path, case):
+    text, message = WRONG_TYPES[case]
+    path = tmp_path / "system.toml"
+    path.write_text(text)
+    out = tmp_path / "out.csv"
+    result = run_cli("run", str(path), "-o", str(out))
+    assert result.returncode == 2, result.stdout + result.stderr
+    assert "Traceback" not in result.stderr and "internal error" not in result.stderr, result.stderr
+    assert f"cosim run: error: {path}: {message}" in result.stderr, result.stderr
+    assert not out.exists()
+
+
+def test_system_file_problems_are_all_listed_in_one_message(tmp_path):
+    """As FMPy's validation does: every problem of the file, not only the first."""
+    from cosim.cosimulation.system import SystemError_, load_system
+
+    path = tmp_path / "system.toml"
+    path.write_text('[system]\nalgorithm = 5\nfall = 3\nstop = inf\n[components.bike]\n'
+                    'model = "Bicycle.Bicycles.WhippleLinear"\nparams = 5\n')
+    with pytest.raises(SystemError_) as info:
+        load_system(path)
+    text = str(info.value)
+    assert text.startswith(f"{path}: 4 problems: ")
+    for key in ("[system] algorithm", "[system] fall", "[system] stop", "[components.bike] params"):
+        assert f"{key}: " in text
+    assert "\n" not in text
+
+
+@pytest.mark.parametrize("content,message", [
+    (b"\xff\xfe[system]\n", "not UTF-8 text (byte 0)"),
+    (b"[system\n", "Expected ']'"),
+], ids=["not-utf8", "toml-syntax"])
+def test_unreadable_system_file_names_the_file(tmp_path, content, message):
+    path = tmp_path / "system.toml"
+    path.write_bytes(content)
+    result = run_cli("run", str(path), "-o", str(tmp_path / "out.csv"))
+    assert result.returncode == 2 and "Traceback" not in result.stderr
+    assert f"cosim run: error: {path}: " in result.stderr and message in result.stderr, result.stderr

@@ -1,19 +1,37 @@
-"""`cosim build`: Modelica model -> FMU, incremental and in parallel."""
+"""`cosim build`: Modelica model -> FMU, incremental and in parallel.
+
+Safe to run concurrently and to kill:
+
+- a build of one model into one folder holds an exclusive lock (``OUTPUT/.NAME.fmu.lock``,
+  ``flock``): a second build of the same model into the same folder waits, then finds the FMU
+  up to date; the FMU itself is written to a temporary name and renamed when complete;
+- the pool workers of a parallel build die with their parent (``kill -9`` of `cosim build`
+  included): they stop their compilers, remove their temporary files and exit, and never
+  write an FMU after the command is gone.
+"""
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
 import platform
+import shutil
+import signal
 import tempfile
+import time
 import uuid
 from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
 from .. import __version__
-from ..errors import CosimError
+from ..errors import BuildError, CosimError, ModelicaError, OutputError, ParameterError
+from ..outputs import check_output_folder
+from ..processes import die_with_parent
+from . import fmu as fmu_files
 from .codegen import RUNTIME_DIR, casadi_functions, write_sources
 from .description import describe
 from .flatten import flatten
@@ -76,20 +94,93 @@ def fmu_path(model_name: str, output: Path) -> Path:
     return Path(output) / f"{model_name.replace('.', '_')}.fmu"
 
 
+# --- one build of a model into a folder at a time ---------------------------------------------
+
+_held_locks: set[Path] = set()  # lock files this process holds (removed if it is abandoned)
+
+
+@contextlib.contextmanager
+def _build_lock(target: Path):
+    """Hold the exclusive lock of building ``target`` (``.NAME.fmu.lock`` beside it).
+
+    The lock file is removed when the lock is released, so none is left behind. A process
+    that waited on a file that was removed meanwhile finds a different (or no) file under the
+    name after locking and tries again: only the file currently under the name counts.
+    """
+    import fcntl
+
+    lock = target.parent / f".{target.name}.lock"
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        while True:
+            fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX)  # waits while another build of this model runs
+                if os.path.samestat(os.fstat(fd), os.stat(lock)):
+                    break
+            except FileNotFoundError:
+                pass
+            except BaseException:
+                os.close(fd)
+                raise
+            os.close(fd)
+    except OSError as exc:
+        raise OutputError(f"output folder '{target.parent}': cannot lock {lock.name}: "
+                          f"{exc.strerror or exc}") from None
+    _held_locks.add(lock)
+    try:
+        yield
+    finally:
+        _held_locks.discard(lock)
+        with contextlib.suppress(OSError):
+            os.unlink(lock)
+        os.close(fd)
+
+
+def _remove_stale_lock(target: Path) -> None:
+    """Remove the lock file a killed build left, unless a live build holds it."""
+    import fcntl
+
+    lock = target.parent / f".{target.name}.lock"
+    try:
+        fd = os.open(lock, os.O_RDWR)
+    except OSError:
+        return
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        if os.path.samestat(os.fstat(fd), os.stat(lock)):
+            os.unlink(lock)
+    except OSError:
+        pass  # held by a live build (or already gone): not stale
+    finally:
+        os.close(fd)
+
+
 def build_model(model_name: str, output: str | Path = DEFAULT_OUTPUT, library: Library | None = None,
                 force: bool = False) -> BuildResult:
     """Compile one Modelica model to ``OUTPUT/<identifier>.fmu`` (ME + CS), unless up to date.
 
+    A concurrent build of the same model into the same folder is waited for (then the FMU is
+    usually up to date); the FMU appears under its name only when complete.
+
     Raises
     ------
     UnknownModelError, ModelicaError, ModelStructureError, ParameterError, BuildError
+    OutputError
+        If the output folder cannot be written (before any work) or the FMU cannot be stored.
     """
-    import time
-
     started = time.perf_counter()
+    output = check_output_folder(output)
     library = library or load_library()
     entry = library.entry(model_name)
-    target = fmu_path(model_name, Path(output))
+    target = fmu_path(model_name, output)
+    if target.is_dir():
+        raise OutputError(f"cannot write the FMU '{target}': a folder of that name is in the way")
+    with _build_lock(target):
+        return _build_locked(model_name, target, library, entry, force, started)
+
+
+def _build_locked(model_name, target, library, entry, force, started) -> BuildResult:
     manifest = read_manifest(target) if target.exists() else None
     # Fast path: no source file and no part of the compiler changed since the FMU was built.
     sources_digest = hashlib.sha256((library.digest() + compiler_digest()).encode()).hexdigest()
@@ -110,7 +201,7 @@ def build_model(model_name: str, output: str | Path = DEFAULT_OUTPUT, library: L
     versions = _tool_versions()
     tool = f"cosim {versions['cosim']} (pymoca {versions['pymoca']}, CasADi {versions['casadi']})"
 
-    with tempfile.TemporaryDirectory(prefix="cosim-build-") as tmp:
+    with _scratch_folder() as tmp:
         staging = Path(tmp) / "fmu"
         sources = staging / "sources"
         files = write_sources(info, model, sources)
@@ -133,6 +224,72 @@ def build_model(model_name: str, output: str | Path = DEFAULT_OUTPUT, library: L
     return BuildResult(model_name, target, True, time.perf_counter() - started)
 
 
+# --- pool workers die with their parent (cosim.processes), leaving nothing behind ------------
+
+_scratch: set[Path] = set()  # temporary build folders of this process (removed if it is abandoned)
+_scratch_root: Path | None = None  # in a pool worker: the parallel build's folder for temporary files
+_PARENT_POLL = 0.2  # s between two looks of the watchdog at the parent
+
+
+@contextlib.contextmanager
+def _scratch_folder():
+    """A temporary folder, registered so that an abandoned worker removes it."""
+    with tempfile.TemporaryDirectory(prefix="cosim-build-", dir=_scratch_root) as tmp:
+        _scratch.add(Path(tmp))
+        try:
+            yield tmp
+        finally:
+            _scratch.discard(Path(tmp))
+
+
+def _stop_children(timeout: float = 2.0) -> None:
+    """SIGTERM to every descendant (gcc removes its temporary files on it), SIGKILL after
+    ``timeout`` seconds to any that is left."""
+    try:
+        import psutil  # a dependency of dask.distributed
+    except ImportError:
+        return
+    try:
+        children = psutil.Process().children(recursive=True)
+    except psutil.Error:
+        return
+    for child in children:
+        with contextlib.suppress(psutil.Error):
+            child.terminate()
+    _, alive = psutil.wait_procs(children, timeout=timeout)
+    for child in alive:
+        with contextlib.suppress(psutil.Error):
+            child.kill()
+
+
+def _clean_up_worker() -> None:
+    """Leave nothing behind: stop the compiler, remove the temporary folder, the partial FMU
+    and the lock. Run by :func:`cosim.processes.die_with_parent` when the parent has died."""
+    _stop_children()
+    for folder in list(_scratch):
+        shutil.rmtree(folder, ignore_errors=True)
+    if _scratch_root is not None:
+        with contextlib.suppress(OSError):
+            _scratch_root.rmdir()  # the last worker to go removes the build's folder
+    for path in list(fmu_files.PARTIALS) + list(_held_locks):
+        with contextlib.suppress(OSError):
+            os.unlink(path)
+
+
+def _init_worker(parent: int, scratch_root: str | None = None) -> None:
+    """Initializer of a pool worker: end (cleanly) as soon as ``parent`` is gone.
+
+    Temporary build folders go into ``scratch_root``, which the parent removes when the build
+    ends: so even a worker killed with SIGKILL leaves nothing behind. The parent-death signal is
+    SIGTERM with a cleanup handler, and a watchdog covers a parent that died before this ran and
+    a main thread busy in C. Ctrl-C is left to the parent, which stops the workers with SIGTERM.
+    """
+    global _scratch_root
+    _scratch_root = Path(scratch_root) if scratch_root else None
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    die_with_parent(parent, poll=_PARENT_POLL, cleanup=_clean_up_worker)
+
+
 def _build_one(args):
     model_name, output, library_path, force = args
     try:
@@ -141,24 +298,100 @@ def _build_one(args):
         return exc
 
 
+def _stop_pool(pool: ProcessPoolExecutor) -> None:
+    """Cancel what has not started and stop the running workers (they clean up on SIGTERM)."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())  # no public API before Python 3.14
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        with contextlib.suppress(Exception):
+            process.terminate()
+    for process in processes:
+        process.join(timeout=5)
+        if process.is_alive():
+            process.kill()
+
+
+def _run_parallel(tasks: list[tuple], jobs: int) -> list:
+    scratch_root = tempfile.mkdtemp(prefix="cosim-build-")
+    try:
+        return _run_pool(tasks, jobs, scratch_root)
+    finally:
+        shutil.rmtree(scratch_root, ignore_errors=True)
+
+
+def _run_pool(tasks: list[tuple], jobs: int, scratch_root: str) -> list:
+    pool = ProcessPoolExecutor(max_workers=min(jobs, len(tasks)), initializer=_init_worker,
+                               initargs=(os.getpid(), scratch_root))
+    try:
+        futures = [pool.submit(_build_one, task) for task in tasks]
+        results = []
+        for task, future in zip(tasks, futures):
+            try:
+                results.append(future.result())
+            except BrokenProcessPool:
+                _remove_stale_lock(fmu_path(task[0], Path(task[1])))
+                results.append(BuildError(f"{task[0]}: a build worker died unexpectedly (killed, or out of "
+                                          "memory?) while this model was built or waiting; nothing was "
+                                          "written for it"))
+    except BaseException:
+        _stop_pool(pool)
+        raise
+    pool.shutdown(wait=True)
+    return results
+
+
+def _combined(errors: list[Exception]) -> Exception:
+    """The first error; with more than one, its message lists the others too."""
+    first = errors[0]
+    if len(errors) == 1:
+        return first
+    others = "\n  ".join(str(e).splitlines()[0] for e in errors[1:])
+    text = f"{first}\n{len(errors) - 1} more failed:\n  {others}"
+    try:
+        combined = type(first)(text)
+    except Exception:
+        combined = BuildError(text)
+    return combined
+
+
 def build(models: list[str] | None = None, output: str | Path = DEFAULT_OUTPUT, jobs: int = 1,
           library_path: str | None = None, force: bool = False) -> list[BuildResult]:
     """Build several models (default: every exported model), ``jobs`` at a time.
 
     All models are attempted; if any fails, the first error is raised after the others finished
-    (their FMUs are complete, the failed one leaves nothing behind).
+    (their FMUs are complete, the failed one leaves nothing behind; the error's ``results``
+    attribute holds what was built). A model of a Modelica file that did not parse fails with
+    that file's error; without a list of models, every such file counts as a failure.
+
+    Raises
+    ------
+    ParameterError
+        If ``jobs`` < 1.
+    OutputError
+        If ``output`` cannot be a writable folder (before any work).
+    UnknownModelError
+        If a name is not a model of the library (before any work).
     """
+    if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
+        raise ParameterError(f"-j/--jobs must be >= 1, got {jobs!r}")
+    output = check_output_folder(output)
     library = load_library(library_path)
-    names = models or [e.name for e in library.models(exported_only=True)]
+    names = list(dict.fromkeys(models)) if models else [e.name for e in library.models(exported_only=True)]
     for name in names:
-        library.entry(name)  # unknown names fail before any work starts
+        try:
+            library.entry(name)  # unknown names fail before any work starts
+        except ModelicaError:
+            pass  # a model of a file that did not parse fails in its turn; the others are built
     tasks = [(name, str(output), library_path, force) for name in names]
     if jobs > 1 and len(tasks) > 1:
-        with ProcessPoolExecutor(max_workers=jobs) as pool:
-            results = list(pool.map(_build_one, tasks))
+        results = _run_parallel(tasks, jobs)
     else:
         results = [_build_one(task) for task in tasks]
     errors = [r for r in results if isinstance(r, Exception)]
+    if not models:  # "everything" includes the files that did not parse (once each)
+        errors += [e for e in library.errors.values() if not any(str(e) in str(r) for r in errors)]
     if errors:
-        raise errors[0]
+        error = _combined(errors)
+        error.results = [r for r in results if isinstance(r, BuildResult)]
+        raise error
     return results

@@ -52,6 +52,21 @@ def _c_double(value) -> str:
     return repr(float(value)) if value is not None else "0.0"
 
 
+def _c_string(text: str) -> str:
+    """``text`` as a C string literal: printable ASCII as is, everything else as octal escapes
+    of its UTF-8 bytes (an octal escape ends after three digits, so no digit can join it)."""
+    out = []
+    for byte in text.encode("utf-8"):
+        char = chr(byte)
+        if char in '"\\?':  # '?' too: no trigraphs
+            out.append("\\" + char)
+        elif 0x20 <= byte < 0x7F:
+            out.append(char)
+        else:
+            out.append(f"\\{byte:03o}")
+    return '"' + "".join(out) + '"'
+
+
 def _array(ctype: str, name: str, items: list[str]) -> str:
     body = ", ".join(items) if items else "0"
     return f"static const {ctype} {name}[{max(1, len(items))}] = {{{body}}};\n"
@@ -83,6 +98,7 @@ def model_c(info: ModelInfo, functions: list[ca.Function]) -> str:
     calc, start, evaluate, jvp = functions
     types = [f"COSIM_{v.type.upper()}" for v in info.variables]
     starts = [_c_double(v.start) for v in info.variables]
+    names = [_c_string(v.name) for v in info.variables]
     calculated_start = ["1" if v.initial == "calculated" else "0" for v in info.by_role("state")]
     s = info.sizes
     return (
@@ -91,6 +107,7 @@ def model_c(info: ModelInfo, functions: list[ca.Function]) -> str:
         + _array("cosim_type", "types", types)
         + _array("double", "start", starts)
         + _array("unsigned char", "state_start_calculated", calculated_start)
+        + _array("char *const", "names", names)
         + "\n"
         + _wrapper(calc, "const double *p, double *c", ["p"], ["c"])
         + _wrapper(start, "const double *p, double *x0", ["p"], ["x0"])
@@ -105,7 +122,8 @@ def model_c(info: ModelInfo, functions: list[ca.Function]) -> str:
         f"    {info.default_tolerance!r},\n"
         f"    {info.fixed_step_vr},\n"
         "    types, start, state_start_calculated,\n"
-        "    call_calc, call_start, call_eval, call_jvp\n"
+        "    call_calc, call_start, call_eval, call_jvp,\n"
+        "    names\n"
         "};\n"
     )
 

@@ -126,7 +126,7 @@ def describe(entry: ModelEntry, flat: FlatModel, model: ExplicitModel) -> ModelI
         add(s.name, "parameter", "parameter", "fixed", "exact", float(s.start), s.python_type)
     add(FIXED_STEP_PARAMETER, "parameter", "parameter", "fixed", "exact", 0.0,
         description="Co-simulation: fixed integration step size (0 = error-controlled Dormand-Prince 5(4))",
-        unit="s")
+        unit="s", min=0.0)
     for s in model.calculated:
         add(s.name, "calculated", "calculatedParameter", "fixed", "calculated", None, s.python_type)
     for s in model.algebraics:

@@ -9,13 +9,15 @@ import tempfile
 import zipfile
 from pathlib import Path
 
-from ..errors import BuildError
+from ..errors import BuildError, OutputError
 
 CFLAGS = ["-std=c99", "-fPIC", "-shared", "-fvisibility=hidden", "-Wall"]
 # gcc -O2 on the straight-line code CasADi generates for large models (the nonlinear Whipple
 # bicycle: 700 kB) takes minutes; -O1 is about 3x faster to compile at little run-time cost.
 LARGE_SOURCE = 300_000  # bytes of C above which -O1 is used
 MANIFEST = "documentation/build.json"
+# Partial FMUs this process is writing (an abandoned build worker removes them, see build.py).
+PARTIALS: set[Path] = set()
 
 
 def platform_folder() -> str:
@@ -34,17 +36,30 @@ def compile_binary(sources: Path, identifier: str, target: Path, cc: str | None 
     size = sum(Path(f).stat().st_size for f in c_files)
     optimization = "-O1" if size > LARGE_SOURCE else "-O2"
     command = [compiler, *CFLAGS, optimization, f"-I{sources}", "-o", str(target), *c_files, "-lm"]
-    result = subprocess.run(command, capture_output=True, text=True)
+    try:
+        result = subprocess.run(command, capture_output=True, text=True, errors="replace")
+    except OSError as exc:
+        raise BuildError(f"{identifier}: cannot run the C compiler '{compiler}': {exc.strerror or exc}") from None
     if result.returncode != 0:
         tail = "\n".join(result.stderr.strip().splitlines()[-30:])
         raise BuildError(f"{identifier}: C compilation failed:\n{tail}")
 
 
 def pack(staging: Path, destination: Path) -> None:
-    """Zip ``staging`` into ``destination``; the file appears only when complete."""
-    destination.parent.mkdir(parents=True, exist_ok=True)
-    fd, partial = tempfile.mkstemp(prefix=f".{destination.name}.", suffix=".partial", dir=destination.parent)
+    """Zip ``staging`` into ``destination``; the file appears only when complete.
+
+    Raises
+    ------
+    OutputError
+        If the FMU cannot be written (folder not writable, disk full, a folder in the way).
+    """
+    try:
+        destination.parent.mkdir(parents=True, exist_ok=True)
+        fd, partial = tempfile.mkstemp(prefix=f".{destination.name}.", suffix=".partial", dir=destination.parent)
+    except OSError as exc:
+        raise OutputError(f"cannot write the FMU '{destination}': {exc.strerror or exc}") from None
     os.close(fd)
+    PARTIALS.add(Path(partial))
     try:
         with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as archive:
             for path in sorted(staging.rglob("*")):
@@ -55,9 +70,14 @@ def pack(staging: Path, destination: Path) -> None:
                     archive.writestr(info, path.read_bytes())
         os.chmod(partial, 0o644)
         os.replace(partial, destination)
+    except OSError as exc:
+        Path(partial).unlink(missing_ok=True)
+        raise OutputError(f"cannot write the FMU '{destination}': {exc.strerror or exc}") from None
     except BaseException:
         Path(partial).unlink(missing_ok=True)
         raise
+    finally:
+        PARTIALS.discard(Path(partial))
 
 
 def read_manifest(fmu: Path) -> dict | None:

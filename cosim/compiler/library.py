@@ -3,11 +3,17 @@
 One class per file (Modelica Standard Library layout): ``Bicycle/Components/RearFrame.mo``
 holds ``Bicycle.Components.RearFrame``; a ``package.mo`` holds its package and any classes
 nested in it.
+
+A file that cannot be read or parsed (not UTF-8, empty, a syntax error, a class that does not
+match the file's place in the library) does not stop the others: its error is recorded in
+:attr:`Library.errors` and raised only for the models that are defined in it or use its
+classes (:meth:`Library.entry`, :meth:`Library.broken_class`).
 """
 from __future__ import annotations
 
 import hashlib
 import os
+import re
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
@@ -25,6 +31,8 @@ def _bundled_library() -> Path:
 
 DEFAULT_LIBRARY = _bundled_library()
 
+CLASS_KEYWORDS = r"(?:model|block|class|connector|record|package|function|type|operator)"
+
 
 def library_path(path: str | os.PathLike | None = None) -> Path:
     """The folder that holds the top-level Modelica packages.
@@ -34,6 +42,8 @@ def library_path(path: str | os.PathLike | None = None) -> Path:
     """
     chosen = path or os.environ.get("COSIM_MODELICA_PATH") or DEFAULT_LIBRARY
     chosen = Path(chosen).resolve()
+    if chosen.is_file():
+        raise ModelicaError(f"{chosen}: is a file; the Modelica library must be a folder of packages")
     if not chosen.is_dir():
         raise ModelicaError(f"{chosen}: Modelica library folder not found")
     return chosen
@@ -53,12 +63,60 @@ class ModelEntry:
     @property
     def exported(self) -> bool:
         """True where the class carries ``annotation(__Cosim(export = true))``."""
-        return bool(self.annotation.get("__Cosim", {}).get("export", False))
+        cosim = self.annotation.get("__Cosim")
+        return isinstance(cosim, dict) and cosim.get("export") is True
 
     @property
     def experiment(self) -> dict:
-        """The ``experiment(...)`` annotation as a dict (StartTime, StopTime, Tolerance, Interval)."""
-        return dict(self.annotation.get("experiment", {}))
+        """The ``experiment(...)`` annotation as a dict (StartTime, StopTime, Tolerance, Interval).
+
+        Raises
+        ------
+        ModelicaError
+            If an entry is not a finite literal number, Tolerance or Interval is not positive or
+            StopTime is not after StartTime (the FMU's default experiment must make sense).
+        """
+        import math
+
+        found = self.annotation.get("experiment", {})
+
+        def refuse(what: str) -> ModelicaError:
+            where = self._where(r"\bexperiment\b")
+            return ModelicaError(f"{where}: {self.name}: annotation {what}")
+
+        if not isinstance(found, dict):
+            raise refuse(f"experiment must be experiment(...), got {_describe_value(found)}")
+        found = dict(found)
+        for key, value in found.items():
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise refuse(f"experiment({key} = ...) must be a finite literal number, got {_describe_value(value)}")
+        for key in ("Tolerance", "Interval"):
+            if key in found and found[key] <= 0:
+                raise refuse(f"experiment({key} = {found[key]}) must be positive")
+        if found.get("StopTime", math.inf) <= found.get("StartTime", 0.0):
+            raise refuse(f"experiment: StopTime = {found['StopTime']} must be after "
+                         f"StartTime = {found.get('StartTime', 0.0)}")
+        return found
+
+    def _where(self, pattern: str) -> str:
+        file, line = locate_in_file(self.file, self.name, pattern)
+        return f"{file}:{line}" if line else str(file)
+
+
+def _describe_value(value) -> str:
+    if isinstance(value, (str, bool, int, float)) or value is None:
+        return repr(value)
+    return f"an expression ({type(value).__name__})"
+
+
+def _signed_literal(node):
+    """``-1`` (pymoca: unary minus of a literal) as the number; anything else unchanged."""
+    operator, operands = getattr(node, "operator", None), getattr(node, "operands", None)
+    if operator in ("-", "+") and operands and len(operands) == 1:
+        value = getattr(operands[0], "value", None)
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            return -value if operator == "-" else value
+    return node
 
 
 def _annotation_to_dict(modification) -> dict:
@@ -77,8 +135,79 @@ def _annotation_to_dict(modification) -> dict:
                 value = _annotation_to_dict(mod)
             elif hasattr(mod, "value"):
                 value = mod.value
+            else:  # an expression such as StopTime = 2*5: kept, refused where a number is needed
+                value = _signed_literal(mod)
         result[name] = value
     return result
+
+
+def decode_source(file: Path, data: bytes) -> str:
+    """The text of a Modelica file (UTF-8, as the Modelica specification requires).
+
+    Raises
+    ------
+    ModelicaError
+        Naming the file, and for undecodable bytes their line, column and byte offset.
+    """
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        before = data[: exc.start]
+        line = before.count(b"\n") + 1
+        column = exc.start - (before.rfind(b"\n") + 1) + 1
+        raise ModelicaError(
+            f"{file}:{line}:{column}: not UTF-8: byte 0x{data[exc.start]:02x} at byte offset {exc.start} "
+            "cannot be decoded (Modelica files must be UTF-8; re-save the file as UTF-8)") from None
+    if not text.strip():
+        raise ModelicaError(f"{file}: empty file (a Modelica file must define one class)")
+    return text.removeprefix("\ufeff")
+
+
+def _parse_text(text: str):
+    """pymoca's parse of one file's text; without its on-disk cache if that cannot be written
+    (an unwritable home or XDG_CACHE_HOME must not stop the compiler)."""
+    import sqlite3
+
+    from pymoca import parser
+
+    try:
+        return parser.parse_text(text)
+    except (OSError, sqlite3.Error):
+        return parser.parse_text(text, bypass_cache=True)
+
+
+def expected_class(path: Path, file: Path) -> tuple[str, str]:
+    """``(within, class name)`` a file must declare at its place in the library (MSL layout)."""
+    parts = list(file.relative_to(path).with_suffix("").parts)
+    if parts[-1] == "package":
+        parts = parts[:-1]
+    return ".".join(parts[:-1]), parts[-1] if parts else ""
+
+
+_NOT_CODE = re.compile(r'"(?:[^"\\]|\\.)*"|//[^\n]*|/\*.*?\*/', re.DOTALL)
+
+
+def code_only(text: str) -> str:
+    """``text`` with strings and comments blanked out (newlines kept, so lines still count)."""
+    return _NOT_CODE.sub(lambda m: re.sub(r"[^\n]", " ", m.group()), text)
+
+
+def line_of(text: str, pattern: str, start: int = 0) -> int | None:
+    """1-based line of the first match of ``pattern`` in ``text`` from ``start`` (None if none)."""
+    match = re.compile(pattern, re.MULTILINE).search(text, start)
+    return text.count("\n", 0, match.start()) + 1 if match else None
+
+
+def locate_in_file(file: Path, class_name: str, pattern: str) -> tuple[Path, int | None]:
+    """``(file, line)`` of the first match of ``pattern`` in the code (not in strings or comments)
+    of ``file`` from the definition of ``class_name`` on (line None if there is none)."""
+    try:
+        text = code_only(file.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError):
+        return file, None
+    short = class_name.rsplit(".", 1)[-1]
+    start = re.search(rf"\b{CLASS_KEYWORDS}\s+{re.escape(short)}\b", text)
+    return file, line_of(text, pattern, start.start() if start else 0)
 
 
 class Library:
@@ -88,30 +217,97 @@ class Library:
     ----------
     path : path-like, optional
         Folder that contains the top-level packages (default: :func:`library_path`).
+
+    Attributes
+    ----------
+    files : list of Path
+        Every ``.mo`` file of the library.
+    errors : dict of Path to ModelicaError
+        The files that could not be read or parsed, with their error (``file:line:col``).
     """
 
     def __init__(self, path: str | os.PathLike | None = None):
-        from pymoca import parser
+        from pymoca import ast
 
         self.path = library_path(path)
         self.files = sorted(p for p in self.path.rglob("*.mo") if p.is_file())
         if not self.files:
             raise ModelicaError(f"{self.path}: no .mo files in the Modelica library folder")
-        self.tree = None
+        self.errors: dict[Path, ModelicaError] = {}
+        self.tree = ast.Tree()
+        defined: dict[str, Path] = {}  # class name -> the file that defines it
         for file in self.files:
-            text = file.read_text(encoding="utf-8")
             try:
-                parsed = parser.parse(text)
-            except parser.ModelicaSyntaxError as exc:
-                line, col = exc.lineno or 0, exc.offset or 1  # pymoca columns are 1-based
-                raise ModelicaError(f"{file}:{line}:{col}: syntax error: {exc.msg}") from None
-            except Exception as exc:  # pymoca raises plain exceptions for unsupported constructs
-                raise ModelicaError(f"{file}: cannot parse: {exc}") from None
-            if self.tree is None:
-                self.tree = parsed
-            else:
-                self.tree.extend(parsed)
+                parsed = self._parse_file(file)
+                names = self._defined_classes(file, parsed)
+                twice = next((n for n in names if n in defined), None)
+                if twice:
+                    raise ModelicaError(f"{file}: class '{twice}' is defined a second time "
+                                        f"(first in {defined[twice]}); remove one of the two")
+            except ModelicaError as exc:
+                self.errors[file] = exc
+                continue
+            defined.update(dict.fromkeys(names, file))
+            self.tree.extend(parsed)
         self.entries = {entry.name: entry for entry in self._walk(self.tree, "")}
+
+    def _parse_file(self, file: Path):
+        from pymoca import parser
+
+        try:
+            data = file.read_bytes()
+        except OSError as exc:
+            raise ModelicaError(f"{file}: cannot read: {exc.strerror or exc}") from None
+        text = decode_source(file, data)
+        try:
+            parsed = _parse_text(text)
+        except parser.ModelicaSyntaxError as exc:
+            line, col = exc.lineno or 0, exc.offset or 1  # pymoca columns are 1-based
+            raise ModelicaError(f"{file}:{line}:{col}: syntax error: {exc.msg}") from None
+        except RecursionError:
+            raise ModelicaError(f"{file}: cannot parse: expressions nested too deeply") from None
+        except Exception as exc:  # pymoca raises plain exceptions for unsupported constructs
+            raise ModelicaError(f"{file}: cannot parse: {exc}") from None
+        self._check_place(file, text, parsed)
+        return parser.file_to_tree(parsed)
+
+    def _defined_classes(self, file: Path, tree) -> list[str]:
+        """Names of the classes the file itself defines (its class and the classes nested in
+        it), not the enclosing packages its ``within`` names."""
+        within, name = expected_class(self.path, file)
+        node, prefix = tree, ""
+        for part in within.split(".") if within else []:
+            node, prefix = node.classes[part], f"{prefix}{part}."
+        found = []
+
+        def walk(cls, full):
+            found.append(full)
+            for child_name, child in cls.classes.items():
+                walk(child, f"{full}.{child_name}")
+
+        for class_name, cls in node.classes.items():
+            walk(cls, f"{prefix}{class_name}")
+        return found
+
+    def _check_place(self, file: Path, text: str, parsed) -> None:
+        """A file must hold the one class its path names, ``within`` its folder's package."""
+        within, name = expected_class(self.path, file)
+        declared_within = ".".join(parsed.within[0].to_tuple()) if parsed.within else ""
+        classes = list(parsed.classes)
+        if not classes:
+            raise ModelicaError(f"{file}: defines no class (expected '{name}')")
+        if not name:  # a package.mo at the top of the library folder: no place to check
+            return
+        if declared_within != within:
+            line = line_of(text, r"^\s*within\b") or 1
+            expected = f"within {within};" if within else "within;"
+            raise ModelicaError(f"{file}:{line}: '{expected}' expected for a file at this place in the library, "
+                                f"found 'within {declared_within};'" if parsed.within else
+                                f"{file}:{line}: '{expected}' expected as the first statement")
+        if classes != [name]:
+            line = line_of(text, rf"\b{CLASS_KEYWORDS}\s+{re.escape(classes[0])}\b") or 1
+            raise ModelicaError(f"{file}:{line}: the file must define exactly the class '{name}' "
+                                f"(its file name), found {', '.join(repr(c) for c in classes)}")
 
     def digest(self) -> str:
         """SHA-256 over every source file (name and content): changes when any source changes."""
@@ -121,7 +317,10 @@ class Library:
         for file in self.files:
             h.update(str(file.relative_to(self.path)).encode())
             h.update(b"\0")
-            h.update(file.read_bytes())
+            try:
+                h.update(file.read_bytes())
+            except OSError:  # recorded in self.errors; an unreadable file still changes the digest
+                h.update(b"\0unreadable")
         self._digest = h.hexdigest()
         return self._digest
 
@@ -133,6 +332,25 @@ class Library:
                 if candidate.is_file():
                     return candidate
         return self.path
+
+    def file_of(self, class_name: str) -> Path:
+        """The file that defines ``class_name`` (or its innermost enclosing package)."""
+        return self._file_of(class_name)
+
+    def locate(self, class_name: str, pattern: str) -> tuple[Path, int | None]:
+        """The file of ``class_name`` and the line of the first match of the regular expression
+        ``pattern`` inside its definition (None if there is none)."""
+        return locate_in_file(self._file_of(class_name), class_name, pattern)
+
+    def where(self, candidates: list[tuple[str, str]]) -> tuple[str, str]:
+        """``(file:line, class name)`` of the first ``(class name, pattern)`` that matches, else
+        the file of the first class and that class."""
+        for class_name, pattern in candidates:
+            file, line = self.locate(class_name, pattern)
+            if line is not None:
+                return f"{file}:{line}", class_name
+        first = candidates[0][0] if candidates else ""
+        return str(self._file_of(first) if first else self.path), first
 
     def _walk(self, node, prefix):
         for name, cls in node.classes.items():
@@ -147,18 +365,71 @@ class Library:
             )
             yield from self._walk(cls, full + ".")
 
+    def broken_classes(self) -> dict[str, Path]:
+        """Class name -> file for every file that did not parse (the class its path names)."""
+        found = {}
+        for file in self.errors:
+            within, name = expected_class(self.path, file)
+            if name:
+                found[f"{within}.{name}" if within else name] = file
+        return found
+
+    def broken_class(self, name: str, scope: str = "") -> tuple[str, Path] | None:
+        """The broken class (and its file) that ``name``, looked up from ``scope``, refers to.
+
+        Modelica looks a name up in the enclosing scopes from the innermost outwards; every
+        candidate ``scope[:k].name`` that is, or lies inside, a class of a broken file counts.
+        """
+        broken = self.broken_classes()
+        if not broken:
+            return None
+        parts = scope.split(".") if scope else []
+        for n in range(len(parts), -1, -1):
+            candidate = ".".join(parts[:n] + [name]) if n else name
+            for cls, file in broken.items():
+                if candidate == cls or candidate.startswith(cls + "."):
+                    return cls, file
+        return None
+
+    def broken_error(self, name: str, scope: str = "", user: str | None = None) -> ModelicaError | None:
+        """The error to report when ``user`` needs ``name`` and it lies in a broken file."""
+        hit = self.broken_class(name, scope)
+        if hit is None:
+            return None
+        cls, file = hit
+        need = f"{user} is defined in this file" if user in (None, cls) or user.startswith(cls + ".") \
+            else f"{user} uses {cls}, which is defined in this file"
+        return ModelicaError(f"{self.errors[file]} ({need})")
+
     def models(self, exported_only: bool = False) -> list[ModelEntry]:
         """Non-partial models and blocks, in library order."""
         found = [e for e in self.entries.values() if e.kind in ("model", "block") and not e.partial]
         return [e for e in found if e.exported] if exported_only else found
 
     def entry(self, name: str) -> ModelEntry:
-        """The model called ``name``; :class:`UnknownModelError` lists the known models otherwise."""
+        """The model called ``name``.
+
+        Raises
+        ------
+        ModelicaError
+            If ``name`` is defined in a file that did not parse (the file's error).
+        UnknownModelError
+            Otherwise, if there is no such model; the message lists the known models.
+        """
         entry = self.entries.get(name)
-        if entry is None or entry.kind not in ("model", "block") or entry.partial:
-            known = "\n  ".join(e.name for e in self.models())
-            raise UnknownModelError(f"unknown model '{name}'; the library at {self.path} has:\n  {known}")
-        return entry
+        if entry is not None and entry.kind in ("model", "block") and not entry.partial:
+            return entry
+        if entry is None:
+            broken = self.broken_error(name, user=name)
+            if broken is not None:
+                raise broken
+            problem = f"unknown model '{name}'"
+        elif entry.partial:
+            problem = f"'{name}' is a partial {entry.kind} ({entry.file}): extend it in a model to build it"
+        else:
+            problem = f"'{name}' is a {entry.kind} ({entry.file}), not a model or block"
+        known = "\n  ".join(e.name for e in self.models())
+        raise UnknownModelError(f"{problem}; the library at {self.path} has:\n  {known}")
 
 
 @lru_cache(maxsize=4)

@@ -9,6 +9,7 @@ constraint on states: index > 1) is reported with the variables involved.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 
 import casadi as ca
@@ -85,7 +86,8 @@ class _Translator:
     """Maps pymoca's MX symbols to scalar SX symbols (arrays are split into their elements)
     and MX expressions to SX expressions."""
 
-    def __init__(self, mx_symbols):
+    def __init__(self, mx_symbols, model_name: str = "the model"):
+        self.model_name = model_name
         self.mx = list(mx_symbols)
         self.elements: dict[str, list] = {}
         self.sx = []
@@ -98,7 +100,13 @@ class _Translator:
         if not expressions:
             return ca.SX(0, 1)
         mx = ca.vertcat(*[ca.vec(ca.MX(e)) for e in expressions])
-        f = ca.Function("translate", self.mx, [mx], {"allow_free": False})
+        try:
+            f = ca.Function("translate", self.mx, [mx], {"allow_free": False})
+        except RuntimeError as exc:
+            free = re.search(r"variables \[(.*?)\] are free", str(exc))
+            names = free.group(1) if free else "unknown symbols"
+            raise ModelStructureError(f"{self.model_name}: the equations use {names}, which are not "
+                                      "variables, parameters or constants of the model") from None
         return f(*self.sx)
 
     def scalars(self, variables) -> list:
@@ -137,6 +145,8 @@ def make_explicit(flat: FlatModel) -> ExplicitModel:
         raise ModelStructureError(
             f"{name}: initial equations are not supported; give the states start values with fixed = true")
 
+    _refuse_initialization_attributes(flat)
+
     for v in m.parameters:
         if isinstance(v.value, float) and math.isnan(v.value):
             raise ParameterError(f"{name}: parameter '{v.symbol.name()}' has no value")
@@ -146,7 +156,7 @@ def make_explicit(flat: FlatModel) -> ExplicitModel:
     mx_symbols = ([m.time] + [v.symbol for v in m.states] + [v.symbol for v in m.der_states]
                   + [v.symbol for v in alg] + [v.symbol for v in m.inputs]
                   + [v.symbol for v in m.parameters] + [v.symbol for v in constants])
-    tr = _Translator(mx_symbols)
+    tr = _Translator(mx_symbols, name)
     pick = tr.scalars
     t = tr.sx[0]
     x, xd, z, u = pick(m.states), pick(m.der_states), pick(alg), pick(m.inputs)
@@ -244,6 +254,54 @@ def make_explicit(flat: FlatModel) -> ExplicitModel:
         calculated=symbols(calculated),
         algebraics=symbols(alg),
     )
+
+
+def _refuse_initialization_attributes(flat: FlatModel) -> None:
+    """Refuse ``fixed`` attributes that would need an initialization problem to be solved.
+
+    The FMU starts every state exactly at its start value (``initial = "exact"``), computed
+    from the parameters; it solves no initialization problem. That is what ``fixed = true``
+    means, and what Modelica tools do for a state without a ``fixed`` attribute when no
+    initial equation determines it (they fix its start value). The compiler refuses (rather than
+    honours with an initial solve) the attributes that ask for more, because without initial
+    equations there is nothing to solve: an explicit ``fixed = false`` on a state (its start
+    value is only a guess; some initial equation must determine it), ``fixed = false`` on a
+    parameter (a parameter computed during initialization) and ``fixed = true`` on a variable
+    that is not a state (an initial equation ``v = start``). Initial equations themselves are
+    refused before this check. Taking the start value as exact instead would silently start
+    the model from a state its author said was not the initial one.
+
+    Raises
+    ------
+    ModelStructureError
+        Naming the variable and the file (and line) where its ``fixed`` is given.
+    """
+    m = flat.casadi
+    states = {v.symbol.name(): v for v in m.states}
+    parameters = {v.symbol.name() for v in list(m.parameters) + list(m.constants)}
+    inputs = {v.symbol.name() for v in m.inputs}
+    for name, decl in flat.declarations.items():
+        if decl.fixed is None or name in inputs:
+            continue
+        given = "fixed = <expression>" if decl.fixed == "expression" else f"fixed = {str(decl.fixed).lower()}"
+        if name in states and decl.fixed is not True:
+            start = states[name].start
+            start = f" {start:g}" if isinstance(start, (int, float)) else ""
+            problem = (f"state '{name}' has {given}: its start value{start} is then only a guess for an "
+                       "initial solve, which needs initial equations")
+            remedy = "give it fixed = true (the start value is the initial value) or remove fixed = false"
+        elif name in parameters and decl.fixed is not True:
+            problem = f"parameter '{name}' has {given}: it would be computed by initial equations"
+            remedy = "give the parameter a value (binding) instead"
+        elif name not in states and name not in parameters and decl.fixed is not False:
+            problem = (f"'{name}' is not a state but has {given}: that is an initial equation "
+                       f"{name} = start")
+            remedy = "remove fixed (only states are started from their start values)"
+        else:
+            continue
+        raise ModelStructureError(
+            f"{flat.locate(name, 'fixed')}: {flat.name}: {problem}; cosim solves no initialization "
+            f"problem (initial equations are not supported): {remedy}")
 
 
 def _structural_error(name, residual, rows, row_match, col_match, w, x, m):

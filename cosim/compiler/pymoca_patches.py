@@ -5,8 +5,19 @@ the enclosing model correctly (to the flat name ``m``) but two later passes re-p
 reference with the component path when such a name exists there, so the binding becomes
 ``frame.m = frame.m``. References that the modification resolver already made flat are
 marked here, and both re-prefixing passes leave marked references alone.
+
+Functions: pymoca names the CasADi function of a Modelica function by its dotted class name
+(``Bicycle.Functions.f``, ``Model.helper`` for a function declared inside a model), which CasADi
+refuses as a function name. The generator is given a valid identifier instead.
+
+``fixed``: pymoca gives every variable ``fixed = false`` whether it was written or not, so
+``Real x(start = 1)`` (where a tool takes the start value as the initial value) cannot be told
+from ``Real x(start = 1, fixed = false)`` (where the start value is only a guess for an initial
+solve). Symbols whose ``fixed`` was given explicitly are marked ``_cosim_fixed_given``.
 """
 from __future__ import annotations
+
+import re
 
 _applied = False
 
@@ -34,11 +45,54 @@ def _skip_marked(enter):
     return enter_component_ref
 
 
+def casadi_name(name: str) -> str:
+    """A valid CasADi function name for a dotted Modelica class name (letters, digits and single
+    underscores, starting with a letter)."""
+    cleaned = re.sub(r"[^A-Za-z0-9]+", "_", name).strip("_")
+    return cleaned if cleaned[:1].isalpha() else f"f_{cleaned}"
+
+
+def _named_functions(get_function):
+    def patched_get_function(self, function_name):
+        tree = None if function_name in self.functions else self.root.classes.get(function_name)
+        if tree is None:
+            return get_function(self, function_name)
+        original = tree.name
+        tree.name = casadi_name(str(original))
+        try:
+            return get_function(self, function_name)
+        finally:
+            tree.name = original
+
+    return patched_get_function
+
+
+def _mark_fixed(resolve):
+    def patched_resolve(symbol, arg, **kwargs):
+        result = resolve(symbol, arg, **kwargs)
+        if getattr(getattr(arg.value, "component", None), "name", None) == "fixed":
+            symbol._cosim_fixed_given = True
+        return result
+
+    return patched_resolve
+
+
+def _carry_fixed(to_ast_symbol):
+    def patched_to_ast_symbol(isym):
+        symbol = to_ast_symbol(isym)
+        if getattr(isym, "_cosim_fixed_given", False):
+            symbol._cosim_fixed_given = True
+        return symbol
+
+    return patched_to_ast_symbol
+
+
 def apply() -> None:
     """Install the patches (idempotent)."""
     global _applied
     if _applied:
         return
+    from pymoca.backends.casadi.generator import Generator
     from pymoca.tree import _flattening as flattening
     from pymoca.tree.instance import InstanceSymbol
 
@@ -57,4 +111,7 @@ def apply() -> None:
     flattening._flatten_expression_crefs = patched_flatten_expression_crefs
     for listener in (flattening.ComponentRefFlattener, flattening._EquationRefResolver):
         listener.enterComponentRef = _skip_marked(listener.enterComponentRef)
+    flattening._resolve_modification_attribute = _mark_fixed(flattening._resolve_modification_attribute)
+    flattening._instance_to_ast_symbol = _carry_fixed(flattening._instance_to_ast_symbol)
+    Generator.get_function = _named_functions(Generator.get_function)
     _applied = True

@@ -10,6 +10,7 @@ from ctypes import POINTER, c_double, c_uint
 from pathlib import Path
 
 import numpy as np
+from fmpy.fmi1 import FMICallException
 
 from ..errors import SimulationError
 
@@ -56,11 +57,42 @@ class Component:
         """Release resources."""
 
 
+class StepFailed(SimulationError):
+    """An FMU's ``fmi2DoStep`` (or a get/set around it) failed part-way through a run.
+
+    Attributes
+    ----------
+    component : str
+        The component's name.
+    time : float
+        Start of the communication step that failed [s].
+    status : int
+        The FMI status returned (2 Discard, 3 Error, 4 Fatal).
+    last_successful_time : float or None
+        ``fmi2LastSuccessfulTime`` after a Discard, where the FMU reports it [s].
+    fmu_message : str or None
+        The FMU's last logged error message.
+    """
+
+    def __init__(self, message: str, component: str, time: float, status: int,
+                 last_successful_time: float | None = None, fmu_message: str | None = None):
+        super().__init__(message)
+        self.component, self.time, self.status = component, time, status
+        self.last_successful_time, self.fmu_message = last_successful_time, fmu_message
+
+
+STATUS_NAMES = {0: "OK", 1: "Warning", 2: "Discard", 3: "Error", 4: "Fatal", 5: "Pending"}
+
+
 class FMUComponent(Component):
     """An FMI 2.0 Co-Simulation FMU behind the component protocol.
 
     Inputs and outputs are the FMU's Real variables of causality input/output; value references
     and ctypes buffers are prepared once, so a step costs three calls into the FMU.
+
+    The worst FMI status seen (``status``) decides what :meth:`close` may still call: after
+    fmi2Discard the instance is terminated and freed, after fmi2Error only freed (FMI 2.0 allows
+    no fmi2Terminate in the error state), after fmi2Fatal left alone.
     """
 
     def __init__(self, name: str, path: str | Path, parameters: dict | None = None, tolerance: float | None = None):
@@ -85,6 +117,8 @@ class FMUComponent(Component):
         self._in_ptr = self._in.ctypes.data_as(POINTER(c_double))
         self._out_ptr = self._out.ctypes.data_as(POINTER(c_double))
         self.instance = None
+        self.status = 0
+        self.last_outputs: dict[str, float] = {}  # outputs at fmi2LastSuccessfulTime after a Discard
 
     def _output_dependencies(self) -> dict[str, set[str]]:
         """Inputs each output depends on, from ModelStructure (all inputs where not stated)."""
@@ -103,14 +137,33 @@ class FMUComponent(Component):
         """A fresh FMI instance (subclasses may reuse one, see cosim.matrix.worker)."""
         self.instance = self.fmu.instantiate("cs", name=self.name)
 
+    def fmu_said(self) -> str | None:
+        """The FMU's last logged error message (None if it logged none)."""
+        log = getattr(self.instance, "log", None)
+        return log.last_error() if log is not None else None
+
+    def _call(self, what: str, function, *args):
+        """An FMPy call during set-up; a refusal becomes a SimulationError quoting the FMU."""
+        try:
+            return function(*args)
+        except FMICallException as exc:
+            self.status = max(self.status, int(getattr(exc, "status", 3) or 3))
+            said = self.fmu_said()
+            raise SimulationError(f"{self.name}: {what} failed" + (f": {said}" if said else f" ({exc})")) from None
+
     def setup(self, start_time: float) -> None:
+        self.status = 0
         self._instantiate()
         try:
             self.fmu.set(self.instance, self.parameters)
         except KeyError as exc:
             raise SimulationError(f"{self.name}: unknown parameter {exc}") from None
-        self.instance.setupExperiment(tolerance=self.tolerance, startTime=start_time)
-        self.instance.enterInitializationMode()
+        except FMICallException as exc:
+            self.status = max(self.status, int(getattr(exc, "status", 3) or 3))
+            raise SimulationError(f"{self.name}: setting the parameters failed: {self.fmu_said() or exc}") from None
+        self._call("fmi2SetupExperiment", lambda: self.instance.setupExperiment(tolerance=self.tolerance,
+                                                                               startTime=start_time))
+        self._call("fmi2EnterInitializationMode", self.instance.enterInitializationMode)
 
         # The raw C functions (argument types already declared by FMPy): no wrapper per call.
         functions = self.instance._functions
@@ -119,29 +172,53 @@ class FMUComponent(Component):
         self._do_step = functions["fmi2DoStep"]
 
     def end_initialization(self) -> None:
-        self.instance.exitInitializationMode()
+        self._call("fmi2ExitInitializationMode", self.instance.exitInitializationMode)
 
     def initial_inputs(self) -> np.ndarray:
         if len(self._in):
             self._get_real(self._component, self._in_vr, len(self._in), self._in_ptr)
         return self._in.copy()
 
+    def failed(self, what: str, t: float, status: int) -> StepFailed:
+        """Record a failed call (status 2 Discard or worse) and describe it."""
+        self.status = max(self.status, int(status))
+        last = None
+        self.last_outputs = {}
+        if status == 2:  # after fmi2Discard the FMU says how far it got, and its outputs there
+            try:
+                from fmpy.fmi2 import fmi2LastSuccessfulTime
+
+                last = float(self.instance.getRealStatus(fmi2LastSuccessfulTime))
+                values = self.instance.getReal(list(self._out_vr))
+                self.last_outputs = {f"{self.name}.{n}": float(v) for n, v in zip(self.outputs, values)}
+            except FMICallException:  # the FMU does not tell: the last communicated values remain
+                last = None
+        said = self.fmu_said()
+        message = f"{self.name}: {what} failed at t = {t:g} s (status {STATUS_NAMES.get(status, status)})"
+        if last is not None and last > t:
+            message += f", last successful time {last:g} s"
+        if said:
+            message += f": {said}"
+        return StepFailed(message, self.name, t, int(status), last, said)
+
     def set_inputs(self, values: np.ndarray) -> None:
         if len(self._in):
             self._in[:] = values
-            if self._set_real(self._component, self._in_vr, len(self._in), self._in_ptr) > 1:
-                raise SimulationError(f"{self.name}: fmi2SetReal failed")
+            status = self._set_real(self._component, self._in_vr, len(self._in), self._in_ptr)
+            if status > 1:
+                raise self.failed("fmi2SetReal", float("nan"), status)
 
     def get_outputs(self) -> np.ndarray:
         if len(self._out):
-            if self._get_real(self._component, self._out_vr, len(self._out), self._out_ptr) > 1:
-                raise SimulationError(f"{self.name}: fmi2GetReal failed")
+            status = self._get_real(self._component, self._out_vr, len(self._out), self._out_ptr)
+            if status > 1:
+                raise self.failed("fmi2GetReal", float("nan"), status)
         return self._out
 
     def step(self, t: float, h: float) -> None:
         status = self._do_step(self._component, t, h, 1)
         if status > 1:  # fmi2Discard or worse
-            raise SimulationError(f"{self.name}: fmi2DoStep failed at t = {t:g} s (status {status})")
+            raise self.failed("fmi2DoStep", t, status)
 
     def get_state(self):
         return self.instance.getFMUstate()
@@ -150,10 +227,22 @@ class FMUComponent(Component):
         self.instance.setFMUstate(state)
 
     def close(self) -> None:
-        if self.instance is not None:
+        """Terminate (where FMI allows it) and free the instance; raises only if fmi2Terminate
+        fails after a run without failures."""
+        instance, self.instance = self.instance, None
+        error = None
+        if instance is not None and self.status < 4:
+            if self.status < 3:
+                try:
+                    instance.terminate()
+                except Exception as exc:
+                    if self.status == 0:  # a run that went well must not hide this
+                        said = instance.log.last_error() if getattr(instance, "log", None) else None
+                        error = SimulationError(f"{self.name}: fmi2Terminate failed: {said or exc}")
             try:
-                self.instance.terminate()
-            finally:
-                self.instance.freeInstance()
-                self.instance = None
+                instance.freeInstance()
+            except Exception:  # nothing more can be done for this instance
+                pass
         self.fmu.close()
+        if error is not None:
+            raise error

@@ -93,12 +93,20 @@ def lqr_gains(params: str | dict, v: float, q_roll: float = 10.0, q_steer: float
     from ..analytic.parameters import load_parameters
     from ..analytic.whipple import state_matrices
 
-    p = load_parameters(params) if isinstance(params, str) else params
-    A, B = state_matrices(p, v)
+    try:
+        p = load_parameters(params) if isinstance(params, str) else params
+        A, B = state_matrices(p, v)
+    except FileNotFoundError:
+        raise ParameterError(f"parameter 'params': no such bundled parameter set or file '{params}'") from None
+    except ValueError as exc:  # an invalid parameter set, named by the analytic model
+        raise ParameterError(f"parameter 'params': {exc}") from None
     if min(q_roll, q_steer, q_rates) < 0 or r <= 0:
         raise ParameterError("LQR weights must be non-negative and r positive")
     Q = np.diag([q_roll, q_steer, q_rates, q_rates])
-    K, _, _ = control.lqr(A, B[:, [1]], Q, np.array([[r]]))
+    try:
+        K, _, _ = control.lqr(A, B[:, [1]], Q, np.array([[r]]))
+    except Exception as exc:  # python-control raises ControlArgument, LinAlgError, ValueError
+        raise ParameterError(f"no LQR design for these weights at v = {v:g} m/s: {exc}") from None
     return {f"K{k + 1}": float(K[0, k]) for k in range(4)}
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 import inspect
 from pathlib import Path
 
-from ..errors import ParameterError
+from ..errors import FMUError, ParameterError
 from . import blocks, controllers
 from .component import Component, FMUComponent
 from .system import SystemError_, SystemSpec, load_system
@@ -24,19 +24,42 @@ PYTHON_BLOCKS = {
 }
 
 
+def _block_argument(block: str, key: str, value, annotation: str):
+    """A system-file value for a block argument, checked against the argument's annotation."""
+    import math
+
+    kind = str(annotation).split("|")[0].strip()
+    if kind == "float":
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ParameterError(f"parameter '{key}': expected a number, got {value!r}")
+        if not math.isfinite(value):
+            raise ParameterError(f"parameter '{key}': must be finite, got {value!r}")
+        return float(value)
+    if kind == "int":
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or value != int(value):
+            raise ParameterError(f"parameter '{key}': expected a whole number, got {value!r}")
+        return int(value)
+    if kind == "str" and not isinstance(value, str):
+        raise ParameterError(f"parameter '{key}': expected a string, got {value!r}")
+    return value
+
+
 def python_block(name: str, block: str, parameters: dict, where: str = "system") -> Component:
-    """Instantiate a built-in Python block; unknown blocks and parameters are named in the error."""
+    """Instantiate a built-in Python block; unknown blocks and parameters, and values of the
+    wrong type (checked against the block's signature), are named in the error."""
     factory = PYTHON_BLOCKS.get(block)
     if factory is None:
         raise SystemError_(f"{where}: component '{name}': unknown Python block '{block}' "
                            f"(available: {', '.join(PYTHON_BLOCKS)})")
-    accepted = set(inspect.signature(factory).parameters) - {"name"}
+    signature = inspect.signature(factory).parameters
+    accepted = set(signature) - {"name"}
     unknown = set(parameters) - accepted
     if unknown:
         raise SystemError_(f"{where}: component '{name}' ({block}): unknown parameter(s) "
                            f"{', '.join(sorted(unknown))}; accepted: {', '.join(sorted(accepted))}")
     try:
-        return factory(name, **parameters)
+        arguments = {k: _block_argument(block, k, v, signature[k].annotation) for k, v in parameters.items()}
+        return factory(name, **arguments)
     except ParameterError as exc:
         raise SystemError_(f"{where}: component '{name}' ({block}): {exc}") from None
 
@@ -61,10 +84,13 @@ def create_components(spec: SystemSpec, fmu_dir: str | Path | None = None) -> di
                 if not fmu.is_file():
                     raise SystemError_(f"{where}: component '{name}': FMU '{fmu}' not found")
             try:
-                values = check(entry.parameters, declarations(str(fmu)))
+                values = check(entry.parameters, declarations(str(fmu)),
+                               input_hint="connect it, e.g. to a Step or Pulse block")
+                created[name] = FMUComponent(name, fmu, values)
             except ParameterError as exc:
                 raise SystemError_(f"{where}: component '{name}': {exc}") from None
-            created[name] = FMUComponent(name, fmu, values)
+            except FMUError as exc:
+                raise FMUError(f"{where}: component '{name}': {exc}") from None
     except BaseException:
         for comp in created.values():
             comp.close()

@@ -28,52 +28,69 @@ typedef struct {
 } fast_component;
 
 enum { COMPLETED = 0, FELL = 1, DIVERGED = 2, FMI_ERROR = 3 };
+enum { CALL_SET = 0, CALL_STEP = 1, CALL_GET = 2 };  /* *failed_call */
 
+/* Each returns the FMI status of its call (0 when nothing had to be called). */
 static int feed(fast_component *c, const double *signals) {
     int i;
     if (c->n_in == 0) return 0;
     for (i = 0; i < c->n_in; i++) c->in_buf[i] = signals[c->in_src[i]];
-    return c->set_real(c->instance, c->in_vr, (size_t)c->n_in, c->in_buf) > 1;
+    return c->set_real(c->instance, c->in_vr, (size_t)c->n_in, c->in_buf);
 }
 
 static int read_outputs(fast_component *c, double *into) {
     if (c->n_out == 0) return 0;
-    return c->get_real(c->instance, c->out_vr, (size_t)c->n_out, into + c->out_offset) > 1;
+    return c->get_real(c->instance, c->out_vr, (size_t)c->n_out, into + c->out_offset);
 }
 
-/* sampled: scratch vector of n_signals for after-transfer sampling.
-   Returns COMPLETED, FELL, DIVERGED or FMI_ERROR; *failed is the index of the failing component. */
+/* A component with step multiple m steps at base steps k = 0, m, 2m, ... from times[k] to
+   times[min(k + m, n_steps)]: the grid's last step may be shorter, so every component ends on
+   the stop time exactly. */
+static double step_length(const fast_component *c, const double *times, long k, long n_steps) {
+    long end = k + c->multiple;
+    if (end > n_steps) end = n_steps;
+    return times[end] - times[k];
+}
+
+/* times: the communication grid, n_steps + 1 points from start to stop.
+   sampled: scratch vector of n_signals for after-transfer sampling.
+   Returns COMPLETED, FELL, DIVERGED or FMI_ERROR; on FMI_ERROR *failed is the index of the
+   failing component, *fmi_status the status its call returned (2 Discard, 3 Error, 4 Fatal) and
+   *failed_call which call it was (CALL_SET fmi2SetReal, CALL_STEP fmi2DoStep, CALL_GET fmi2GetReal),
+   on DIVERGED *failed is the index of the first non-finite signal. *steps_done counts the base
+   steps whose results are recorded (rows 0 .. *steps_done of rec). */
 int cosim_fast_run(int nc, fast_component *comps, const int *order, int gauss_seidel, int after_transfer,
-                   double *signals, double *sampled, int n_signals, double t0, double h, long n_steps,
+                   double *signals, double *sampled, int n_signals, const double *times, long n_steps,
                    int n_rec, const int *rec_idx, double *rec,
-                   int fall_idx, double fall_limit, long *steps_done, int *failed) {
+                   int fall_idx, double fall_limit, long *steps_done, int *failed, int *fmi_status,
+                   int *failed_call) {
     long k;
-    int j, i;
+    int j, i, status;
+#define FAIL_IF(what, call) do { status = (call); if (status > 1) { *failed = order[j]; \
+        *fmi_status = status; *failed_call = (what); *steps_done = k; return FMI_ERROR; } } while (0)
     for (k = 0; k < n_steps; k++) {
-        double t = t0 + (double)k * h;
+        double t = times[k];
         double *row;
         if (gauss_seidel) {
             for (j = 0; j < nc; j++) {
                 fast_component *c = &comps[order[j]];
                 if (k % c->multiple) continue;
-                if (feed(c, signals) || c->do_step(c->instance, t, h * c->multiple, 1) > 1 || read_outputs(c, signals)) {
-                    *failed = order[j]; *steps_done = k; return FMI_ERROR;
-                }
+                FAIL_IF(CALL_SET, feed(c, signals));
+                FAIL_IF(CALL_STEP, c->do_step(c->instance, t, step_length(c, times, k, n_steps), 1));
+                FAIL_IF(CALL_GET, read_outputs(c, signals));
             }
         } else {
             for (j = 0; j < nc; j++) {
                 fast_component *c = &comps[order[j]];
-                if (k % c->multiple == 0 && feed(c, signals)) { *failed = order[j]; *steps_done = k; return FMI_ERROR; }
+                if (k % c->multiple == 0) FAIL_IF(CALL_SET, feed(c, signals));
             }
             for (j = 0; j < nc; j++) {
                 fast_component *c = &comps[order[j]];
-                if (k % c->multiple == 0 && c->do_step(c->instance, t, h * c->multiple, 1) > 1) {
-                    *failed = order[j]; *steps_done = k; return FMI_ERROR;
-                }
+                if (k % c->multiple == 0) FAIL_IF(CALL_STEP, c->do_step(c->instance, t, step_length(c, times, k, n_steps), 1));
             }
             for (j = 0; j < nc; j++) {
                 fast_component *c = &comps[order[j]];
-                if (k % c->multiple == 0 && read_outputs(c, signals)) { *failed = order[j]; *steps_done = k; return FMI_ERROR; }
+                if (k % c->multiple == 0) FAIL_IF(CALL_GET, read_outputs(c, signals));
             }
         }
         if (after_transfer) {
@@ -82,17 +99,19 @@ int cosim_fast_run(int nc, fast_component *comps, const int *order, int gauss_se
             for (i = 0; i < n_signals; i++) sampled[i] = signals[i];
             for (j = 0; j < nc; j++) {
                 fast_component *c = &comps[order[j]];
-                if (feed(c, signals) || read_outputs(c, sampled)) { *failed = order[j]; *steps_done = k; return FMI_ERROR; }
+                FAIL_IF(CALL_SET, feed(c, signals));
+                FAIL_IF(CALL_GET, read_outputs(c, sampled));
             }
         }
         row = rec + (size_t)(k + 1) * (size_t)(n_rec + 1);
-        row[0] = t0 + (double)(k + 1) * h;
+        row[0] = times[k + 1];
         for (i = 0; i < n_rec; i++) row[i + 1] = (after_transfer ? sampled : signals)[rec_idx[i]];
         for (i = 0; i < n_signals; i++) {
             if (!isfinite(signals[i])) { *failed = i; *steps_done = k + 1; return DIVERGED; }
         }
         if (fall_idx >= 0 && fabs(signals[fall_idx]) > fall_limit) { *steps_done = k + 1; return FELL; }
     }
+#undef FAIL_IF
     *steps_done = n_steps;
     return COMPLETED;
 }

@@ -29,25 +29,37 @@ def _cache_dir() -> Path:
 
 @lru_cache(maxsize=1)
 def library():
-    """The compiled loop, or None where no C compiler is available (the Python loop is used)."""
+    """The compiled loop, or None where it cannot be had (no C compiler, no writable cache
+    folder, a library that does not load): the master then steps in Python, with the same results."""
     digest = hashlib.sha256(SOURCE.read_bytes()).hexdigest()[:16]
     target = _cache_dir() / f"fastloop-{digest}.so"
-    if not target.exists():
-        compiler = os.environ.get("CC") or "gcc"
-        if shutil.which(compiler) is None:
+    try:
+        if not target.exists() and not _compile(target):
             return None
-        target.parent.mkdir(parents=True, exist_ok=True)
-        fd, partial = tempfile.mkstemp(suffix=".so", dir=target.parent)
-        os.close(fd)
+        lib = CDLL(str(target))
+    except OSError:  # an unwritable cache folder or a library that does not load
+        return None
+    lib.cosim_fast_run.restype = c_int
+    return lib
+
+
+def _compile(target: Path) -> bool:
+    """Compile fastloop.c into ``target`` (atomically: concurrent processes may do the same)."""
+    compiler = os.environ.get("CC") or "gcc"
+    if shutil.which(compiler) is None:
+        return False
+    target.parent.mkdir(parents=True, exist_ok=True)
+    fd, partial = tempfile.mkstemp(prefix=".fastloop-", suffix=".so", dir=target.parent)
+    os.close(fd)
+    try:
         result = subprocess.run([compiler, "-O2", "-shared", "-fPIC", "-std=c99", str(SOURCE), "-o", partial, "-lm"],
                                 capture_output=True, text=True)
         if result.returncode != 0:
-            Path(partial).unlink(missing_ok=True)
-            return None
+            return False
         os.replace(partial, target)
-    lib = CDLL(str(target))
-    lib.cosim_fast_run.restype = c_int
-    return lib
+        return True
+    finally:
+        Path(partial).unlink(missing_ok=True)
 
 
 def address(function) -> int:

@@ -11,26 +11,79 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import SimulationError
-from .component import Component
-from .system import Connection, SystemError_, SystemSpec
+from .component import Component, StepFailed
+from .system import MAX_STEPS, Connection, SystemError_, SystemSpec
 
 
 @dataclass
 class Outcome:
     """How a run ended."""
 
-    status: str  # completed, fell, diverged
-    time: float
+    status: str  # completed, fell (the fall criterion), diverged (a non-finite signal), failed (an FMU)
+    time: float  # when the run ended [s]: the stop time, or the last recorded time
     message: str
+
+    @property
+    def complete(self) -> bool:
+        """True if the run reached the stop time or ended by its own criterion (a fall)."""
+        return self.status in ("completed", "fell")
 
 
 @dataclass
 class RunResult:
-    """Recorded signals (``time`` first) and the outcome."""
+    """Recorded signals (``time`` first) and the outcome; ``steps`` communication steps were
+    taken (the last one shorter if ``step`` does not divide the span, see :func:`step_grid`)."""
 
     data: np.ndarray
     outcome: Outcome
     steps: int
+
+
+class RunFailed(SimulationError):
+    """An FMU could not continue the run; ``result`` holds the rows up to the last completed
+    communication point (``result.outcome.status == "failed"``, the message names the cause)."""
+
+    def __init__(self, result: RunResult):
+        super().__init__(result.outcome.message)
+        self.result = result
+
+
+#: Largest recording one run keeps in memory [bytes].
+MAX_RECORD_BYTES = 2 * 1024**3
+
+
+def step_grid(start: float, stop: float, step: float) -> np.ndarray:
+    """The communication points from ``start`` to ``stop`` [s]: every ``step``, and ``stop``
+    itself last. If ``step`` does not divide the span (beyond round-off, 1e-9 of a step) the
+    last step is the shorter remainder, so a run always ends on ``stop`` exactly.
+
+    Raises
+    ------
+    SystemError_
+        If step or span are not finite and positive, or the grid would have more than
+        :data:`MAX_STEPS` steps.
+    """
+    span = stop - start
+    if not (np.isfinite(step) and step > 0 and np.isfinite(span) and span > 0):
+        raise SystemError_(f"step ({step:g} s) must be finite and > 0, and stop ({stop:g} s) finite and after "
+                           f"start ({start:g} s)")
+    count = span / step
+    if not count <= MAX_STEPS:
+        raise SystemError_(f"step {step:g} s from {start:g} s to {stop:g} s would take {count:.3g} steps "
+                           f"(at most {MAX_STEPS:,}); use a larger step")
+    full = int(np.floor(count + 1e-9))
+    times = start + step * np.arange(full + 1, dtype=float)
+    if span - full * step > 1e-9 * step:
+        times = np.append(times, stop)
+    times[-1] = stop  # exactly, not start + n * step
+    return times
+
+
+def _complete_message(t: float, steps: int, grid: np.ndarray) -> str:
+    text = f"completed at t = {t:g} s after {steps} step{'s' if steps != 1 else ''}"
+    if steps >= 2 and grid[-1] - grid[-2] < 0.999999 * (grid[1] - grid[0]):
+        text += f" (the last one {grid[-1] - grid[-2]:.6g} s, to end on stop)"
+    return text
 
 
 class System:
@@ -167,12 +220,25 @@ class System:
             comp.set_inputs(u)
 
     def run(self) -> RunResult:
-        """Initialize, step from start to stop, record; stop early if the bicycle falls or a
-        signal turns non-finite."""
+        """Initialize, step over :func:`step_grid` from start to stop, record; stop early if the
+        bicycle falls, a signal turns non-finite or an FMU fails a step. In each case the rows
+        up to the last completed communication point are kept (``outcome.status`` says why the
+        run ended: completed, fell, diverged, failed).
+
+        Raises
+        ------
+        RunFailed
+            If an FMU failed a step (fmi2Discard or worse); it carries the RunResult so far.
+        """
         spec = self.spec
-        h = spec.step
-        n_steps = int(round((spec.stop - spec.start) / h))
+        grid = step_grid(spec.start, spec.stop, spec.step)
+        n_steps = len(grid) - 1
         record_names, record_idx = self.record
+        size = (n_steps + 1) * (1 + len(record_idx)) * 8
+        if size > MAX_RECORD_BYTES:
+            raise SystemError_(f"{spec.path or spec.name}: recording {len(record_idx)} signals over {n_steps:,} "
+                               f"steps would take {size / 1024**3:.1f} GiB; use a larger step or record fewer "
+                               "signals ([system] record = [...])")
         data = np.empty((n_steps + 1, 1 + len(record_idx)))
         multiples = {n: spec.components[n].step_multiple if n in spec.components else 1 for n in self.names}
         try:
@@ -192,58 +258,89 @@ class System:
                 self._read(name)
             data[0, 0] = spec.start
             data[0, 1:] = self.signals[record_idx]
-            outcome = Outcome("completed", spec.stop, f"completed at t = {spec.stop:g} s")
+            outcome = Outcome("completed", spec.stop, _complete_message(spec.stop, n_steps, grid))
             rows = n_steps + 1
             gauss_seidel = spec.algorithm == "gauss-seidel"
             after_transfer = spec.sampling == "after-transfer"
             self._sampled = np.empty_like(self.signals)
-            fast = self._fast_run(data, n_steps, record_idx) if self.use_fast_loop else None
+            fast = self._fast_run(data, grid, record_idx) if self.use_fast_loop else None
             if fast is not None:
                 outcome, rows = fast
                 n_steps = 0  # done
             for k in range(n_steps):
-                t = spec.start + k * h
+                t = grid[k]
                 due = [n for n in self.order if k % multiples[n] == 0]
-                if gauss_seidel:
-                    for name in due:
-                        self._feed(name)
-                        self.components[name].step(t, h * multiples[name])
-                        self._read(name)
-                else:
-                    for name in due:
-                        self._feed(name)
-                    for name in due:
-                        self.components[name].step(t, h * multiples[name])
-                    for name in due:
-                        self._read(name)
-                sampled = self.signals
-                if after_transfer:
-                    # Record what the outputs are once the connected inputs took the new values
-                    # (direct feedthrough); the next step still transfers the after-step values.
-                    sampled = self._sampled
-                    sampled[:] = self.signals
-                    for name in self.order:
-                        self._feed(name)
-                        self._read(name, into=sampled)
-                t_next = spec.start + (k + 1) * h
-                data[k + 1, 0] = t_next
+                try:
+                    if gauss_seidel:
+                        for name in due:
+                            self._feed(name)
+                            self.components[name].step(t, grid[min(k + multiples[name], n_steps)] - t)
+                            self._read(name)
+                    else:
+                        for name in due:
+                            self._feed(name)
+                        for name in due:
+                            self.components[name].step(t, grid[min(k + multiples[name], n_steps)] - t)
+                        for name in due:
+                            self._read(name)
+                    sampled = self.signals
+                    if after_transfer:
+                        # Record what the outputs are once the connected inputs took the new values
+                        # (direct feedthrough); the next step still transfers the after-step values.
+                        sampled = self._sampled
+                        sampled[:] = self.signals
+                        for name in self.order:
+                            self._feed(name)
+                            self._read(name, into=sampled)
+                except StepFailed as exc:
+                    outcome, rows = self._failed_outcome(exc.component, t, str(exc)), k + 1
+                    break
+                data[k + 1, 0] = grid[k + 1]
                 data[k + 1, 1:] = sampled[record_idx]
-                stop = self._check_outcome(t_next)
+                stop = self._check_outcome(grid[k + 1])
                 if stop is not None:
                     outcome, rows = stop, k + 2
                     break
         finally:
-            for comp in self.components.values():
-                comp.close()
+            self._close_all()
         dtype = [("time", float)] + [(n, float) for n in record_names]
         table = np.empty(rows, dtype=dtype)
         for j, name in enumerate(["time"] + list(record_names)):
             table[name] = data[:rows, j]
-        return RunResult(table, outcome, rows - 1)
+        result = RunResult(table, outcome, rows - 1)
+        if outcome.status == "failed":
+            raise RunFailed(result)
+        return result
+
+    def _close_all(self) -> None:
+        """Close every component; the first error of a close is raised after all were closed."""
+        error = None
+        for comp in self.components.values():
+            try:
+                comp.close()
+            except Exception as exc:  # keep closing the others
+                error = error or exc
+        if error is not None:
+            raise error
+
+    def _last_values(self) -> dict[str, float]:
+        return {f"{n}.{o}": float(self.signals[self.offset[n] + j])
+                for n in self.names for j, o in enumerate(self.components[n].outputs)}
+
+    def _failed_outcome(self, component: str, t: float, text: str) -> Outcome:
+        """The outcome of a run an FMU could not continue, naming the physical cause if the last
+        communicated outputs show one (see :func:`cosim.simulation.physical_cause`)."""
+        from ..simulation import physical_cause
+
+        values = self._last_values()
+        values.update(getattr(self.components[component], "last_outputs", {}) or {})  # nearer the failure
+        cause = physical_cause(values)
+        message = f"stopped at t = {t:g} s: {cause} ({text})" if cause else f"stopped at t = {t:g} s: {text}"
+        return Outcome("failed", t, message)
 
     use_fast_loop = True
 
-    def _fast_run(self, data: np.ndarray, n_steps: int, record_idx: np.ndarray):
+    def _fast_run(self, data: np.ndarray, grid: np.ndarray, record_idx: np.ndarray):
         """Step in C when every component is an FMU; None where the Python loop must do it."""
         from ctypes import POINTER, byref, c_double, c_int, c_long, c_uint
 
@@ -254,6 +351,7 @@ class System:
         if lib is None or not all(isinstance(c, FMUComponent) for c in self.components.values()):
             return None
         spec = self.spec
+        n_steps = len(grid) - 1
         keep = []  # buffers the C structures point into
         comps = (FastComponent * len(self.names))()
         for j, name in enumerate(self.names):
@@ -270,25 +368,29 @@ class System:
                 spec.components[name].step_multiple if name in spec.components else 1)
         order = (c_int * len(self.names))(*[self.names.index(n) for n in self.order])
         rec_idx = np.ascontiguousarray(record_idx, dtype=np.int32)
-        steps_done, failed = c_long(0), c_int(-1)
+        times = np.ascontiguousarray(grid, dtype=float)
+        steps_done, failed, fmi_status, failed_call = c_long(0), c_int(-1), c_int(0), c_int(1)
         fall = self.fall_index if self.fall_index is not None else -1
         status = lib.cosim_fast_run(
             len(self.names), comps, order, int(spec.algorithm == "gauss-seidel"),
             int(spec.sampling == "after-transfer"),
             self.signals.ctypes.data_as(POINTER(c_double)), self._sampled.ctypes.data_as(POINTER(c_double)),
-            len(self.signals), c_double(spec.start),
-            c_double(spec.step), c_long(n_steps), len(rec_idx), rec_idx.ctypes.data_as(POINTER(c_int)),
+            len(self.signals), times.ctypes.data_as(POINTER(c_double)), c_long(n_steps),
+            len(rec_idx), rec_idx.ctypes.data_as(POINTER(c_int)),
             data.ctypes.data_as(POINTER(c_double)), fall, c_double(spec.fall_limit or 0.0),
-            byref(steps_done), byref(failed))
-        t = spec.start + steps_done.value * spec.step
+            byref(steps_done), byref(failed), byref(fmi_status), byref(failed_call))
+        t = float(grid[steps_done.value])
         rows = steps_done.value + 1
         if status == 0:
-            return Outcome("completed", spec.stop, f"completed at t = {spec.stop:g} s"), rows
+            return Outcome("completed", spec.stop, _complete_message(spec.stop, n_steps, grid)), rows
         if status == 1:
             return Outcome("fell", t, f"fell at t = {t:.3f} s (|{spec.fall_signal}| > {spec.fall_limit:g})"), rows
         if status == 2:
             return self._check_outcome(t), rows
-        raise SimulationError(f"{self.names[failed.value]}: FMI call failed at t = {t:g} s")
+        name = self.names[failed.value]
+        call = ("fmi2SetReal", "fmi2DoStep", "fmi2GetReal")[failed_call.value]
+        error = self.components[name].failed(call, t, fmi_status.value)
+        return self._failed_outcome(name, t, str(error)), rows
 
     def _check_outcome(self, t: float) -> Outcome | None:
         if not np.all(np.isfinite(self.signals)):
@@ -317,4 +419,5 @@ def run_components(spec: SystemSpec, components: dict[str, Component]) -> RunRes
     return system.run()
 
 
-__all__ = ["System", "RunResult", "Outcome", "assemble", "run_components", "SimulationError"]
+__all__ = ["System", "RunResult", "RunFailed", "Outcome", "assemble", "run_components", "step_grid",
+           "SimulationError"]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 
+from ..errors import ParameterError
 from .controllers import lqr_gains
 from .system import ComponentSpec, SystemError_, SystemSpec
 
@@ -13,7 +14,16 @@ def _same(parameters: dict) -> dict:
 
 
 def _lqr(parameters: dict) -> dict:
-    return lqr_gains(**{k: parameters[k] for k in parameters})
+    """The gains the Python LQR block would design (its defaults for what is not given)."""
+    import inspect
+
+    from .controllers import lqr
+
+    defaults = {k: p.default for k, p in inspect.signature(lqr).parameters.items() if k != "name"}
+    unknown = sorted(set(parameters) - set(defaults))
+    if unknown:
+        raise ParameterError(f"unknown parameter(s) {', '.join(unknown)}; accepted: {', '.join(sorted(defaults))}")
+    return lqr_gains(**{**defaults, **parameters})
 
 
 def _delay(parameters: dict) -> dict:
@@ -24,7 +34,7 @@ def _delay(parameters: dict) -> dict:
 
 def _pade(parameters: dict) -> dict:
     if parameters.get("n", 2) != 2:
-        raise SystemError_("the Modelica twin Bicycle.Rider.PadeDelay is built with n = 2")
+        raise ParameterError("the Modelica twin Bicycle.Rider.PadeDelay is built with n = 2")
     return {"tau": parameters.get("tau", 0.1)}
 
 
@@ -53,7 +63,11 @@ def with_twins(spec: SystemSpec) -> tuple[SystemSpec, list[str]]:
             raise SystemError_(f"{spec.path or spec.name}: component '{name}': the Python block "
                                f"'{entry.source}' has no Modelica twin")
         model, convert = TWINS[entry.source]
-        components[name] = ComponentSpec(name, "model", model, convert(entry.parameters), entry.step_multiple)
+        try:
+            parameters = convert(entry.parameters)
+        except ParameterError as exc:
+            raise SystemError_(f"{spec.path or spec.name}: component '{name}' ({entry.source}): {exc}") from None
+        components[name] = ComponentSpec(name, "model", model, parameters, entry.step_multiple)
         exact = " (exact delay -> Pade approximation, n = 2)" if entry.source == "TransportDelay" else ""
         notes.append(f"{name}: Python {entry.source} -> {model}{exact}")
     return dataclasses.replace(spec, components=components), notes

@@ -6,7 +6,6 @@ into OSP annotations, which libcosim reads.
 """
 from __future__ import annotations
 
-import os
 import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
@@ -40,7 +39,7 @@ def _literal(value, kind: str) -> str:
 
 def system_structure(spec: SystemSpec, fmus: dict[str, Path]) -> bytes:
     """The SystemStructure.ssd text; ``fmus`` maps component names to their FMU files."""
-    from fmpy import read_model_description
+    from ..fmi import read_fmu
 
     # libcosim's parser wants the literal prefixes ssd: ssc: ssv: osp: declared on the root.
     root = ET.Element("ssd:SystemStructureDescription", {
@@ -51,7 +50,7 @@ def system_structure(spec: SystemSpec, fmus: dict[str, Path]) -> bytes:
         system.set("description", spec.description)
     elements = ET.SubElement(system, "ssd:Elements")
     for name, fmu in fmus.items():
-        md = read_model_description(str(fmu))
+        md = read_fmu(fmu)
         variables = {v.name: v for v in md.modelVariables}
         component = ET.SubElement(elements, "ssd:Component", {
             "name": name, "source": f"resources/{name}.fmu", "type": "application/x-fmu-sharedlibrary"})
@@ -100,13 +99,21 @@ def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | 
     SystemError_
         If a Python block has no Modelica twin, or the system is not fixed-step Jacobi.
     """
+    from ..outputs import atomic_output, check_output
     from .factory import create_components
+    from .master import step_grid
     from .modelica_twins import with_twins
 
+    destination = check_output(destination, "SSP file")  # before anything is built
     spec, notes = with_twins(spec)
     if spec.algorithm != "jacobi":
         raise SystemError_(f"{spec.path or spec.name}: SSP export describes a fixed-step Jacobi system "
                            f"(OSP FixedStepAlgorithm); the system uses '{spec.algorithm}'")
+    grid = step_grid(spec.start, spec.stop, spec.step)
+    if len(grid) > 2 and grid[-1] - grid[-2] < 0.999999 * spec.step:
+        raise SystemError_(f"{spec.path or spec.name}: step {spec.step:g} s does not divide the run from "
+                           f"{spec.start:g} s to {spec.stop:g} s; `cosim run` ends it with a shorter step, "
+                           "but the OSP FixedStepAlgorithm of an SSP cannot: choose a step that divides it")
     components = create_components(spec, fmu_dir)  # builds models, checks parameters
     try:
         from .master import assemble
@@ -116,15 +123,9 @@ def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | 
     finally:
         for comp in components.values():
             comp.close()
-    destination = Path(destination)
-    destination.parent.mkdir(parents=True, exist_ok=True)
-    partial = destination.with_name(f".{destination.name}.partial")
-    try:
+    with atomic_output(destination, "SSP file") as partial:  # the archive appears only when complete
         with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as archive:
             archive.writestr("SystemStructure.ssd", system_structure(spec, fmus))
             for name, fmu in fmus.items():
                 archive.write(fmu, f"resources/{name}.fmu")
-        os.replace(partial, destination)  # the archive appears only when complete
-    finally:
-        partial.unlink(missing_ok=True)
     return destination, notes

@@ -26,6 +26,7 @@ Example (``connections`` stands before the first table, as TOML requires of top-
 """
 from __future__ import annotations
 
+import math
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -99,78 +100,285 @@ def parse_connection(text: str, where: str) -> Connection:
 
 
 def load_system(path: str | Path) -> SystemSpec:
-    """Read and check the structure of a system file (names are checked against the components
-    when the system is assembled, see :func:`cosim.cosimulation.master.assemble`)."""
+    """Read a system file and check it against the schema (:func:`system_from_dict`); names are
+    checked against the components when the system is assembled (see
+    :func:`cosim.cosimulation.master.assemble`).
+
+    Raises
+    ------
+    SystemError_
+        Naming the file and every problem found.
+    """
     path = Path(path)
+    if path.is_dir():
+        raise SystemError_(f"{path}: is a directory, not a system file")
     if not path.is_file():
         raise SystemError_(f"{path}: system file not found")
     try:
-        data = tomllib.loads(path.read_text())
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except UnicodeDecodeError as exc:
+        raise SystemError_(f"{path}: not UTF-8 text (byte {exc.start}); TOML files are UTF-8") from None
+    except OSError as exc:
+        raise SystemError_(f"{path}: cannot read the file: {exc.strerror or exc}") from None
     except tomllib.TOMLDecodeError as exc:
         raise SystemError_(f"{path}: {exc}") from None
     return system_from_dict(data, path)
 
 
-def system_from_dict(data: dict, path: Path | None = None) -> SystemSpec:
-    where = str(path) if path else "system"
-    settings = data.get("system", {})
-    if "connections" in settings:
-        raise SystemError_(f"{where}: 'connections' ended up inside [system]: "
-                           "write it at the top of the file, before the first [table]")
-    unknown = set(settings) - {"name", "description", "start", "stop", "step", "algorithm", "initialize",
-                               "fall", "record", "sampling"}
-    if unknown:
-        raise SystemError_(f"{where}: unknown [system] keys: {', '.join(sorted(unknown))}")
-    components = {}
-    for name, entry in data.get("components", {}).items():
-        kinds = [k for k in ("model", "fmu", "python") if k in entry]
-        if len(kinds) != 1:
-            raise SystemError_(f"{where}: component '{name}' needs exactly one of model, fmu, python")
-        extra = set(entry) - {"model", "fmu", "python", "parameters", "step_multiple", "params"}
-        if "connections" in extra:
-            raise SystemError_(f"{where}: 'connections' ended up inside [components.{name}]: "
-                               "write it at the top of the file, before the first [table]")
-        if extra:
-            raise SystemError_(f"{where}: component '{name}': unknown keys {', '.join(sorted(extra))}")
-        source = entry[kinds[0]]
-        if kinds[0] == "fmu" and path is not None and not Path(source).is_absolute():
-            source = str((path.parent / source).resolve())
-        multiple = entry.get("step_multiple", 1)
-        if not isinstance(multiple, int) or multiple < 1:
-            raise SystemError_(f"{where}: component '{name}': step_multiple must be a positive integer")
-        parameters = dict(entry.get("parameters", {}))
-        parameter_set = entry.get("params")
-        if parameter_set is not None:
-            from ..errors import ParameterError
-            from ..whipple_params import parameters_for_model
+# --------------------------------------------------------------------------- the schema
+#
+# One description of every key a system file may have, checked in one pass that collects all
+# problems (as FMPy's validation does) before one SystemError_ lists them.
 
-            if path is not None and (parameter_set.endswith(".toml") or "/" in parameter_set):
-                parameter_set = str((path.parent / parameter_set).resolve())
-            try:
-                parameters = {**parameters_for_model(parameter_set), **parameters}
-            except ParameterError as exc:
-                raise SystemError_(f"{where}: component '{name}': {exc}") from None
-        components[name] = ComponentSpec(name, kinds[0], source, parameters, multiple, parameter_set)
-    if not components:
-        raise SystemError_(f"{where}: no [components]")
-    connections = [parse_connection(text, where) for text in data.get("connections", [])]
-    algorithm = settings.get("algorithm", "jacobi").lower()
-    if algorithm not in ALGORITHMS:
-        raise SystemError_(f"{where}: algorithm must be one of {', '.join(ALGORITHMS)}, got '{algorithm}'")
-    step = float(settings.get("step", 0.01))
-    start, stop = float(settings.get("start", 0.0)), float(settings.get("stop", 10.0))
-    if not step > 0:
-        raise SystemError_(f"{where}: step must be positive")
-    if not stop > start:
-        raise SystemError_(f"{where}: stop must be after start")
-    sampling = settings.get("sampling", "after-step")
-    if sampling not in SAMPLINGS:
-        raise SystemError_(f"{where}: sampling must be one of {', '.join(SAMPLINGS)}, got '{sampling}'")
-    fall = settings.get("fall", {})
+SYSTEM_KEYS = ("name", "description", "start", "stop", "step", "algorithm", "initialize", "fall", "record",
+               "sampling")
+COMPONENT_KEYS = ("model", "fmu", "python", "parameters", "step_multiple", "params")
+KINDS = ("model", "fmu", "python")
+DEFAULTS = {"start": 0.0, "stop": 10.0, "step": 0.01}
+#: Most communication steps one run takes (a guard against ``stop = 1e9, step = 1e-9``).
+MAX_STEPS = 10_000_000
+
+
+def type_name(value) -> str:
+    """A TOML value's type for a message, with the value where it is short: "a string ('x')"."""
+    if isinstance(value, bool):
+        return f"a boolean ({str(value).lower()})"
+    if isinstance(value, int):
+        return f"an integer ({value})" if abs(value) < 10 ** 12 else "an integer"
+    if isinstance(value, float):
+        return f"a number ({value!r})"
+    if isinstance(value, str):
+        return f"a string ({value!r})" if len(value) <= 40 else "a string"
+    if isinstance(value, list):
+        return "an array"
+    if isinstance(value, dict):
+        return "a table"
+    return type(value).__name__
+
+
+class _Problems:
+    """Collects schema problems; ``raise_if_any`` raises one SystemError_ listing them all."""
+
+    def __init__(self, where: str):
+        self.where, self.items = where, []
+
+    def add(self, key: str, text: str) -> None:
+        self.items.append(f"{key}: {text}" if key else text)
+
+    def expected(self, key: str, what: str, value) -> None:
+        self.add(key, f"expected {what}, got {type_name(value)}")
+
+    def raise_if_any(self) -> None:
+        if len(self.items) == 1:
+            raise SystemError_(f"{self.where}: {self.items[0]}")
+        if self.items:
+            raise SystemError_(f"{self.where}: {len(self.items)} problems: " + "; ".join(self.items))
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _number(problems: _Problems, key: str, value, positive: bool = False):
+    """A finite number (TOML int or float, not a boolean); None after recording a problem."""
+    if not _is_number(value):
+        problems.expected(key, "a number", value)
+        return None
+    value = float(value)
+    if not math.isfinite(value):
+        problems.add(key, f"must be finite, got {value!r}")
+        return None
+    if positive and not value > 0:
+        problems.add(key, f"must be > 0, got {value:g}")
+        return None
+    return value
+
+
+def _string(problems: _Problems, key: str, value, choices: tuple[str, ...] | None = None):
+    if not isinstance(value, str):
+        what = f"a string ({' or '.join(repr(c) for c in choices)})" if choices else "a string"
+        problems.expected(key, what, value)
+        return None
+    if choices is not None and value.lower() not in choices:
+        problems.add(key, f"must be one of {', '.join(choices)}, got '{value}'")
+        return None
+    return value.lower() if choices is not None else value
+
+
+def _string_list(problems: _Problems, key: str, value) -> list[str] | None:
+    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+        problems.expected(key, "an array of strings", value)
+        return None
+    return list(value)
+
+
+def _settings(problems: _Problems, settings) -> dict:
+    """The checked [system] table (missing keys take :data:`DEFAULTS`)."""
+    if not isinstance(settings, dict):
+        problems.expected("[system]", "a table", settings)
+        return {}
+    if "connections" in settings:
+        problems.add("", "'connections' ended up inside [system]: write it at the top of the file, "
+                         "before the first [table]")
+    unknown = sorted(set(settings) - set(SYSTEM_KEYS) - {"connections"})
+    if unknown:
+        problems.add("", f"unknown [system] keys: {', '.join(unknown)} (known: {', '.join(SYSTEM_KEYS)})")
+    out: dict = {}
+    for key in ("name", "description"):
+        if key in settings:
+            out[key] = _string(problems, f"[system] {key}", settings[key])
+    for key in ("start", "stop"):
+        out[key] = _number(problems, f"[system] {key}", settings.get(key, DEFAULTS[key]))
+    out["step"] = _number(problems, "[system] step", settings.get("step", DEFAULTS["step"]), positive=True)
+    start, stop, step = out["start"], out["stop"], out["step"]
+    if start is not None and stop is not None and not stop > start:
+        problems.add("[system] stop", f"must be after start ({stop:g} s <= {start:g} s)")
+    elif None not in (start, stop, step) and step > stop - start:
+        problems.add("[system] step", f"{step:g} s is longer than the run from {start:g} s to {stop:g} s")
+    elif None not in (start, stop, step) and not (stop - start) / step <= MAX_STEPS:
+        problems.add("[system] step", f"{step:g} s from {start:g} s to {stop:g} s would take "
+                                      f"{(stop - start) / step:.3g} steps (at most {MAX_STEPS:,}); use a larger step")
+    out["algorithm"] = _string(problems, "[system] algorithm", settings.get("algorithm", "jacobi"), ALGORITHMS)
+    out["sampling"] = _string(problems, "[system] sampling", settings.get("sampling", "after-step"), SAMPLINGS)
+    initialize = settings.get("initialize", True)
+    if not isinstance(initialize, bool):
+        problems.expected("[system] initialize", "a boolean (true or false)", initialize)
+    out["initialize"] = bool(initialize) if isinstance(initialize, bool) else True
+    out["fall_signal"] = out["fall_limit"] = None
+    if "fall" in settings:
+        out["fall_signal"], out["fall_limit"] = _fall(problems, settings["fall"])
+    out["record"] = _string_list(problems, "[system] record", settings["record"]) if "record" in settings else None
+    return out
+
+
+def _fall(problems: _Problems, fall) -> tuple[str | None, float | None]:
+    key = "[system] fall"
+    if not isinstance(fall, dict):
+        problems.expected(key, "a table { signal = \"COMPONENT.OUTPUT\", limit = NUMBER }", fall)
+        return None, None
+    unknown = sorted(set(fall) - {"signal", "limit"})
+    if unknown:
+        problems.add(key, f"unknown keys {', '.join(unknown)} (known: signal, limit)")
+    if "signal" not in fall or "limit" not in fall:
+        problems.add(key, "needs both signal and limit")
+        return None, None
+    signal = _string(problems, f"{key}.signal", fall["signal"])
+    if signal is not None:
+        try:
+            _split_signal(signal, f"{key}.signal")
+        except SystemError_ as exc:
+            problems.add("", str(exc))
+            signal = None
+    limit = _number(problems, f"{key}.limit", fall["limit"], positive=True)
+    return signal, limit
+
+
+def _parameters(problems: _Problems, key: str, value) -> dict:
+    """A table of parameter values: numbers, booleans or strings (types are checked against the
+    model or block when the component is created)."""
+    if not isinstance(value, dict):
+        problems.expected(key, "a table { NAME = VALUE, ... }", value)
+        return {}
+    good = {}
+    for name, v in value.items():
+        if isinstance(v, (list, dict)):
+            problems.expected(f"{key} {name}", "a number, boolean or string", v)
+        else:
+            good[name] = v
+    return good
+
+
+def _component(problems: _Problems, name: str, entry, path: Path | None) -> ComponentSpec | None:
+    key = f"[components.{name}]"
+    if not name.strip() or "." in name or name != name.strip():
+        problems.add(key, "a component name must be non-empty, without dots or surrounding spaces "
+                          "(signals are named COMPONENT.VARIABLE)")
+        return None
+    if not isinstance(entry, dict):
+        problems.expected(key, "a table", entry)
+        return None
+    if "connections" in entry:
+        problems.add("", f"'connections' ended up inside {key}: write it at the top of the file, "
+                         "before the first [table]")
+    extra = sorted(set(entry) - set(COMPONENT_KEYS) - {"connections"})
+    if extra:
+        problems.add(key, f"unknown keys {', '.join(extra)} (known: {', '.join(COMPONENT_KEYS)})")
+    kinds = [k for k in KINDS if k in entry]
+    if len(kinds) != 1:
+        problems.add(key, f"needs exactly one of model, fmu, python (got {', '.join(kinds) or 'none'})")
+        return None
+    kind = kinds[0]
+    source = _string(problems, f"{key} {kind}", entry[kind])
+    multiple = entry.get("step_multiple", 1)
+    if isinstance(multiple, bool) or not isinstance(multiple, int) or multiple < 1:
+        problems.add(f"{key} step_multiple", f"must be a positive integer, got {type_name(multiple)}")
+        multiple = None
+    parameters = _parameters(problems, f"{key} parameters", entry.get("parameters", {}))
+    parameter_set = entry.get("params")
+    if parameter_set is not None:
+        parameter_set = _string(problems, f"{key} params", parameter_set)
+    if source is None or multiple is None or ("params" in entry and parameter_set is None):
+        return None
+    if kind == "fmu" and path is not None and not Path(source).is_absolute():
+        source = str((path.parent / source).resolve())
+    if parameter_set is not None:
+        from ..whipple_params import parameters_for_model
+
+        if path is not None and (parameter_set.endswith(".toml") or "/" in parameter_set):
+            parameter_set = str((path.parent / parameter_set).resolve())
+        try:
+            parameters = {**parameters_for_model(parameter_set), **parameters}
+        except ParameterError as exc:
+            problems.add(f"{key} params", str(exc))
+            return None
+        except FileNotFoundError:
+            problems.add(f"{key} params", f"no such bundled parameter set or file '{entry['params']}'")
+            return None
+    return ComponentSpec(name, kind, source, parameters, multiple, parameter_set)
+
+
+def system_from_dict(data: dict, path: Path | None = None) -> SystemSpec:
+    """Check a parsed system file against the schema and build the SystemSpec.
+
+    Every key is checked for its type and range (numbers finite, ``step`` > 0 and not longer
+    than the run, ``stop`` after ``start``, strings from their lists of choices, ...); all
+    problems are collected and reported together in one :class:`SystemError_` that names the
+    file, each key and the expected type.
+    """
+    where = str(path) if path else "system"
+    problems = _Problems(where)
+    if not isinstance(data, dict):
+        problems.expected("", "a TOML document (tables and keys)", data)
+        problems.raise_if_any()
+    unknown = sorted(set(data) - {"system", "components", "connections"})
+    if unknown:
+        problems.add("", f"unknown top-level keys: {', '.join(unknown)} "
+                         "(a system file has connections, [system] and [components.NAME])")
+    settings = _settings(problems, data.get("system", {}))
+    components = {}
+    raw_components = data.get("components", {})
+    if not isinstance(raw_components, dict):
+        problems.expected("[components]", "tables [components.NAME]", raw_components)
+    else:
+        for name, entry in raw_components.items():
+            component = _component(problems, name, entry, path)
+            if component is not None:
+                components[name] = component
+        if not raw_components:
+            problems.add("", "no [components]")
+    connections = []
+    raw_connections = data.get("connections", [])
+    texts = _string_list(problems, "connections", raw_connections)
+    for text in texts or []:
+        try:
+            connections.append(parse_connection(text, where))
+        except SystemError_ as exc:
+            problems.add("", str(exc).removeprefix(f"{where}: "))
+    problems.raise_if_any()
     return SystemSpec(
-        name=settings.get("name", path.stem if path else "system"), path=path, components=components,
-        connections=connections, start=start, stop=stop, step=step, algorithm=algorithm,
-        initialize=bool(settings.get("initialize", True)), fall_signal=fall.get("signal"),
-        fall_limit=float(fall["limit"]) if "limit" in fall else None, record=settings.get("record"),
-        description=settings.get("description", ""), sampling=sampling,
+        name=settings.get("name") or (path.stem if path else "system"), path=path, components=components,
+        connections=connections, start=settings["start"], stop=settings["stop"], step=settings["step"],
+        algorithm=settings["algorithm"], initialize=settings["initialize"], fall_signal=settings["fall_signal"],
+        fall_limit=settings["fall_limit"], record=settings["record"],
+        description=settings.get("description") or "", sampling=settings["sampling"],
     )

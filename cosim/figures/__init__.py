@@ -30,8 +30,15 @@ def make_figures(names: list[str], output: str | Path) -> list[Path]:
     unknown = [n for n in names if n not in figures]
     if unknown:
         raise ParameterError(f"unknown figure(s) {', '.join(unknown)}; available: {', '.join(figures)}")
-    output = Path(output)
-    output.mkdir(parents=True, exist_ok=True)
+    from ..outputs import check_output_folder
+
+    output = check_output_folder(output, "figures folder")  # before any figure is computed
+    try:
+        output.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        from ..errors import OutputError
+
+        raise OutputError(f"figures folder '{output}': {exc.strerror or exc}") from None
     written = []
     for name in names or list(figures):
         written += figures[name].make(output)
@@ -39,12 +46,17 @@ def make_figures(names: list[str], output: str | Path) -> list[Path]:
 
 
 def save(fig, path: Path) -> Path:
-    """Save a matplotlib figure as PNG and close it."""
-    fig.savefig(path, dpi=120, bbox_inches="tight")
+    """Save a matplotlib figure (format by suffix) atomically and close it."""
     import matplotlib.pyplot as plt
 
-    plt.close(fig)
-    return path
+    from ..outputs import atomic_output
+
+    try:
+        with atomic_output(path, "figure") as tmp:
+            fig.savefig(tmp, dpi=120, bbox_inches="tight")
+    finally:
+        plt.close(fig)
+    return Path(path)
 
 
 def pyplot():

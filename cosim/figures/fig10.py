@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..outputs import write_text
 from . import pyplot, save
 
 NAME = "fig10"
@@ -100,5 +101,5 @@ def make(output: Path) -> list[Path]:
                   "roll_amplitude_first_5s_rad": first, "roll_amplitude_last_5s_rad": last},
     }
     json_path = out / f"{NAME}.json"
-    json_path.write_text(json.dumps(summary, indent=2) + "\n")
+    write_text(json_path, json.dumps(summary, indent=2) + "\n", "figure data")
     return [save(fig, out / f"{NAME}.png"), json_path]

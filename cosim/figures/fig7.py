@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..outputs import write_text
 from . import pyplot, save
 
 NAME = "fig7"
@@ -129,5 +130,5 @@ def make(output: Path) -> list[Path]:
         } for c in curves],
     }
     json_path = out / f"{NAME}.json"
-    json_path.write_text(json.dumps(summary, indent=2) + "\n")
+    write_text(json_path, json.dumps(summary, indent=2) + "\n", "figure data")
     return [save(fig, out / f"{NAME}.png"), json_path]

@@ -1,7 +1,7 @@
 """Co-simulation test matrix: many co-simulations, each checked against its analytic prediction.
 
-``cosim matrix SPEC.toml [--workers N] [--scheduler tcp://HOST:PORT] [-o DIR] [--resume]``
-(also ``python -m cosim.matrix ...``). SPEC is a file or the name of a bundled spec
+``cosim matrix SPEC.toml [--workers N] [--scheduler tcp://HOST:PORT] [-o DIR] [--resume [--keep-failed] | --force]
+[--max-cases N]`` (also ``python -m cosim.matrix ...``). SPEC is a file or the name of a bundled spec
 (``cosim/matrix/specs/NAME.toml``; ``paper`` checks the claims of Astrom, Klein & Lennartsson 2005).
 
 Every case is one co-simulation (:mod:`cosim.cosimulation`) plus
@@ -9,10 +9,11 @@ Every case is one co-simulation (:mod:`cosim.cosimulation`) plus
 * the **prediction**: closed-loop eigenvalues of the analytic linear models of its components,
   exact delays as Pade approximations (python-control), the master's own sample-and-hold and
   Jacobi lags included (:mod:`cosim.matrix.predict`); ``marginal`` when |max Re| < ``margin``;
-* the **observation**: fell / diverged / stable / unstable / marginal from the envelope of the
-  observed signal, the fitted growth rate, max |x| and the 2 % settling time
-  (:mod:`cosim.matrix.classify`); an inconclusive observation of a decisive prediction is re-run
-  ``extend`` times longer;
+* the **observation**: fell / diverged / stable / unstable / marginal from the growth rate of the
+  observed signal -- the largest Re of the modes a matrix-pencil fit identifies in it, so that the
+  verdict does not depend on the stop time, or the envelope for signals that are no sum of modes --,
+  max |x| and the 2 % settling time (:mod:`cosim.matrix.classify`); an inconclusive observation of a
+  decisive prediction is re-run ``extend`` times longer;
 * the **agreement**: agree / disagree / marginal (excluded) / failed.
 
 Spec format (TOML)::
@@ -25,11 +26,11 @@ Spec format (TOML)::
     algorithm = "jacobi"          # or "gauss-seidel"
     fall_limit = 1.0              # |observed| beyond which the bicycle fell [rad]
     margin = 0.05                 # |max Re| [1/s] below which a prediction is marginal
-    observed_margin = 0.01        # |envelope growth| [1/s] below which an observation is inconclusive
-    extend = 3.0                  # inconclusive observations are re-run this many times longer
-    pade_order = 6                # order of the Pade approximation of exact delays
+    observed_margin = 0.01        # |observed growth rate| [1/s] below which an observation is inconclusive
+    extend = 3.0                  # inconclusive observations are re-run this many times longer (<= 100)
+    pade_order = 6                # order of the Pade approximation of exact delays (1 to 20)
     master_lag = true             # model the master's hold (h/2) and Jacobi (h per static block) lags
-    timeout = 120.0               # s per case before its worker is killed (the case fails)
+    timeout = 120.0               # s per case before its worker is killed (the case fails; finite)
     predict = true                # false: observations only
     imports = ["blocks.py"]       # modules or files (relative to the spec) imported by every worker,
                                   # e.g. to register Python blocks and their linear models
@@ -71,15 +72,24 @@ Spec format (TOML)::
     where = "ptau > 2"
     expect = "not-stable"
 
+Names (of the matrix and of studies) are letters, digits and ``_ . + -``: they name files. Every
+key is checked when the spec is loaded (:mod:`cosim.matrix.spec`); expressions have bounded cost
+(:mod:`cosim.matrix.expr`); a spec with more than ``--max-cases`` (default 100000) cases is
+refused before its axes are expanded.
+
 Output (``-o DIR``, default ``matrix-NAME``): ``results.jsonl`` (one finished case per line,
-appended atomically; ``--resume`` runs only the missing cases), ``report.md``, ``report.html``,
-``STUDY.png`` (heat map of observed stability over two variables with the predicted boundary, or
-predicted max Re vs observed growth rate over one), ``summary.json``, ``matrix.json``,
-``logs/worker-N.log``. Exit status 0 when nothing disagrees, nothing failed and every check
-passes; 1 otherwise; 2 for a spec error.
+appended atomically), ``report.md``, ``report.html``, ``STUDY.png`` (heat map of observed
+stability over two variables with the predicted boundary, or predicted max Re vs observed growth
+rate over one), ``summary.json``, ``matrix.json`` (each written whole under a temporary name and
+renamed), ``logs/worker-N.log``. A folder that already holds results is refused unless
+``--resume`` (keep them, run only the missing cases and -- unless ``--keep-failed`` -- the failed
+ones again) or ``--force`` (discard them). Exit status 0 when nothing disagrees, nothing failed and
+every check passes; 1 otherwise; 2 for a spec, usage or output-folder error.
 
 Execution: local worker processes (:mod:`cosim.matrix.pool`), or a Dask cluster with
-``--scheduler``; a worker that dies (segfaulting FMU) or hangs fails its case only.
+``--scheduler`` (an unreachable one is reported within seconds); a worker that dies (segfaulting
+FMU) or hangs fails its case only, and no worker outlives a killed supervisor
+(:func:`cosim.processes.die_with_parent`).
 """
 from __future__ import annotations
 

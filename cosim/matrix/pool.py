@@ -8,7 +8,11 @@ goes on. Unlike ``ProcessPoolExecutor``, nothing else breaks.
 
 With Dask (``--scheduler tcp://HOST:PORT``) cases are sent in chunks as tasks; each Dask worker
 thread keeps one such worker process of its own, so a crash fails one case and the Dask worker
-lives on.
+lives on. The scheduler is contacted before any work (:func:`connect`): one that cannot be
+reached within :data:`SCHEDULER_TIMEOUT` seconds is one message naming its address.
+
+Workers die with their parent (:func:`cosim.processes.die_with_parent`, given the parent's pid on
+the command line): ``kill -9`` of the supervisor (or of the Dask worker) leaves no process behind.
 """
 from __future__ import annotations
 
@@ -25,13 +29,21 @@ import uuid
 from collections import deque
 from pathlib import Path
 
+from ..errors import CosimError
 from .worker import failed_record, read_message, write_message
 
 _PACKAGE_ROOT = str(Path(__file__).resolve().parents[2])
 
+#: Seconds to wait for the Dask scheduler to answer before giving up.
+SCHEDULER_TIMEOUT = 5.0
+
 
 class WorkerDied(Exception):
     pass
+
+
+class SchedulerError(CosimError, ConnectionError):
+    """The Dask scheduler cannot be reached, or was lost during the run; the message names it."""
 
 
 def _signal_name(returncode: int | None) -> str:
@@ -57,7 +69,9 @@ class Child:
         env["PYTHONPATH"] = _PACKAGE_ROOT + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
         log = open(log_path, "ab") if log_path else subprocess.DEVNULL
         try:
-            self.proc = subprocess.Popen([sys.executable, "-m", "cosim.matrix.worker"], stdin=subprocess.PIPE,
+            # the pid of the parent as it sees itself: the worker dies with it (cosim.processes)
+            self.proc = subprocess.Popen([sys.executable, "-m", "cosim.matrix.worker", "--parent", str(os.getpid())],
+                                         stdin=subprocess.PIPE,
                                          stdout=subprocess.PIPE, stderr=log, bufsize=0, env=env,
                                          start_new_session=True)
         finally:
@@ -282,14 +296,82 @@ def dask_chunk(init: dict, cases: list[dict], timeout: float) -> list[dict]:
     return records
 
 
-def run_dask(cases: list[dict], init: dict, scheduler: str, on_record, timeout: float,
+SCHEMES = ("tcp", "tls", "ws", "wss", "ucx")
+
+
+def _check_address(address) -> None:
+    """Refuse a scheduler address that is not [SCHEME://]HOST:PORT (no connection is tried)."""
+    from urllib.parse import urlsplit
+
+    text = address if isinstance(address, str) else ""
+    if text and "://" not in text:
+        text = "tcp://" + text  # Dask's default scheme
+    try:
+        parts = urlsplit(text)
+        port = parts.port
+    except ValueError:
+        port = None
+    else:
+        if parts.scheme not in SCHEMES or not parts.hostname or parts.path not in ("", "/"):
+            port = None
+    if port is None:
+        raise SchedulerError(f"--scheduler {address!r} is not a scheduler address "
+                             f"([{'|'.join(SCHEMES)}://]HOST:PORT, e.g. tcp://127.0.0.1:8786)")
+
+
+def connect(address: str, timeout: float = SCHEDULER_TIMEOUT):
+    """A Dask client of the scheduler at ``address``, or one :class:`SchedulerError` within ``timeout`` s.
+
+    Raises
+    ------
+    SchedulerError
+        If dask.distributed is missing, the address is malformed, or the scheduler does not
+        answer within ``timeout`` seconds (closed port, unknown host, firewall).
+    """
+    import logging
+
+    try:
+        from distributed import Client
+    except ImportError:
+        raise SchedulerError("--scheduler needs dask.distributed (pip install distributed)") from None
+    _check_address(address)  # a malformed one would leave a half-made Client that hangs at exit
+    # distributed logs every failed connection attempt; the one message below says it all
+    quiet = [logging.getLogger(n) for n in ("distributed", "distributed.client", "distributed.comm",
+                                            "distributed.core", "tornado", "asyncio")]
+    levels = [lg.level for lg in quiet]
+    for lg in quiet:
+        lg.setLevel(logging.CRITICAL)
+    try:
+        return Client(address, timeout=timeout)
+    except (OSError, TimeoutError) as exc:  # refused, timed out, unknown host
+        reason = str(exc).split("\n")[0] or type(exc).__name__
+        raise SchedulerError(f"cannot reach the Dask scheduler at {address} within {timeout:g} s ({reason})") from None
+    except (ValueError, TypeError) as exc:
+        raise SchedulerError(f"--scheduler {address!r} is not a scheduler address (tcp://HOST:PORT): {exc}") from None
+    finally:
+        for lg, level in zip(quiet, levels):
+            lg.setLevel(level)
+
+
+def run_dask(cases: list[dict], init: dict, client, on_record, timeout: float,
              chunk_size: int | None = None) -> None:
-    """Run ``cases`` as tasks on the Dask cluster at ``scheduler``."""
-    from distributed import Client, as_completed
+    """Run ``cases`` as tasks on the Dask cluster of ``client`` (a Client or a scheduler address).
+
+    Raises
+    ------
+    SchedulerError
+        If the connection to the scheduler is lost: the records received so far are kept
+        (``--resume`` runs the rest).
+    """
+    from distributed import as_completed
 
     if not cases:
         return
-    with Client(scheduler, timeout=60) as client:
+    if isinstance(client, str):
+        with connect(client) as own:
+            return run_dask(cases, init, own, on_record, timeout, chunk_size)
+    done = 0
+    try:
         n_workers = max(1, sum(w.get("nthreads", 1) for w in client.scheduler_info()["workers"].values()))
         size = chunk_size or max(1, min(32, math.ceil(len(cases) / (4 * n_workers))))
         chunks = [cases[i:i + size] for i in range(0, len(cases), size)]
@@ -303,7 +385,15 @@ def run_dask(cases: list[dict], init: dict, scheduler: str, on_record, timeout: 
             chunk = futures.pop(fut)
             try:
                 records = fut.result()
+            except (OSError, TimeoutError):
+                raise
             except Exception as exc:
                 records = [failed_record(c, f"Dask task failed: {type(exc).__name__}: {exc}") for c in chunk]
             for rec in records:
                 on_record(rec)
+                done += 1
+    except (OSError, TimeoutError) as exc:
+        address = getattr(getattr(client, "scheduler", None), "address", None) or "its address"
+        raise SchedulerError(f"lost the Dask scheduler at {address} after {done} of "
+                             f"{len(cases)} cases ({str(exc).splitlines()[0] if str(exc) else type(exc).__name__}); "
+                             "the results so far are kept: --resume runs the rest") from None

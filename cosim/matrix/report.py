@@ -1,10 +1,18 @@
-"""The matrix report: ``report.md``, ``report.html`` and one PNG per study (heat map or strip)."""
+"""The matrix report: ``report.md``, ``report.html`` and one PNG per study (heat map or strip).
+
+Every file is written under a temporary name and renamed when complete (:mod:`cosim.outputs`):
+a kill while reporting never leaves a truncated report under its final name.
+"""
 from __future__ import annotations
 
 import html
 import json
 import math
+import sys
 from pathlib import Path
+
+from ..errors import OutputError
+from ..outputs import atomic_output, write_text
 
 ORDER = {"failed": 0, "disagree": 1, "marginal": 2, "agree": 3, "observed": 3}
 COLORS = {"stable": "#3a9d5d", "unstable": "#d9534f", "fell": "#a02622", "diverged": "#6b1010",
@@ -146,8 +154,11 @@ def plot_study(study, cases, records, path: Path, expected=None) -> Path | None:
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), framealpha=0.85)
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    try:
+        with atomic_output(path, "heat map") as tmp:
+            fig.savefig(tmp, dpi=110, format="png")
+    finally:
+        plt.close(fig)
     return path
 
 
@@ -173,22 +184,28 @@ def write_report(result) -> dict:
         try:
             img = plot_study(study, [c for c in result.cases if c.study == study.name], result.records,
                              directory / f"{study.name}.png", expected)
+        except OutputError:
+            raise
         except Exception as exc:  # a plot must not take the report down
             img = None
-            print(f"warning: plot of study {study.name} failed: {exc}")
+            print(f"warning: plot of study {study.name} failed: {exc}", file=sys.stderr)
         if img:
             images[study.name] = img.name
     c = result.counts
     verdict = "PASS" if result.passed else "FAIL"
     s = spec.settings
-    intro = (f"{c['cases']} cases ({result.ran} run now, {result.resumed} from an earlier run) in "
+    retried = getattr(result, "retried", 0)
+    intro = (f"{c['cases']} cases ({result.ran} run now, {result.resumed} from an earlier run"
+             f"{f', {retried} failed ones run again' if retried else ''}) in "
              f"{result.seconds:.1f} s. Agreement: {c['agree']} agree, {c['disagree']} disagree, "
              f"{c['marginal']} marginal (excluded), {c['failed']} failed.")
     method = (f"Prediction: closed-loop eigenvalues of the analytic linear models (exact delays as Pade "
               f"approximations; the master's sample-and-hold and Jacobi lags modelled), 'marginal' when "
-              f"|max Re| < margin (default {s['margin']:g} 1/s). Observation: envelope of |x| in the last "
-              f"third vs the middle third of the run, inconclusive when the rate is below "
-              f"{s['observed_margin']:g} 1/s (re-run {s['extend']:g}x longer), 'fell' beyond the fall limit.")
+              f"|max Re| < margin (default {s['margin']:g} 1/s). Observation: the largest growth rate of the "
+              f"modes identified in the observed signal (matrix pencil fit; for signals that are not a sum "
+              f"of damped oscillations, the envelope of |x| in the last third vs the middle third of the "
+              f"run), inconclusive when below {s['observed_margin']:g} 1/s (re-run {s['extend']:g}x longer), "
+              f"'fell' beyond the fall limit.")
     # markdown
     md = [f"# Co-simulation matrix: {spec.name}", "", spec.description, "",
           f"**{verdict}** — {intro}", "", method, "", "## Checks", "",
@@ -209,7 +226,7 @@ def write_report(result) -> dict:
         for rec in _sorted(recs):
             row = _row(rec)
             md.append("| " + " | ".join(str(row[k]).replace("|", "\\|") for k, _ in COLUMNS) + " |")
-    (directory / "report.md").write_text("\n".join(md) + "\n")
+    write_text(directory / "report.md", "\n".join(md) + "\n", "report")
     # html
     e = html.escape
     css = ("body{font-family:sans-serif;margin:2em;max-width:1200px} table{border-collapse:collapse;font-size:12px}"
@@ -240,8 +257,8 @@ def write_report(result) -> dict:
                      + "</tr>")
         h.append("</table>")
     h.append("</body></html>")
-    (directory / "report.html").write_text("\n".join(h) + "\n")
+    write_text(directory / "report.html", "\n".join(h) + "\n", "report")
     summary = _summary(result)
-    (directory / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+    write_text(directory / "summary.json", json.dumps(summary, indent=2) + "\n", "summary")
     return {"markdown": str(directory / "report.md"), "html": str(directory / "report.html"),
             "images": [str(directory / p) for p in images.values()], "summary": str(directory / "summary.json")}

@@ -1,4 +1,9 @@
-"""Running a matrix: build the FMUs once, dispatch the cases, persist, check, report."""
+"""Running a matrix: build the FMUs once, dispatch the cases, persist, check, report.
+
+Everything the user can get wrong is refused before any work, each with one message: the spec
+(types, ranges, expressions, the number of cases), the output folder (not writable, a file in
+the way, or already holding results without ``resume``/``force``) and an unreachable scheduler.
+"""
 from __future__ import annotations
 
 import json
@@ -7,8 +12,9 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .spec import Case, MatrixSpec, load_spec
-from .store import ResultStore
+from ..errors import OutputError
+from .spec import MAX_CASES, Case, MatrixSpec, SpecError, load_spec
+from .store import RESULTS, ResultStore, has_results
 
 
 @dataclass
@@ -20,6 +26,7 @@ class MatrixResult:
     checks: list = field(default_factory=list)
     ran: int = 0                 # cases run in this invocation
     resumed: int = 0             # cases taken from an earlier run
+    retried: int = 0             # failed cases of an earlier run run again
     seconds: float = 0.0
     timing: dict = field(default_factory=dict)   # startup (workers ready) and run (dispatch) seconds
     report: dict = field(default_factory=dict)
@@ -52,43 +59,134 @@ def build_fmus(cases: list[Case], fmu_dir: str | Path | None, jobs: int = 1) -> 
     return {r.model: str(r.fmu) for r in results}
 
 
+def prepare_directory(directory: Path, resume: bool = False, force: bool = False) -> Path:
+    """Refuse an output folder that cannot be written, or that holds results unless told what to do.
+
+    Nothing is changed here: with ``force`` the earlier results are discarded only when the run
+    starts (after the FMUs are built), with ``resume`` they are kept.
+
+    Raises
+    ------
+    OutputError
+        If ``directory`` is a file, lies under a file or in a folder that is not writable, or
+        already holds results of an earlier run and neither ``resume`` nor ``force`` is given.
+    """
+    from ..outputs import check_output_folder
+
+    if resume and force:
+        raise OutputError("give either --resume (keep the results) or --force (discard them), not both")
+    directory = check_output_folder(directory)
+    found = has_results(directory)
+    if found and not (resume or force):
+        raise OutputError(f"output folder '{directory}' already holds the results of an earlier run "
+                          f"({found} cases in {RESULTS}): give --resume to keep them and run only the "
+                          "missing and failed cases, or --force to discard them")
+    return directory
+
+
+def _write_json(path: Path, data: dict) -> None:
+    from ..outputs import write_text
+
+    write_text(path, json.dumps(data, indent=2) + "\n")
+
+
 def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = None, *, workers: int | None = None,
-               scheduler: str | None = None, resume: bool = False, fmu_dir: str | Path | None = None,
-               progress: bool = True, report: bool = True, stream=None) -> MatrixResult:
+               scheduler: str | None = None, resume: bool = False, force: bool = False, keep_failed: bool = False,
+               max_cases: int = MAX_CASES, fmu_dir: str | Path | None = None, progress: bool = True,
+               report: bool = True, stream=None) -> MatrixResult:
     """Run every case of a spec not yet in ``directory/results.jsonl`` (with ``resume``), then check and report.
 
     Parameters
     ----------
     spec : MatrixSpec or path or bundled name
     directory : output folder (default ``matrix-<name>``)
-    workers : local worker processes (default: the number of CPUs); ignored with ``scheduler``
-    scheduler : address of a Dask scheduler (``tcp://HOST:PORT``)
-    resume : keep the results of an earlier (interrupted) run and run only the missing cases
+    workers : local worker processes (>= 1; default: the number of CPUs); ignored with ``scheduler``
+    scheduler : address of a Dask scheduler (``tcp://HOST:PORT``), contacted before any work
+    resume : keep the results of an earlier (interrupted) run and run only the missing cases and,
+        unless ``keep_failed``, the failed ones again
+    force : discard the results of an earlier run in ``directory`` (without ``resume`` or
+        ``force``, a folder with results is refused)
+    keep_failed : with ``resume``, keep failed cases as they are instead of running them again
+    max_cases : refuse specs with more cases (checked before they are expanded)
     fmu_dir : where models are built (default: the project's ``fmus/``)
+
+    Raises
+    ------
+    SpecError, OutputError, SchedulerError, BuildError
+        Before any case is run, each with one message (see the module docstring).
     """
     from . import checks as checks_mod
-    from .pool import run_dask, run_local
+    from .pool import connect
     from .progress import Progress
-    from .worker import import_plugins
 
     started = time.perf_counter()
-    spec = spec if isinstance(spec, MatrixSpec) else load_spec(spec)
-    directory = Path(directory or f"matrix-{spec.name}")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise SpecError(f"workers must be a whole number >= 1, got {workers!r}")
+    if isinstance(max_cases, bool) or not isinstance(max_cases, int) or max_cases < 1:
+        raise SpecError(f"max_cases must be a whole number >= 1, got {max_cases!r}")
+    if keep_failed and not resume:
+        raise SpecError("--keep-failed applies only with --resume")
+    spec = spec if isinstance(spec, MatrixSpec) else load_spec(spec, max_cases)
+    spec.check_count(max_cases)
+    directory = prepare_directory(Path(directory or f"matrix-{spec.name}"), resume, force)
+    if fmu_dir is not None:
+        from ..outputs import check_output_folder
+
+        check_output_folder(fmu_dir, "FMU folder")
     workers = workers or os.cpu_count() or 1
-    import_plugins(spec.imports)
-    cases = spec.cases()
-    fmu_paths = build_fmus(cases, fmu_dir, workers)
-    store = ResultStore(directory, resume)
-    (directory / "matrix.json").write_text(json.dumps({
-        "spec": str(spec.path) if spec.path else spec.name, "name": spec.name, "digest": spec.digest,
-        "cases": len(cases), "fmus": fmu_paths, "scheduler": scheduler, "workers": None if scheduler else workers,
-    }, indent=2) + "\n")
-    keys = {c.key for c in cases}
-    done = {k for k in store.keys() if k in keys}
-    todo = [c for c in cases if c.key not in done]
+    client = connect(scheduler) if scheduler else None  # an unreachable scheduler: one message, now
+    try:
+        _import_plugins(spec)
+        cases = spec.cases()
+        fmu_paths = build_fmus(cases, fmu_dir, workers)
+        store = ResultStore(directory, resume, retry_failed=resume and not keep_failed)
+        try:
+            _write_json(directory / "matrix.json", {
+                "spec": str(spec.path) if spec.path else spec.name, "name": spec.name, "digest": spec.digest,
+                "cases": len(cases), "fmus": fmu_paths, "scheduler": scheduler,
+                "workers": None if scheduler else workers})
+            done = {k for k in store.keys()} & {c.key for c in cases}
+            todo = [c for c in cases if c.key not in done]
+            timing = _dispatch(todo, spec, fmu_paths, directory, client, workers, store,
+                               Progress(len(cases), len(done), stream=stream, enabled=progress))
+        finally:
+            store.close()
+    finally:
+        if client is not None:
+            client.close()
+    stored = store.records
+    records = [stored[c.key] for c in cases if c.key in stored]
+    retried = len(store.retried & {c.key for c in cases})
+    result = MatrixResult(spec=spec, directory=directory, cases=cases, records=records, ran=len(todo),
+                          resumed=len(done), retried=retried, timing=timing)
+    result.checks = checks_mod.evaluate(spec, cases, records, fmu_paths)
+    result.seconds = time.perf_counter() - started
+    if report:
+        from .report import write_report
+
+        result.report = write_report(result)
+    return result
+
+
+def _import_plugins(spec: MatrixSpec) -> None:
+    """The spec's imports (blocks and their linear models), a failing one named in one message."""
+    from .worker import import_plugins
+
+    for item in spec.imports:
+        try:
+            import_plugins([item])
+        except Exception as exc:  # the user's module: any error it raises is a spec error
+            raise SpecError(f"{spec.path or spec.name}: [matrix] imports: '{item}' cannot be imported: "
+                            f"{type(exc).__name__}: {exc}") from None
+
+
+def _dispatch(todo: list[Case], spec: MatrixSpec, fmu_paths: dict, directory: Path, client, workers: int,
+              store: ResultStore, bar) -> dict:
+    """Run ``todo`` on the Dask ``client`` or local workers, each record stored as it arrives."""
+    from .pool import run_dask, run_local
+
     init = {"imports": spec.imports, "fmu_paths": fmu_paths}
-    bar = Progress(len(cases), len(done), stream=stream, enabled=progress)
-    timeout = max(float(c.settings["timeout"]) for c in cases)
+    timeout = max((float(c.settings["timeout"]) for c in todo), default=1.0)
 
     def on_record(record: dict) -> None:
         if "line" in record:
@@ -99,27 +197,18 @@ def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = Non
 
     try:
         payload = [c.to_dict() for c in todo]
-        if scheduler:
+        if client is not None:
             t0 = time.perf_counter()
-            run_dask(payload, init, scheduler, on_record, timeout)
-            timing = {"startup": 0.0, "run": time.perf_counter() - t0}
-        else:
-            logs = directory / "logs"
+            run_dask(payload, init, client, on_record, timeout)
+            return {"startup": 0.0, "run": time.perf_counter() - t0}
+        logs = directory / "logs"
+        try:
             logs.mkdir(exist_ok=True)
-            cpu = time.process_time()
-            timing = run_local(payload, init, workers, on_record, timeout, logs)
-            timing["supervisor_cpu"] = time.process_time() - cpu
+        except OSError as exc:
+            raise OutputError(f"log folder '{logs}': {exc.strerror or exc}") from None
+        cpu = time.process_time()
+        timing = run_local(payload, init, workers, on_record, timeout, logs)
+        timing["supervisor_cpu"] = time.process_time() - cpu
+        return timing
     finally:
         bar.close()
-        store.close()
-    stored = store.records
-    records = [stored[c.key] for c in cases if c.key in stored]
-    result = MatrixResult(spec=spec, directory=directory, cases=cases, records=records, ran=len(todo),
-                          resumed=len(done), timing=timing)
-    result.checks = checks_mod.evaluate(spec, cases, records, fmu_paths)
-    result.seconds = time.perf_counter() - started
-    if report:
-        from .report import write_report
-
-        result.report = write_report(result)
-    return result

@@ -4,7 +4,9 @@ Each record is written with a single ``write`` of one complete line to a file op
 ``O_APPEND`` (and fsynced at most once a second and at the end), so a killed supervisor leaves
 either the whole line or, at worst (power loss), a torn last line. On ``--resume`` the valid
 lines are read back, a torn tail is cut off, and only cases whose key has no record yet are run:
-nothing is lost and nothing is run or written twice.
+nothing is lost and nothing is run or written twice. Failed cases (a crashed or killed worker, a
+timeout) are retried on ``--resume`` unless ``--keep-failed``: their records are dropped from the
+file first (rewritten under a temporary name and renamed), so the file keeps one line per case.
 """
 from __future__ import annotations
 
@@ -37,7 +39,11 @@ def encode(record: dict) -> bytes:
 
 
 def read_records(path: Path) -> tuple[list[dict], int]:
-    """Complete records of a results file and the byte length of the valid prefix."""
+    """Complete records of a results file and the byte length up to the last complete line.
+
+    A torn last line (no newline: the writer was killed mid-write) is not a record; a complete
+    line that is not a record (edited or corrupted by hand) is skipped, and the records after it
+    are kept."""
     if not path.exists():
         return [], 0
     data = path.read_bytes()
@@ -47,37 +53,90 @@ def read_records(path: Path) -> tuple[list[dict], int]:
         end = data.find(b"\n", pos)
         if end < 0:
             break  # torn tail: no newline
-        line = data[pos:end]
         try:
-            records.append(json.loads(line))
-        except json.JSONDecodeError:
-            break
-        pos = end + 1
-        valid = pos
+            rec = json.loads(data[pos:end])
+        except (json.JSONDecodeError, UnicodeDecodeError):
+            rec = None
+        if isinstance(rec, dict) and isinstance(rec.get("key"), str):
+            records.append(rec)
+        pos = valid = end + 1
     return records, valid
 
 
-class ResultStore:
-    """The results file of a run directory."""
+def data_lines(path: Path) -> int:
+    """Number of complete lines of a file."""
+    return Path(path).read_bytes().count(b"\n")
 
-    def __init__(self, directory: Path, resume: bool):
+
+def has_results(directory: Path) -> int:
+    """Number of complete records in ``directory``'s results file (0: none, or no file)."""
+    path = Path(directory) / RESULTS
+    try:
+        if not path.is_file() or path.stat().st_size == 0:
+            return 0
+    except OSError:
+        return 0
+    return len(read_records(path)[0]) or 1  # a file with only a torn line still holds a result
+
+
+class ResultStore:
+    """The results file of a run directory.
+
+    Parameters
+    ----------
+    directory : the run directory (created if missing)
+    resume : keep the records of an earlier run (else the file is started afresh)
+    retry_failed : with ``resume``, drop the records of failed cases so that they are run again
+    """
+
+    def __init__(self, directory: Path, resume: bool, retry_failed: bool = False):
+        from ..errors import OutputError
+
         self.directory = Path(directory)
-        self.directory.mkdir(parents=True, exist_ok=True)
         self.path = self.directory / RESULTS
         self._records: dict[str, dict | bytes] = {}  # bytes: a line written, parsed when asked for
         self.torn = 0
-        if resume:
-            found, valid = read_records(self.path)
-            if self.path.exists() and valid < self.path.stat().st_size:
-                self.torn = self.path.stat().st_size - valid
-                with open(self.path, "r+b") as f:
-                    f.truncate(valid)
-            for rec in found:
-                self._records[rec["key"]] = rec
-        else:
-            self.path.unlink(missing_ok=True)
-        self._fd = os.open(self.path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644)
+        self.retried: set[str] = set()   # keys of failed records dropped to be run again
+        try:
+            self.directory.mkdir(parents=True, exist_ok=True)
+            if resume:
+                self._read_back(retry_failed)
+            else:
+                self.path.unlink(missing_ok=True)
+            self._fd = os.open(self.path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644)
+        except OutputError:
+            raise
+        except OSError as exc:
+            raise OutputError(f"results file '{self.path}': {exc.strerror or exc}") from None
         self._synced = time.monotonic()
+
+    def _read_back(self, retry_failed: bool) -> None:
+        found, valid = read_records(self.path)
+        if self.path.exists() and valid < self.path.stat().st_size:
+            self.torn = self.path.stat().st_size - valid
+            with open(self.path, "r+b") as f:
+                f.truncate(valid)
+        for rec in found:
+            self._records[rec["key"]] = rec   # a later record of a key replaces an earlier one
+        if retry_failed:
+            failed = [k for k, rec in self._records.items() if rec.get("agreement") == "failed"]
+            for k in failed:
+                del self._records[k]
+            self.retried = set(failed)
+        lines = data_lines(self.path) if self.path.exists() else 0
+        if self.retried or len(self._records) < lines:  # dropped, replaced or unreadable lines
+            self._rewrite()
+
+    def _rewrite(self) -> None:
+        """Replace the file by one line per kept record, atomically (a kill leaves the old file)."""
+        from ..outputs import atomic_output
+
+        with atomic_output(self.path, "results file") as tmp:
+            with open(tmp, "wb") as f:
+                for rec in self._records.values():
+                    f.write(encode(rec))
+                f.flush()
+                os.fsync(f.fileno())
 
     @property
     def records(self) -> dict[str, dict]:

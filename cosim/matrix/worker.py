@@ -15,7 +15,6 @@ import importlib
 import importlib.util
 import os
 import pickle
-import signal
 import struct
 import sys
 import time
@@ -81,7 +80,11 @@ def import_plugins(imports: list[str]) -> None:
                 raise ImportError(f"cannot import {path}")
             module = importlib.util.module_from_spec(spec)
             sys.modules[name] = module
-            spec.loader.exec_module(module)
+            try:
+                spec.loader.exec_module(module)
+            except BaseException:
+                del sys.modules[name]  # a failed import is not cached as done
+                raise
         else:
             importlib.import_module(item)
 
@@ -126,7 +129,15 @@ class ReusableFMUComponent(FMUComponent):
             super()._instantiate()
 
     def close(self) -> None:
-        if self.instance is not None:
+        """Terminate for reuse where FMI allows it: after fmi2Error only fmi2FreeInstance (or
+        fmi2Reset) is allowed, after fmi2Fatal nothing; such an instance is not reused."""
+        if self.instance is None:
+            return
+        if self.status >= 4:
+            self.instance = None
+        elif self.status >= 3:
+            self._free()
+        else:
             try:
                 self.instance.terminate()
             except Exception:
@@ -275,19 +286,21 @@ def warm_up() -> None:
     library()
 
 
-def _die_with_parent() -> None:
-    """Linux: get SIGKILL when the parent (supervisor or Dask worker) dies."""
-    try:
-        import ctypes
+def _parent_pid(argv: list[str]) -> int | None:
+    """The supervisor's pid from ``--parent PID`` (the worker dies with it), else None."""
+    if "--parent" in argv:
+        try:
+            return int(argv[argv.index("--parent") + 1])
+        except (IndexError, ValueError):
+            return None
+    return None
 
-        libc = ctypes.CDLL("libc.so.6", use_errno=True)
-        libc.prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
-    except Exception:
-        pass
 
+def main(argv: list[str] | None = None) -> int:
+    from ..processes import die_with_parent
 
-def main() -> int:
-    _die_with_parent()
+    # first: a worker must not outlive its supervisor (or Dask worker), even one killed with -9
+    die_with_parent(_parent_pid(sys.argv[1:] if argv is None else argv))
     proto_in = sys.stdin.buffer
     proto_out = os.fdopen(os.dup(1), "wb", buffering=0)
     os.dup2(2, 1)               # C-level printf of FMUs goes to the log

@@ -8,6 +8,8 @@
  *     nx         nx                   nu         np             nc                         nz
  *
  * Integer and Boolean variables are stored as doubles too (types[] tells which is which).
+ * The instantiation token (GUID) identifies the model: the runtime refuses FMU states whose GUID
+ * or block sizes differ from its own.
  * The generator writes both this model's C tables and modelDescription.xml from one Python
  * description, so value references here and in the XML cannot disagree.
  */
@@ -32,6 +34,8 @@ typedef struct {
     /* Jacobian-vector product of (xdot, z) along the direction (dx, du, dp). */
     int (*jvp)(double t, const double *x, const double *u, const double *p,
                const double *dx, const double *du, const double *dp, double *dxdot, double *dz);
+    /* nv variable names as in modelDescription.xml (e.g. "der(phi)"), for messages; may be NULL. */
+    const char *const *names;
 } cosim_model;
 
 extern const cosim_model COSIM_MODEL;

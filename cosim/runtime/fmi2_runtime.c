@@ -11,10 +11,22 @@
  *
  * Conventions:
  *   - Helpers that can fail return 1 on success and 0 on failure, after logging.
- *   - A rejected call (wrong state, bad value reference, bad argument) returns fmi2Error and
- *     leaves the instance unchanged.  A failed computation (model evaluation, non-finite state,
- *     too many steps) moves the instance to the error state; only fmi2Reset, fmi2SetFMUstate,
+ *   - A rejected call (wrong state, bad value reference, bad or non-finite argument) returns
+ *     fmi2Error and leaves the instance unchanged.
+ *   - An integration failure inside fmi2DoStep (step size too small, too many steps, a non-finite
+ *     solution) returns fmi2Discard (FMI 2.0, 4.2.2: "the slave computed successfully only a
+ *     subinterval of the communication step"): the instance moves to stepFailed with states,
+ *     derivatives and outputs at the last successful time, which fmi2GetRealStatus(
+ *     fmi2LastSuccessfulTime) returns; fmi2GetBooleanStatus(fmi2Terminated) is then fmi2True.
+ *     From stepFailed: getters, status and directional derivatives, FMU states (fmi2SetFMUstate
+ *     of an earlier state redoes the step), fmi2Terminate, fmi2Reset, fmi2FreeInstance.
+ *   - In Model Exchange a model evaluation that fails or gives non-finite derivatives in event or
+ *     continuous-time mode returns fmi2Discard (FMI 2.0, 2.1.3: the integrator may retry with a
+ *     smaller step) and changes nothing.
+ *   - Any other failed computation (model evaluation at the start of a step or in initialization
+ *     mode) moves the instance to the error state; only fmi2Reset, fmi2SetFMUstate,
  *     fmi2FreeInstance and getters for diagnosis are possible there.
+ *   - FMU states carry the model's identity (GUID and sizes) and are refused by any other model.
  *   - No function of libm is called (only the isfinite macro): fmpy rebuilds FMUs from their
  *     sources with CMake, which does not link libm.
  *   - There is no global mutable state; instances are independent and may run in parallel.
@@ -55,6 +67,7 @@ typedef enum {
     ST_EVENT,          /* ME eventMode */
     ST_CONT,           /* ME continuousTimeMode */
     ST_STEP_COMPLETE,  /* CS stepComplete */
+    ST_STEP_FAILED,    /* CS stepFailed: fmi2DoStep returned fmi2Discard */
     ST_TERMINATED,
     ST_ERROR,
     ST_FATAL,
@@ -63,22 +76,24 @@ typedef enum {
 
 static const char *const STATE_NAMES[ST_COUNT] = {
     "instantiated", "initializationMode", "eventMode", "continuousTimeMode",
-    "stepComplete", "terminated", "error", "fatal"
+    "stepComplete", "stepFailed", "terminated", "error", "fatal"
 };
 
 #define BIT(st) (1u << (st))
+/* The masks follow the state tables of FMI 2.0 (3.2.3 for ModelExchange, 4.2.4 for CoSimulation). */
 #define M_ALIVE  (BIT(ST_INSTANTIATED) | BIT(ST_INIT) | BIT(ST_EVENT) | BIT(ST_CONT) | \
-                  BIT(ST_STEP_COMPLETE) | BIT(ST_TERMINATED) | BIT(ST_ERROR))
+                  BIT(ST_STEP_COMPLETE) | BIT(ST_STEP_FAILED) | BIT(ST_TERMINATED) | BIT(ST_ERROR))
 #define M_BEFORE_EXIT (BIT(ST_INSTANTIATED) | BIT(ST_INIT))
-#define M_GET    (BIT(ST_INIT) | BIT(ST_EVENT) | BIT(ST_CONT) | BIT(ST_STEP_COMPLETE) | \
+#define M_GET    (BIT(ST_INIT) | BIT(ST_EVENT) | BIT(ST_CONT) | BIT(ST_STEP_COMPLETE) | BIT(ST_STEP_FAILED) | \
                   BIT(ST_TERMINATED) | BIT(ST_ERROR))
 #define M_SET_REAL     (BIT(ST_INSTANTIATED) | BIT(ST_INIT) | BIT(ST_EVENT) | BIT(ST_CONT) | BIT(ST_STEP_COMPLETE))
 #define M_SET_DISCRETE (BIT(ST_INSTANTIATED) | BIT(ST_INIT) | BIT(ST_EVENT) | BIT(ST_STEP_COMPLETE))
-#define M_DIR_DER (BIT(ST_INIT) | BIT(ST_EVENT) | BIT(ST_CONT) | BIT(ST_STEP_COMPLETE) | BIT(ST_TERMINATED))
-#define M_TERMINATE (BIT(ST_EVENT) | BIT(ST_CONT) | BIT(ST_STEP_COMPLETE))
+#define M_DIR_DER (BIT(ST_INIT) | BIT(ST_EVENT) | BIT(ST_CONT) | BIT(ST_STEP_COMPLETE) | BIT(ST_STEP_FAILED) | \
+                   BIT(ST_TERMINATED))
+#define M_TERMINATE (BIT(ST_EVENT) | BIT(ST_CONT) | BIT(ST_STEP_COMPLETE) | BIT(ST_STEP_FAILED))
 #define M_ME_RUNNING (BIT(ST_EVENT) | BIT(ST_CONT))
 #define M_ME_GET (BIT(ST_INIT) | BIT(ST_EVENT) | BIT(ST_CONT) | BIT(ST_TERMINATED) | BIT(ST_ERROR))
-#define M_CS_STATUS (BIT(ST_STEP_COMPLETE) | BIT(ST_TERMINATED))
+#define M_CS_STATUS (BIT(ST_STEP_COMPLETE) | BIT(ST_STEP_FAILED) | BIT(ST_TERMINATED))
 
 #define IF_ANY (-1) /* function available for both interface types */
 
@@ -90,18 +105,38 @@ typedef struct {
     rt_state state;
     double time;
     double tolerance;
+    double start_time;     /* of fmi2SetupExperiment */
+    double stop_time;      /* of fmi2SetupExperiment, if stop_defined */
+    int stop_defined;
+    long n_steps;          /* CS: fmi2DoStep calls completed since fmi2ExitInitializationMode */
     double h_next;         /* CS: step size proposed for the next DoStep; 0 = estimate anew */
     int params_dirty;      /* c (and, in initializationMode, calculated state starts) are stale */
     int eval_dirty;        /* der(x) and z are stale */
-    double *v;             /* the value array, nv entries */
-    double *du;            /* CS: first derivatives of the inputs, nu entries */
+    double *v;             /* the value array, nv entries; inputs as the environment set them */
+    double *ue;            /* nu inputs as the model sees them: v[u] extrapolated with du in CS */
+    double *du;            /* CS: first derivatives of the inputs for the next DoStep, nu entries */
     unsigned char *x_set;  /* nx flags: state set explicitly, its calculated start must not overwrite it */
 } rt_vars;
 
-#define RT_STATE_MAGIC 0x43534653u /* tags our fmi2FMUstate objects */
+/* Who an FMU state belongs to: the GUID and the sizes of the model.  Two FMUs built by cosim
+   share this runtime, so an fmi2FMUstate of one can reach the other; only the identity tells. */
+#define RT_GUID_MAX 64
+typedef struct {
+    uint32_t nv, nx, nu, np, nc, nz;   /* block sizes */
+    uint32_t n_real, n_integer, n_boolean;
+    uint32_t guid_hash;                /* of the whole GUID (the copy below may be cut) */
+    char guid[RT_GUID_MAX];            /* zero-padded */
+} rt_identity;
+
+/* Tags our fmi2FMUstate objects ("CSF2"); the layout number changes with rt_snapshot, so that a
+   state of an FMU built with another version of this runtime is refused before it is read. */
+#define RT_STATE_MAGIC 0x43534632u
+#define RT_STATE_LAYOUT 2u
 
 typedef struct {
-    unsigned magic;
+    uint32_t magic;   /* first, so that it can be checked on any pointer passed in */
+    uint32_t layout;
+    rt_identity id;
     rt_vars vars;
 } rt_snapshot;
 
@@ -112,6 +147,7 @@ typedef struct {
     int log_error, log_warning, log_calls;  /* enabled log categories */
 
     size_t nx, nu, np, nc, nz, nv;          /* block sizes */
+    rt_identity id;                         /* of this model, see rt_snapshot */
     size_t o_dx, o_u, o_p, o_c, o_z;        /* block offsets in the value array */
     int has_calc_start;                     /* some state has a calculated start */
     long vr_fixed_step;                     /* vr of the fixed step size parameter, -1 = none */
@@ -128,10 +164,10 @@ typedef struct {
 
 #define XV(in)  ((in)->s.v)
 #define DXV(in) ((in)->s.v + (in)->o_dx)
-#define UV(in)  ((in)->s.v + (in)->o_u)
 #define PV(in)  ((in)->s.v + (in)->o_p)
 #define CV(in)  ((in)->s.v + (in)->o_c)
 #define ZV(in)  ((in)->s.v + (in)->o_z)
+#define UE(in)  ((in)->s.ue)
 
 /* ---------------------------------------------------------------------------------------------
  * Small numeric helpers (no libm, see top of file)
@@ -164,12 +200,13 @@ static double rt_root(double x, int n)
     return y;
 }
 
-static int all_finite(const double *a, size_t n)
+/* The index of the first non-finite entry of a, or n if all are finite. */
+static size_t first_nonfinite(const double *a, size_t n)
 {
     size_t i;
     for (i = 0; i < n; i++)
-        if (!isfinite(a[i])) return 0;
-    return 1;
+        if (!isfinite(a[i])) break;
+    return i;
 }
 
 /* ---------------------------------------------------------------------------------------------
@@ -181,7 +218,7 @@ static int all_finite(const double *a, size_t n)
 static void emit(const fmi2CallbackFunctions *cb, const char *instance_name, fmi2Status status,
                  const char *category, const char *fmt, va_list ap)
 {
-    char raw[512], msg[1024];
+    char raw[1024], msg[2048];
     size_t i, j = 0;
 
     if (!cb || !cb->logger) return;
@@ -229,6 +266,34 @@ static void RT_PRINTF(2, 3) log_call(const rt_instance *in, const char *fmt, ...
     va_start(ap, fmt);
     emit(&in->cb, in->name, fmi2OK, "logCalls", fmt, ap);
     va_end(ap);
+}
+
+/* A step ended early (fmi2Discard): logged as an error, since the communication step was not done. */
+static void RT_PRINTF(2, 3) log_discard(const rt_instance *in, const char *fmt, ...)
+{
+    va_list ap;
+    if (!in || !in->log_error) return;
+    va_start(ap, fmt);
+    emit(&in->cb, in->name, fmi2Discard, "logStatusError", fmt, ap);
+    va_end(ap);
+}
+
+/* snprintf through vsnprintf: the runtime needs nothing of libc beyond the functions run.sh lists. */
+static void RT_PRINTF(3, 4) format(char *buf, size_t size, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(buf, size, fmt, ap);
+    va_end(ap);
+}
+
+/* "name (value reference vr)", or "value reference vr" for a model without names; into buf. */
+static const char *vr_label(const rt_instance *in, fmi2ValueReference vr, char *buf, size_t size)
+{
+    const char *name = COSIM_MODEL.names && vr < in->nv ? COSIM_MODEL.names[vr] : NULL;
+    if (name) format(buf, size, "%s (value reference %u)", name, vr);
+    else format(buf, size, "value reference %u", vr);
+    return buf;
 }
 
 /* A computation failed: log and move to the error state. */
@@ -283,7 +348,7 @@ static int check_length(const rt_instance *in, const char *fn, const char *arg, 
 static int state_fits_type(rt_state st, fmi2Type type)
 {
     if (st == ST_EVENT || st == ST_CONT) return type == fmi2ModelExchange;
-    if (st == ST_STEP_COMPLETE) return type == fmi2CoSimulation;
+    if (st == ST_STEP_COMPLETE || st == ST_STEP_FAILED) return type == fmi2CoSimulation;
     return st < ST_FATAL;
 }
 
@@ -375,37 +440,67 @@ static int update_parameters(rt_instance *in, const char *fn)
     return 1;
 }
 
-/* Brings der(x) and z up to date with t, x, u and p. */
-static int update_outputs(rt_instance *in, const char *fn)
+/* Why the evaluation at the current point is unusable: the model failed, or the derivatives are
+   not finite (the first one named).  Returns NULL if der(x) and z are fine. */
+static const char *evaluate(rt_instance *in, char *why, size_t size)
 {
-    if (!update_parameters(in, fn)) return 0;
-    if (!in->s.eval_dirty) return 1;
-    if (COSIM_MODEL.eval(in->s.time, XV(in), UV(in), PV(in), DXV(in), ZV(in)) != 0) {
-        fail(in, "%s: model evaluation failed at t = %.16g", fn, in->s.time);
-        return 0;
+    size_t i;
+    char label[160];
+
+    if (COSIM_MODEL.eval(in->s.time, XV(in), UE(in), PV(in), DXV(in), ZV(in)) != 0) {
+        format(why, size, "model evaluation failed at t = %.16g", in->s.time);
+        return why;
+    }
+    i = first_nonfinite(DXV(in), in->nx);
+    if (i < in->nx) {
+        format(why, size, "the derivative %s = %g is not finite at t = %.16g",
+               vr_label(in, (fmi2ValueReference)(in->o_dx + i), label, sizeof label), DXV(in)[i], in->s.time);
+        return why;
+    }
+    return NULL;
+}
+
+/* Brings der(x) and z up to date with t, x, u and p.  fmi2OK; fmi2Discard if the model cannot
+   be evaluated here but the instance stays usable (ModelExchange in event or continuous-time mode:
+   FMI 2.0, 2.1.3, the integrator may retry with a smaller step); else fmi2Error and the error state. */
+static fmi2Status update_outputs(rt_instance *in, const char *fn)
+{
+    char why[320];
+
+    if (!update_parameters(in, fn)) return fmi2Error;
+    if (!in->s.eval_dirty) return fmi2OK;
+    if (evaluate(in, why, sizeof why)) {
+        /* eval_dirty stays set: the next getter evaluates (and reports) again */
+        if (in->type == fmi2ModelExchange && (M_ME_RUNNING & BIT(in->s.state))) {
+            log_discard(in, "%s: %s", fn, why);
+            return fmi2Discard;
+        }
+        fail(in, "%s: %s", fn, why);
+        return fmi2Error;
     }
     in->s.eval_dirty = 0;
-    return 1;
+    return fmi2OK;
 }
 
 /* Checks a Get call and brings the requested values up to date. */
-static int prepare_get(rt_instance *in, const char *fn, const fmi2ValueReference vr[], size_t nvr,
-                       const void *value, cosim_type type)
+static fmi2Status prepare_get(rt_instance *in, const char *fn, const fmi2ValueReference vr[], size_t nvr,
+                              const void *value, cosim_type type)
 {
     size_t i;
     int need_eval = 0;
 
-    if (nvr == 0) return 1;
-    if (!not_null(in, fn, "vr", vr) || !not_null(in, fn, "value", value)) return 0;
+    if (nvr == 0) return fmi2OK;
+    if (!not_null(in, fn, "vr", vr) || !not_null(in, fn, "value", value)) return fmi2Error;
     for (i = 0; i < nvr; i++) {
         rt_block b;
-        if (!check_vr(in, fn, vr[i], type)) return 0;
+        if (!check_vr(in, fn, vr[i], type)) return fmi2Error;
         b = block_of(in, vr[i]);
         if (b == B_DX || b == B_Z) need_eval = 1;
     }
     /* In the error state report the values as they were when the error occurred. */
-    if (in->s.state == ST_ERROR) return 1;
-    return need_eval ? update_outputs(in, fn) : update_parameters(in, fn);
+    if (in->s.state == ST_ERROR) return fmi2OK;
+    if (need_eval) return update_outputs(in, fn);
+    return update_parameters(in, fn) ? fmi2OK : fmi2Error;
 }
 
 /* Checks a whole Set call before anything is changed. */
@@ -418,6 +513,7 @@ static int prepare_set(const rt_instance *in, const char *fn, const fmi2ValueRef
     if (!not_null(in, fn, "vr", vr) || !not_null(in, fn, "value", value)) return 0;
     for (i = 0; i < nvr; i++) {
         const char *why;
+        char label[160];
         if (!check_vr(in, fn, vr[i], type)) return 0;
         why = set_refusal(in, block_of(in, vr[i]));
         if (why) {
@@ -425,16 +521,28 @@ static int prepare_set(const rt_instance *in, const char *fn, const fmi2ValueRef
                       STATE_NAMES[in->s.state], why);
             return 0;
         }
+        /* NaN or inf as a start value, parameter or input only fails later, far from its cause
+           (in the calculated parameters, or as "step size too small"). */
+        if (type == COSIM_REAL && !isfinite(((const fmi2Real *)value)[i])) {
+            log_error(in, "%s: %s = %g: the value must be finite", fn,
+                      vr_label(in, vr[i], label, sizeof label), ((const fmi2Real *)value)[i]);
+            return 0;
+        }
     }
     return 1;
 }
 
-/* Stores one checked value and marks what depends on it as stale. */
+/* Stores one checked value and marks what depends on it as stale.  Setting an input also ends
+   its extrapolation from an earlier fmi2SetRealInputDerivatives: the model sees the value set. */
 static void store(rt_instance *in, fmi2ValueReference vr, double value)
 {
     const rt_block b = block_of(in, vr);
 
     if (b == B_X) in->s.x_set[vr] = 1;
+    if (b == B_U && UE(in)[vr - in->o_u] != value) {
+        UE(in)[vr - in->o_u] = value;
+        in->s.eval_dirty = 1;
+    }
     if (in->s.v[vr] == value) return; /* e.g. a master re-sending unchanged inputs */
     in->s.v[vr] = value;
     if (b == B_P) in->s.params_dirty = 1;
@@ -458,17 +566,20 @@ static void rt_free(const rt_instance *in, void *p)
 static int vars_alloc(const rt_instance *in, rt_vars *s)
 {
     s->v = (double *)rt_alloc(in, in->nv, sizeof(double));
+    s->ue = (double *)rt_alloc(in, in->nu, sizeof(double));
     s->du = (double *)rt_alloc(in, in->nu, sizeof(double));
     s->x_set = (unsigned char *)rt_alloc(in, in->nx, 1);
-    return s->v && s->du && s->x_set;
+    return s->v && s->ue && s->du && s->x_set;
 }
 
 static void vars_free(const rt_instance *in, rt_vars *s)
 {
     rt_free(in, s->v);
+    rt_free(in, s->ue);
     rt_free(in, s->du);
     rt_free(in, s->x_set);
     s->v = NULL;
+    s->ue = NULL;
     s->du = NULL;
     s->x_set = NULL;
 }
@@ -478,10 +589,15 @@ static void vars_copy(const rt_instance *in, rt_vars *dst, const rt_vars *src)
     dst->state = src->state;
     dst->time = src->time;
     dst->tolerance = src->tolerance;
+    dst->start_time = src->start_time;
+    dst->stop_time = src->stop_time;
+    dst->stop_defined = src->stop_defined;
+    dst->n_steps = src->n_steps;
     dst->h_next = src->h_next;
     dst->params_dirty = src->params_dirty;
     dst->eval_dirty = src->eval_dirty;
     memcpy(dst->v, src->v, in->nv * sizeof(double));
+    if (in->nu > 0) memcpy(dst->ue, src->ue, in->nu * sizeof(double));
     if (in->nu > 0) memcpy(dst->du, src->du, in->nu * sizeof(double));
     if (in->nx > 0) memcpy(dst->x_set, src->x_set, in->nx);
 }
@@ -498,10 +614,15 @@ static void vars_reset(rt_instance *in)
     s->state = ST_INSTANTIATED;
     s->time = 0.0;
     s->tolerance = default_tolerance();
+    s->start_time = 0.0;
+    s->stop_time = 0.0;
+    s->stop_defined = 0;
+    s->n_steps = 0;
     s->h_next = 0.0;
     s->params_dirty = 1;
     s->eval_dirty = 1;
     memcpy(s->v, COSIM_MODEL.start, in->nv * sizeof(double));
+    if (in->nu > 0) memcpy(s->ue, COSIM_MODEL.start + in->o_u, in->nu * sizeof(double));
     if (in->nu > 0) memset(s->du, 0, in->nu * sizeof(double));
     if (in->nx > 0) memset(s->x_set, 0, in->nx);
 }
@@ -536,6 +657,52 @@ static int work_alloc(rt_instance *in)
     in->jdx = w; w += nx;
     in->jz = w;
     return 1;
+}
+
+/* The identity of this model, as FMU states carry it (see rt_snapshot). */
+static void make_identity(const rt_instance *in, rt_identity *id)
+{
+    const char *guid = COSIM_MODEL.instantiation_token;
+    const unsigned char *p = (const unsigned char *)guid;
+    uint32_t h = 2166136261u; /* FNV-1a */
+    size_t i, n = strlen(guid);
+
+    memset(id, 0, sizeof *id); /* compared with memcmp: no stray bytes */
+    id->nv = (uint32_t)in->nv;
+    id->nx = (uint32_t)in->nx;
+    id->nu = (uint32_t)in->nu;
+    id->np = (uint32_t)in->np;
+    id->nc = (uint32_t)in->nc;
+    id->nz = (uint32_t)in->nz;
+    for (i = 0; i < in->nv; i++) {
+        if (COSIM_MODEL.types[i] == COSIM_INTEGER) id->n_integer++;
+        else if (COSIM_MODEL.types[i] == COSIM_BOOLEAN) id->n_boolean++;
+        else id->n_real++;
+    }
+    while (*p) h = (h ^ *p++) * 16777619u;
+    id->guid_hash = h;
+    memcpy(id->guid, guid, n < RT_GUID_MAX - 1 ? n : RT_GUID_MAX - 1);
+}
+
+/* Why the identity `other` (of an FMU state) is not this instance's, or NULL if it is; into buf. */
+static const char *identity_mismatch(const rt_instance *in, const rt_identity *other, char *buf, size_t size)
+{
+    const rt_identity *id = &in->id;
+    if (memcmp(other, id, sizeof *id) == 0) return NULL;
+    if (other->guid_hash != id->guid_hash || memcmp(other->guid, id->guid, RT_GUID_MAX) != 0) {
+        format(buf, size, "the state belongs to another FMU (GUID %.*s, this FMU is %s)",
+               RT_GUID_MAX - 1, other->guid, COSIM_MODEL.instantiation_token);
+        return buf;
+    }
+    format(buf, size, "the state has other sizes than this FMU (variables %u, states %u, inputs %u, "
+           "parameters %u + %u, algebraics %u; Real/Integer/Boolean %u/%u/%u) although its GUID %s is the same; "
+           "this FMU has %u, %u, %u, %u + %u, %u; %u/%u/%u",
+           (unsigned)other->nv, (unsigned)other->nx, (unsigned)other->nu, (unsigned)other->np, (unsigned)other->nc,
+           (unsigned)other->nz, (unsigned)other->n_real, (unsigned)other->n_integer, (unsigned)other->n_boolean,
+           COSIM_MODEL.instantiation_token, (unsigned)id->nv, (unsigned)id->nx, (unsigned)id->nu, (unsigned)id->np,
+           (unsigned)id->nc, (unsigned)id->nz, (unsigned)id->n_real, (unsigned)id->n_integer,
+           (unsigned)id->n_boolean);
+    return buf;
 }
 
 /* Checks the generated model description once per instantiation. */
@@ -656,6 +823,7 @@ RT_EXPORT fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuTyp
     in->nv = in->o_z + in->nz;
     for (i = 0; i < in->nx; i++)
         if (COSIM_MODEL.state_start_calculated[i]) in->has_calc_start = 1;
+    make_identity(in, &in->id);
 
     name_len = strlen(instanceName);
     in->name = (char *)rt_alloc(in, name_len + 1, 1);
@@ -693,10 +861,9 @@ RT_EXPORT fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceD
 {
     rt_instance *in = (rt_instance *)c;
 
-    (void)stopTimeDefined; /* the runtime has no use for the stop time */
-    (void)stopTime;
-    log_call(in, "fmi2SetupExperiment(toleranceDefined = %d, tolerance = %g, startTime = %.16g)",
-             toleranceDefined, tolerance, startTime);
+    log_call(in, "fmi2SetupExperiment(toleranceDefined = %d, tolerance = %g, startTime = %.16g, "
+             "stopTimeDefined = %d, stopTime = %.16g)", toleranceDefined, tolerance, startTime,
+             stopTimeDefined, stopTime);
     if (!allowed(in, "fmi2SetupExperiment", BIT(ST_INSTANTIATED), IF_ANY)) return fmi2Error;
     if (toleranceDefined && !(tolerance > 0.0 && isfinite(tolerance))) {
         log_error(in, "fmi2SetupExperiment: tolerance = %g must be positive", tolerance);
@@ -706,8 +873,17 @@ RT_EXPORT fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceD
         log_error(in, "fmi2SetupExperiment: startTime must be finite");
         return fmi2Error;
     }
+    /* +inf is no limit and accepted as such */
+    if (stopTimeDefined && !(stopTime >= startTime)) {
+        log_error(in, "fmi2SetupExperiment: stopTime = %.16g must not be before startTime = %.16g",
+                  stopTime, startTime);
+        return fmi2Error;
+    }
     in->s.tolerance = toleranceDefined ? tolerance : default_tolerance();
     in->s.time = startTime;
+    in->s.start_time = startTime;
+    in->s.stop_defined = stopTimeDefined != fmi2False;
+    in->s.stop_time = in->s.stop_defined ? stopTime : 0.0;
     in->s.eval_dirty = 1;
     return fmi2OK;
 }
@@ -729,9 +905,11 @@ RT_EXPORT fmi2Status fmi2ExitInitializationMode(fmi2Component c)
 
     log_call(in, "fmi2ExitInitializationMode()");
     if (!allowed(in, "fmi2ExitInitializationMode", BIT(ST_INIT), IF_ANY)) return fmi2Error;
-    /* Evaluate now, so that a model that cannot start fails here and not at some later call. */
-    if (!update_outputs(in, "fmi2ExitInitializationMode")) return fmi2Error;
+    /* Evaluate now, so that a model that cannot start fails here and not at some later call
+       (in initializationMode every failure is an error, see update_outputs). */
+    if (update_outputs(in, "fmi2ExitInitializationMode") != fmi2OK) return fmi2Error;
     in->s.h_next = 0.0;
+    in->s.n_steps = 0;
     in->s.state = in->type == fmi2ModelExchange ? ST_EVENT : ST_STEP_COMPLETE;
     return fmi2OK;
 }
@@ -763,37 +941,44 @@ RT_EXPORT fmi2Status fmi2Reset(fmi2Component c)
 RT_EXPORT fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[])
 {
     rt_instance *in = (rt_instance *)c;
+    fmi2Status status;
     size_t i;
 
     log_call(in, "fmi2GetReal(nvr = %zu)", nvr);
     if (!allowed(in, "fmi2GetReal", M_GET, IF_ANY)) return fmi2Error;
-    if (!prepare_get(in, "fmi2GetReal", vr, nvr, value, COSIM_REAL)) return fmi2Error;
-    for (i = 0; i < nvr; i++) value[i] = in->s.v[vr[i]];
-    return fmi2OK;
+    status = prepare_get(in, "fmi2GetReal", vr, nvr, value, COSIM_REAL);
+    if (status == fmi2Error) return fmi2Error;
+    for (i = 0; i < nvr; i++) value[i] = in->s.v[vr[i]]; /* for diagnosis, also with fmi2Discard */
+    return status;
 }
 
 RT_EXPORT fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[])
 {
     rt_instance *in = (rt_instance *)c;
+    fmi2Status status;
     size_t i;
 
     log_call(in, "fmi2GetInteger(nvr = %zu)", nvr);
     if (!allowed(in, "fmi2GetInteger", M_GET, IF_ANY)) return fmi2Error;
-    if (!prepare_get(in, "fmi2GetInteger", vr, nvr, value, COSIM_INTEGER)) return fmi2Error;
-    for (i = 0; i < nvr; i++) value[i] = to_integer(in->s.v[vr[i]]);
-    return fmi2OK;
+    status = prepare_get(in, "fmi2GetInteger", vr, nvr, value, COSIM_INTEGER);
+    if (status == fmi2Error) return fmi2Error;
+    for (i = 0; i < nvr; i++) value[i] = to_integer(in->s.v[vr[i]]); /* for diagnosis, also with fmi2Discard */
+    return status;
 }
 
 RT_EXPORT fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Boolean value[])
 {
     rt_instance *in = (rt_instance *)c;
+    fmi2Status status;
     size_t i;
 
     log_call(in, "fmi2GetBoolean(nvr = %zu)", nvr);
     if (!allowed(in, "fmi2GetBoolean", M_GET, IF_ANY)) return fmi2Error;
-    if (!prepare_get(in, "fmi2GetBoolean", vr, nvr, value, COSIM_BOOLEAN)) return fmi2Error;
+    status = prepare_get(in, "fmi2GetBoolean", vr, nvr, value, COSIM_BOOLEAN);
+    if (status == fmi2Error) return fmi2Error;
+    /* for diagnosis, also with fmi2Discard */
     for (i = 0; i < nvr; i++) value[i] = in->s.v[vr[i]] != 0.0 ? fmi2True : fmi2False;
-    return fmi2OK;
+    return status;
 }
 
 RT_EXPORT fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2String value[])
@@ -860,14 +1045,50 @@ RT_EXPORT fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[
  * FMU states
  * ------------------------------------------------------------------------------------------- */
 
+/* The snapshot behind FMUstate if it is one of this model's, else NULL after logging why.  Only
+   the tag is read before it is known to be an rt_snapshot of this runtime's layout, and nothing
+   of the variables before the identity matched: a state of another FMU may be smaller. */
 static rt_snapshot *as_snapshot(const rt_instance *in, const char *fn, fmi2FMUstate FMUstate)
 {
     rt_snapshot *snap = (rt_snapshot *)FMUstate;
-    if (!snap || snap->magic != RT_STATE_MAGIC) {
-        log_error(in, "%s: FMUstate is NULL or not a state of this FMU", fn);
+    char why[640];
+
+    if (!snap) {
+        log_error(in, "%s: FMUstate is NULL", fn);
+        return NULL;
+    }
+    if (snap->magic != RT_STATE_MAGIC || snap->layout != RT_STATE_LAYOUT) {
+        log_error(in, "%s: FMUstate is not an FMU state of this FMU (nor of any FMU built with this "
+                  "version of the cosim runtime)", fn);
+        return NULL;
+    }
+    if (identity_mismatch(in, &snap->id, why, sizeof why)) {
+        log_error(in, "%s: FMUstate refused: %s", fn, why);
         return NULL;
     }
     return snap;
+}
+
+static rt_snapshot *snapshot_alloc(const rt_instance *in, const char *fn)
+{
+    rt_snapshot *snap = (rt_snapshot *)rt_alloc(in, 1, sizeof(rt_snapshot));
+    if (!snap || !vars_alloc(in, &snap->vars)) {
+        if (snap) vars_free(in, &snap->vars);
+        rt_free(in, snap);
+        log_error(in, "%s: out of memory", fn);
+        return NULL;
+    }
+    snap->magic = RT_STATE_MAGIC;
+    snap->layout = RT_STATE_LAYOUT;
+    snap->id = in->id;
+    return snap;
+}
+
+static void snapshot_free(const rt_instance *in, rt_snapshot *snap)
+{
+    vars_free(in, &snap->vars);
+    snap->magic = 0;
+    rt_free(in, snap);
 }
 
 RT_EXPORT fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
@@ -878,19 +1099,9 @@ RT_EXPORT fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
     log_call(in, "fmi2GetFMUstate()");
     if (!allowed(in, "fmi2GetFMUstate", M_ALIVE, IF_ANY)) return fmi2Error;
     if (!not_null(in, "fmi2GetFMUstate", "FMUstate", FMUstate)) return fmi2Error;
-    if (*FMUstate) { /* overwrite a state returned earlier */
-        snap = as_snapshot(in, "fmi2GetFMUstate", *FMUstate);
-        if (!snap) return fmi2Error;
-    } else {
-        snap = (rt_snapshot *)rt_alloc(in, 1, sizeof(rt_snapshot));
-        if (!snap || !vars_alloc(in, &snap->vars)) {
-            if (snap) vars_free(in, &snap->vars);
-            rt_free(in, snap);
-            log_error(in, "fmi2GetFMUstate: out of memory");
-            return fmi2Error;
-        }
-        snap->magic = RT_STATE_MAGIC;
-    }
+    snap = *FMUstate ? as_snapshot(in, "fmi2GetFMUstate", *FMUstate) /* overwrite a state returned earlier */
+                     : snapshot_alloc(in, "fmi2GetFMUstate");
+    if (!snap) return fmi2Error;
     vars_copy(in, &snap->vars, &in->s);
     *FMUstate = snap;
     return fmi2OK;
@@ -924,32 +1135,27 @@ RT_EXPORT fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
     if (!FMUstate || !*FMUstate) return fmi2OK;
     snap = as_snapshot(in, "fmi2FreeFMUstate", *FMUstate);
     if (!snap) return fmi2Error;
-    vars_free(in, &snap->vars);
-    snap->magic = 0;
-    rt_free(in, snap);
+    snapshot_free(in, snap);
     *FMUstate = NULL;
     return fmi2OK;
 }
 
 /* Serialized form (native byte order; an FMU state only travels between instances of the same
-   binary): a header of six uint32 -- magic, format version, nv, nx, nu, hash of the GUID --
-   then the payload: int32 state, params_dirty, eval_dirty; double time, tolerance, h_next,
-   v[nv], du[nu]; unsigned char x_set[nx]. */
-#define RT_SERIAL_MAGIC 0x434F5331u /* "COS1" */
-#define RT_SERIAL_VERSION 1u
-#define RT_SERIAL_HEADER (6 * sizeof(uint32_t))
+   binary):
+     header:  uint32 magic, format version, then the identity (see rt_identity): uint32 nv, nx, nu,
+              np, nc, nz, n_real, n_integer, n_boolean, guid_hash, char guid[RT_GUID_MAX];
+     payload: int32 state, params_dirty, eval_dirty, stop_defined; int64 n_steps; double time,
+              tolerance, start_time, stop_time, h_next, v[nv], ue[nu], du[nu]; unsigned char x_set[nx].
+   The header is checked completely, and the total size against this model's, before anything is
+   allocated or copied. */
+#define RT_SERIAL_MAGIC 0x434F5332u /* "COS2" */
+#define RT_SERIAL_VERSION 2u
+#define RT_SERIAL_HEADER (12 * sizeof(uint32_t) + RT_GUID_MAX)
 
 static size_t serial_size(const rt_instance *in)
 {
-    return RT_SERIAL_HEADER + 3 * sizeof(int32_t) + (3 + in->nv + in->nu) * sizeof(double) + in->nx;
-}
-
-static uint32_t guid_hash(void)
-{
-    const unsigned char *p = (const unsigned char *)COSIM_MODEL.instantiation_token;
-    uint32_t h = 2166136261u; /* FNV-1a */
-    while (*p) h = (h ^ *p++) * 16777619u;
-    return h;
+    return RT_SERIAL_HEADER + 4 * sizeof(int32_t) + sizeof(int64_t) + (5 + in->nv + 2 * in->nu) * sizeof(double)
+           + in->nx;
 }
 
 static unsigned char *put(unsigned char *p, const void *src, size_t n)
@@ -961,6 +1167,14 @@ static unsigned char *put(unsigned char *p, const void *src, size_t n)
 static unsigned char *put_u32(unsigned char *p, uint32_t v) { return put(p, &v, sizeof v); }
 static unsigned char *put_i32(unsigned char *p, int v) { int32_t w = (int32_t)v; return put(p, &w, sizeof w); }
 static unsigned char *put_f64(unsigned char *p, double v) { return put(p, &v, sizeof v); }
+
+static unsigned char *put_identity(unsigned char *p, const rt_identity *id)
+{
+    const uint32_t fields[10] = { id->nv, id->nx, id->nu, id->np, id->nc, id->nz,
+                                  id->n_real, id->n_integer, id->n_boolean, id->guid_hash };
+    p = put(p, fields, sizeof fields);
+    return put(p, id->guid, RT_GUID_MAX);
+}
 
 typedef struct { const unsigned char *p, *end; } rt_reader;
 
@@ -991,6 +1205,7 @@ RT_EXPORT fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate FMUstat
     const rt_snapshot *snap;
     const rt_vars *s;
     unsigned char *p;
+    int64_t n_steps;
 
     log_call(in, "fmi2SerializeFMUstate(size = %zu)", size);
     if (!allowed(in, "fmi2SerializeFMUstate", M_ALIVE, IF_ANY)) return fmi2Error;
@@ -1001,54 +1216,95 @@ RT_EXPORT fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate FMUstat
         return fmi2Error;
     }
     s = &snap->vars;
+    n_steps = (int64_t)s->n_steps;
     p = (unsigned char *)serializedState;
     p = put_u32(p, RT_SERIAL_MAGIC);
     p = put_u32(p, RT_SERIAL_VERSION);
-    p = put_u32(p, (uint32_t)in->nv);
-    p = put_u32(p, (uint32_t)in->nx);
-    p = put_u32(p, (uint32_t)in->nu);
-    p = put_u32(p, guid_hash());
+    p = put_identity(p, &snap->id);
     p = put_i32(p, (int)s->state);
     p = put_i32(p, s->params_dirty);
     p = put_i32(p, s->eval_dirty);
+    p = put_i32(p, s->stop_defined);
+    p = put(p, &n_steps, sizeof n_steps);
     p = put_f64(p, s->time);
     p = put_f64(p, s->tolerance);
+    p = put_f64(p, s->start_time);
+    p = put_f64(p, s->stop_time);
     p = put_f64(p, s->h_next);
     p = put(p, s->v, in->nv * sizeof(double));
+    p = put(p, s->ue, in->nu * sizeof(double));
     p = put(p, s->du, in->nu * sizeof(double));
     put(p, s->x_set, in->nx);
     return fmi2OK;
 }
 
-/* Reads a serialized state into s; returns a reason for rejecting it, or NULL. */
-static const char *deserialize(const rt_instance *in, const unsigned char *bytes, size_t size, rt_vars *s)
+/* Why the serialized state cannot be this model's, or NULL; reads only the header.  Into buf. */
+static const char *check_serialized(const rt_instance *in, const unsigned char *bytes, size_t size,
+                                    char *buf, size_t buf_size)
 {
     rt_reader r;
-    uint32_t header[6];
-    int32_t flags[3];
-    double scalars[3];
-    size_t i;
+    uint32_t tag[2], fields[10];
+    rt_identity id;
 
     r.p = bytes;
     r.end = bytes + size;
-    if (!take(&r, header, sizeof header)) return "too short";
-    if (header[0] != RT_SERIAL_MAGIC) return "not a serialized state of a cosim FMU (bad magic)";
-    if (header[1] != RT_SERIAL_VERSION) return "unsupported format version";
-    if (header[2] != in->nv || header[3] != in->nx || header[4] != in->nu || header[5] != guid_hash())
-        return "the state belongs to a different model";
-    if (size != serial_size(in)) return "wrong size";
-    if (!take(&r, flags, sizeof flags) || !take(&r, scalars, sizeof scalars) ||
-        !take(&r, s->v, in->nv * sizeof(double)) || !take(&r, s->du, in->nu * sizeof(double)) ||
+    if (!take(&r, tag, sizeof tag)) {
+        format(buf, buf_size, "size = %zu is too short for a serialized FMU state", size);
+        return buf;
+    }
+    if (tag[0] != RT_SERIAL_MAGIC) return "not a serialized FMU state of a cosim FMU (bad magic)";
+    if (tag[1] != RT_SERIAL_VERSION) {
+        format(buf, buf_size, "unsupported format version %u (this FMU reads version %u)", (unsigned)tag[1],
+               (unsigned)RT_SERIAL_VERSION);
+        return buf;
+    }
+    memset(&id, 0, sizeof id);
+    if (!take(&r, fields, sizeof fields) || !take(&r, id.guid, RT_GUID_MAX)) {
+        format(buf, buf_size, "size = %zu is too short for a serialized FMU state", size);
+        return buf;
+    }
+    id.nv = fields[0]; id.nx = fields[1]; id.nu = fields[2]; id.np = fields[3]; id.nc = fields[4];
+    id.nz = fields[5]; id.n_real = fields[6]; id.n_integer = fields[7]; id.n_boolean = fields[8];
+    id.guid_hash = fields[9];
+    id.guid[RT_GUID_MAX - 1] = '\0'; /* printed in the message below */
+    if (identity_mismatch(in, &id, buf, buf_size)) return buf;
+    if (size != serial_size(in)) {
+        format(buf, buf_size, "size = %zu, but a serialized state of this FMU has %zu bytes", size, serial_size(in));
+        return buf;
+    }
+    return NULL;
+}
+
+/* Reads the payload of a serialized state whose header check_serialized accepted into s; returns
+   a reason for rejecting it, or NULL. */
+static const char *deserialize(const rt_instance *in, const unsigned char *bytes, size_t size, rt_vars *s)
+{
+    rt_reader r;
+    int32_t flags[4];
+    int64_t n_steps;
+    double scalars[5];
+    size_t i;
+
+    r.p = bytes + RT_SERIAL_HEADER;
+    r.end = bytes + size;
+    if (!take(&r, flags, sizeof flags) || !take(&r, &n_steps, sizeof n_steps) ||
+        !take(&r, scalars, sizeof scalars) || !take(&r, s->v, in->nv * sizeof(double)) ||
+        !take(&r, s->ue, in->nu * sizeof(double)) || !take(&r, s->du, in->nu * sizeof(double)) ||
         !take(&r, s->x_set, in->nx))
         return "too short";
     if (flags[0] < 0 || flags[0] >= (int32_t)ST_FATAL || !state_fits_type((rt_state)flags[0], in->type))
         return "invalid FMI state for this instance";
+    if (n_steps < 0 || n_steps > (int64_t)LONG_MAX) return "invalid step count";
     s->state = (rt_state)flags[0];
     s->params_dirty = flags[1] != 0;
     s->eval_dirty = flags[2] != 0;
+    s->stop_defined = flags[3] != 0;
+    s->n_steps = (long)n_steps;
     s->time = scalars[0];
     s->tolerance = scalars[1];
-    s->h_next = scalars[2];
+    s->start_time = scalars[2];
+    s->stop_time = scalars[3];
+    s->h_next = scalars[4];
     for (i = 0; i < in->nx; i++) s->x_set[i] = s->x_set[i] != 0;
     return NULL;
 }
@@ -1059,27 +1315,26 @@ RT_EXPORT fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte ser
     rt_instance *in = (rt_instance *)c;
     rt_snapshot *snap;
     const char *why;
+    char buf[640];
 
     log_call(in, "fmi2DeSerializeFMUstate(size = %zu)", size);
     if (!allowed(in, "fmi2DeSerializeFMUstate", M_ALIVE, IF_ANY)) return fmi2Error;
     if (!not_null(in, "fmi2DeSerializeFMUstate", "serializedState", serializedState) ||
         !not_null(in, "fmi2DeSerializeFMUstate", "FMUstate", FMUstate))
         return fmi2Error;
-    snap = (rt_snapshot *)rt_alloc(in, 1, sizeof(rt_snapshot));
-    if (!snap || !vars_alloc(in, &snap->vars)) {
-        if (snap) vars_free(in, &snap->vars);
-        rt_free(in, snap);
-        log_error(in, "fmi2DeSerializeFMUstate: out of memory");
-        return fmi2Error;
-    }
-    why = deserialize(in, (const unsigned char *)serializedState, size, &snap->vars);
+    why = check_serialized(in, (const unsigned char *)serializedState, size, buf, sizeof buf);
     if (why) {
-        vars_free(in, &snap->vars);
-        rt_free(in, snap);
         log_error(in, "fmi2DeSerializeFMUstate: %s", why);
         return fmi2Error;
     }
-    snap->magic = RT_STATE_MAGIC;
+    snap = snapshot_alloc(in, "fmi2DeSerializeFMUstate");
+    if (!snap) return fmi2Error;
+    why = deserialize(in, (const unsigned char *)serializedState, size, &snap->vars);
+    if (why) {
+        snapshot_free(in, snap);
+        log_error(in, "fmi2DeSerializeFMUstate: %s", why);
+        return fmi2Error;
+    }
     *FMUstate = snap;
     return fmi2OK;
 }
@@ -1139,7 +1394,7 @@ RT_EXPORT fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2Val
     }
 
     if (!update_parameters(in, fn)) return fmi2Error;
-    if (COSIM_MODEL.jvp(in->s.time, XV(in), UV(in), PV(in), in->jx, in->ju, in->jp, in->jdx, in->jz) != 0) {
+    if (COSIM_MODEL.jvp(in->s.time, XV(in), UE(in), PV(in), in->jx, in->ju, in->jp, in->jdx, in->jz) != 0) {
         fail(in, "%s: Jacobian-vector product failed at t = %.16g", fn, in->s.time);
         return fmi2Error;
     }
@@ -1241,15 +1496,17 @@ RT_EXPORT fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[]
 RT_EXPORT fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real derivatives[], size_t nx)
 {
     rt_instance *in = (rt_instance *)c;
+    fmi2Status status = fmi2OK;
 
     log_call(in, "fmi2GetDerivatives(nx = %zu)", nx);
     if (!allowed(in, "fmi2GetDerivatives", M_ME_GET, fmi2ModelExchange)) return fmi2Error;
     if (!check_length(in, "fmi2GetDerivatives", "nx", nx, in->nx)) return fmi2Error;
     if (nx == 0) return fmi2OK;
     if (!not_null(in, "fmi2GetDerivatives", "derivatives", derivatives)) return fmi2Error;
-    if (in->s.state != ST_ERROR && !update_outputs(in, "fmi2GetDerivatives")) return fmi2Error;
-    memcpy(derivatives, DXV(in), nx * sizeof(double));
-    return fmi2OK;
+    if (in->s.state != ST_ERROR) status = update_outputs(in, "fmi2GetDerivatives");
+    if (status == fmi2Error) return fmi2Error;
+    memcpy(derivatives, DXV(in), nx * sizeof(double)); /* for diagnosis, also with fmi2Discard */
+    return status;
 }
 
 RT_EXPORT fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real eventIndicators[], size_t ni)
@@ -1330,24 +1587,22 @@ static double fixed_step_size(const rt_instance *in)
     return h > 0.0 && isfinite(h) ? h : 0.0;
 }
 
-/* xdot = f(t, x, u(t)) with the inputs interpolated linearly from the step start t0;
-   the algebraics of this evaluation are left in zs. */
+/* xdot = f(t, x, u(t)) with the inputs extrapolated linearly from the step start t0 (where ue
+   holds them, unchanged during the step); the algebraics of this evaluation are left in zs.
+   0 if the model evaluation failed. */
 static int rhs(rt_instance *in, double t0, double t, const double *x, double *xdot)
 {
-    const double *u0 = UV(in);
+    const double *u0 = UE(in);
     size_t i;
 
     for (i = 0; i < in->nu; i++) in->us[i] = u0[i] + in->s.du[i] * (t - t0);
-    if (COSIM_MODEL.eval(t, x, in->us, PV(in), xdot, in->zs) != 0) {
-        fail(in, "fmi2DoStep: model evaluation failed at t = %.16g", t);
-        return 0;
-    }
-    return 1;
+    return COSIM_MODEL.eval(t, x, in->us, PV(in), xdot, in->zs) == 0;
 }
 
 /* One step from (t, x = XV) of size h with k[0] = f(t, x) given.  Leaves the 5th-order solution
-   in xn and f(tn, xn) in k[6].  tn is the end time (t + h, or exactly the communication point). */
-static int dp_step(rt_instance *in, double t0, double t, double h, double tn)
+   in xn and f(tn, xn) in k[6].  tn is the end time (t + h, or exactly the communication point).
+   0 if a model evaluation failed, at the time *t_bad. */
+static int dp_step(rt_instance *in, double t0, double t, double h, double tn, double *t_bad)
 {
     const double *x = XV(in);
     int s, j;
@@ -1355,13 +1610,17 @@ static int dp_step(rt_instance *in, double t0, double t, double h, double tn)
 
     for (s = 1; s < 7; s++) {
         double *arg = s == 6 ? in->xn : in->xs;
+        /* Stages with c = 1 use tn itself, so that the last evaluation is exactly at tn. */
+        const double ts = s >= 5 ? tn : t + DP_C[s] * h;
         for (i = 0; i < in->nx; i++) {
             double acc = 0.0;
             for (j = 0; j < s; j++) acc += DP_A[s][j] * in->k[j][i];
             arg[i] = x[i] + h * acc;
         }
-        /* Stages with c = 1 use tn itself, so that the last evaluation is exactly at tn. */
-        if (!rhs(in, t0, s >= 5 ? tn : t + DP_C[s] * h, arg, in->k[s])) return 0;
+        if (!rhs(in, t0, ts, arg, in->k[s])) {
+            *t_bad = ts;
+            return 0;
+        }
     }
     return 1;
 }
@@ -1404,8 +1663,10 @@ static double step_factor(double err, double fac_max)
     return rt_min(fac_max, rt_max(RT_FAC_MIN, RT_SAFETY / rt_root(err, 5)));
 }
 
-/* Starting step size (Hairer, Norsett & Wanner, Solving ODEs I, II.4), k[0] = f(t0, x0) given. */
-static int initial_step(rt_instance *in, double t0, double span, double *h)
+/* Starting step size (Hairer, Norsett & Wanner, Solving ODEs I, II.4), k[0] = f(t0, x0) given.
+   If the probing evaluation fails, the cautious first guess h0 is returned: the step size
+   control shrinks it further if needed. */
+static double initial_step(rt_instance *in, double t0, double span)
 {
     const double *x = XV(in);
     double d0, d1, d2, dmax, h0, h1;
@@ -1416,38 +1677,79 @@ static int initial_step(rt_instance *in, double t0, double span, double *h)
     h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
     h0 = rt_min(h0, span);
     for (i = 0; i < in->nx; i++) in->xs[i] = x[i] + h0 * in->k[0][i];
-    if (!rhs(in, t0, t0 + h0, in->xs, in->k[1])) return 0;
+    if (!rhs(in, t0, t0 + h0, in->xs, in->k[1])) return h0;
     for (i = 0; i < in->nx; i++) in->k[1][i] -= in->k[0][i];
     d2 = wrms(in, in->k[1], x) / h0;
     dmax = rt_max(d1, d2);
     h1 = dmax <= 1e-15 ? rt_max(1e-6, h0 * 1e-3) : rt_root(0.01 / dmax, 5);
-    *h = rt_min(100.0 * h0, h1);
-    return 1;
+    return rt_min(100.0 * h0, h1);
 }
 
-/* Ends a failed integration at the last accepted step (x is already there). */
-static void stop_at(rt_instance *in, double t)
+/* Ends fmi2DoStep (from t0 to t_end) early at t, the last successful time, where x already is:
+   the inputs as extrapolated to t, der(x) and z evaluated there, the instance in stepFailed.
+   Returns fmi2Discard (fmi2Error if even that evaluation fails). */
+static fmi2Status step_failed(rt_instance *in, double t0, double t, double t_end, const char *why)
 {
+    char again[320];
+    size_t i;
+
+    for (i = 0; i < in->nu; i++) {
+        UE(in)[i] += in->s.du[i] * (t - t0);
+        in->s.du[i] = 0.0;
+    }
     in->s.time = t;
-    in->s.eval_dirty = 1;
+    in->s.h_next = 0.0;
+    if (evaluate(in, again, sizeof again)) {
+        fail(in, "fmi2DoStep: %s; at the last successful time t = %.16g: %s", why, t, again);
+        return fmi2Error;
+    }
+    in->s.eval_dirty = 0;
+    in->s.state = ST_STEP_FAILED;
+    log_discard(in, "fmi2DoStep: %s; the communication step from t = %.16g to %.16g ends early at the last "
+                "successful time t = %.16g (fmi2Discard; states and outputs are those at that time)",
+                why, t0, t_end, t);
+    return fmi2Discard;
 }
 
-/* Integrates x from the current time to t_end (> time).  On success the value array holds x,
-   u, der(x) and z at t_end; on failure x and time are those of the last accepted step. */
-static int integrate(rt_instance *in, double t_end)
+/* The first non-finite state of xn or derivative of k[6] as "name = value", or NULL; into buf. */
+static const char *nonfinite_solution(const rt_instance *in, char *buf, size_t size)
+{
+    char label[160];
+    size_t i = first_nonfinite(in->xn, in->nx);
+
+    if (i < in->nx) {
+        format(buf, size, "state %s = %g", vr_label(in, (fmi2ValueReference)i, label, sizeof label), in->xn[i]);
+        return buf;
+    }
+    i = first_nonfinite(in->k[6], in->nx);
+    if (i < in->nx) {
+        format(buf, size, "derivative %s = %g",
+               vr_label(in, (fmi2ValueReference)(in->o_dx + i), label, sizeof label), in->k[6][i]);
+        return buf;
+    }
+    return NULL;
+}
+
+/* Integrates x from the current time to t_end (> time).  fmi2OK: the value array holds x, u,
+   der(x) and z at t_end.  fmi2Discard: the integration failed; the instance is in stepFailed at the
+   last accepted step (see step_failed).  fmi2Error: the model cannot be evaluated at the start. */
+static fmi2Status integrate(rt_instance *in, double t_end)
 {
     const double t0 = in->s.time, h_fix = fixed_step_size(in);
     const size_t nx = in->nx;
-    double t = t0, h, *swap;
+    double t = t0, h, t_bad = t0, *swap;
     long steps = 0;
-    int rejected = 0, nonfinite = 0;
+    int rejected = 0, nonfinite = 0, eval_failed = 0;
+    char why[480], what[240];
     size_t i;
 
-    if (!update_outputs(in, "fmi2DoStep")) return 0;
+    /* At the communication point itself: the FMU's own state with the environment's inputs.  A
+       failure here is not an integration failure (nothing of the step was computed). */
+    if (update_outputs(in, "fmi2DoStep") != fmi2OK) return fmi2Error;
     memcpy(in->k[0], DXV(in), nx * sizeof(double));
     if (h_fix > 0.0) h = h_fix;
     else if (in->s.h_next > 0.0) h = in->s.h_next;
-    else if (!initial_step(in, t0, t_end - t0, &h)) return 0;
+    else h = initial_step(in, t0, t_end - t0);
 
     while (t < t_end) {
         const double h_min = min_step(t, t_end);
@@ -1455,10 +1757,9 @@ static int integrate(rt_instance *in, double t_end)
         int last = 0;
 
         if (++steps > RT_MAX_STEPS) {
-            stop_at(in, t);
-            fail(in, "fmi2DoStep: more than %ld steps in one communication step at t = %.16g "
-                 "(tolerance too tight, fixed step too small or model too stiff)", RT_MAX_STEPS, t);
-            return 0;
+            format(why, sizeof why, "more than %ld steps in one communication step at t = %.16g "
+                   "(tolerance too tight, fixed step too small or model too stiff)", RT_MAX_STEPS, t);
+            return step_failed(in, t0, t, t_end, why);
         }
         /* Step exactly onto t_end rather than leaving a sliver (e.g. from rounding in t) that
            would be a step of its own, possibly one too short to advance the time. */
@@ -1467,30 +1768,39 @@ static int integrate(rt_instance *in, double t_end)
             last = 1;
         }
         if (h_try <= h_min) {
-            stop_at(in, t);
-            fail(in, "fmi2DoStep: step size %g too small at t = %.16g%s", h_try, t,
-                 nonfinite ? " (the solution becomes non-finite)" : "");
-            return 0;
+            if (nonfinite) format(what, sizeof what, " (the solution becomes non-finite)");
+            else if (eval_failed) format(what, sizeof what, " (the model evaluation fails at t = %.16g)", t_bad);
+            else what[0] = '\0';
+            format(why, sizeof why, "step size %g too small at t = %.16g%s", h_try, t, what);
+            return step_failed(in, t0, t, t_end, why);
         }
         /* Integrate over exactly the time step that t can represent: far from t = 0, t + h
            rounds, and x would otherwise drift against the time. */
         tn = last ? t_end : t + h_try;
         h_try = tn - t;
-        if (!dp_step(in, t0, t, h_try, tn)) {
-            stop_at(in, t);
-            return 0;
+        if (!dp_step(in, t0, t, h_try, tn, &t_bad)) {
+            if (h_fix > 0.0) {
+                format(why, sizeof why, "model evaluation failed at t = %.16g", t_bad);
+                return step_failed(in, t0, t, t_end, why);
+            }
+            /* e.g. an algebraic solve that diverges off the solution: a shorter step may pass */
+            h = h_try * RT_FAC_MIN;
+            rejected = 1;
+            eval_failed = 1;
+            nonfinite = 0;
+            continue;
         }
 
         if (h_fix > 0.0) {
-            if (!all_finite(in->xn, nx)) {
-                stop_at(in, t);
-                fail(in, "fmi2DoStep: a state became non-finite at t = %.16g", tn);
-                return 0;
+            if (nonfinite_solution(in, what, sizeof what)) {
+                format(why, sizeof why, "the solution becomes non-finite at t = %.16g: %s", tn, what);
+                return step_failed(in, t0, t, t_end, why);
             }
         } else {
             const double err = error_norm(in, h_try);
             if (!(err <= 1.0)) { /* reject; a non-finite estimate also means "too large a step" */
                 nonfinite = !isfinite(err);
+                eval_failed = 0;
                 h = h_try * (nonfinite ? RT_FAC_MIN : step_factor(err, 1.0));
                 rejected = 1;
                 continue;
@@ -1501,6 +1811,7 @@ static int integrate(rt_instance *in, double t_end)
             h = last && h_try < h ? rt_max(h, h_prop) : h_prop;
             rejected = 0;
             nonfinite = 0;
+            eval_failed = 0;
         }
 
         t = tn;
@@ -1508,9 +1819,11 @@ static int integrate(rt_instance *in, double t_end)
         swap = in->k[0]; in->k[0] = in->k[6]; in->k[6] = swap; /* FSAL */
     }
 
-    /* The last evaluation was at (t_end, x, u(t_end)): it provides der(x) and z there. */
+    /* The last evaluation was at (t_end, x, u(t_end)): it provides der(x) and z there.  The
+       model goes on seeing u(t_end) until the environment sets the input again; the input
+       variable itself keeps the value the environment set. */
     for (i = 0; i < in->nu; i++) {
-        UV(in)[i] += in->s.du[i] * (t_end - t0);
+        UE(in)[i] += in->s.du[i] * (t_end - t0);
         in->s.du[i] = 0.0;
     }
     memcpy(DXV(in), in->k[0], nx * sizeof(double));
@@ -1518,21 +1831,29 @@ static int integrate(rt_instance *in, double t_end)
     in->s.eval_dirty = 0;
     in->s.time = t_end;
     if (h_fix <= 0.0) in->s.h_next = h;
-    return 1;
+    return fmi2OK;
 }
 
 /* A step without integration (no states, or no time to speak of passes): advance time and
    inputs, then evaluate so that errors surface here. */
-static int advance(rt_instance *in, double t_end)
+static fmi2Status advance(rt_instance *in, double t_end)
 {
     size_t i;
     for (i = 0; i < in->nu; i++) {
-        UV(in)[i] += in->s.du[i] * (t_end - in->s.time);
+        UE(in)[i] += in->s.du[i] * (t_end - in->s.time);
         in->s.du[i] = 0.0;
     }
     in->s.time = t_end;
     in->s.eval_dirty = 1;
     return update_outputs(in, "fmi2DoStep");
+}
+
+/* How far a step may end after stopTime: the rounding a master accumulates by adding up its
+   communication steps (half an ulp of the time scale per step, n_steps so far) plus a few ulps. */
+static double stop_allowance(const rt_instance *in)
+{
+    const double scale = rt_max(rt_abs(in->s.start_time), rt_abs(in->s.stop_time));
+    return (16.0 + (double)in->s.n_steps) * DBL_EPSILON * scale;
 }
 
 /* ---------------------------------------------------------------------------------------------
@@ -1552,6 +1873,7 @@ RT_EXPORT fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2Valu
     if (!not_null(in, fn, "vr", vr) || !not_null(in, fn, "order", order) || !not_null(in, fn, "value", value))
         return fmi2Error;
     for (i = 0; i < nvr; i++) {
+        char label[160];
         if (!check_vr(in, fn, vr[i], COSIM_REAL)) return fmi2Error;
         if (block_of(in, vr[i]) != B_U) {
             log_error(in, "%s: value reference %u is not an input", fn, vr[i]);
@@ -1560,6 +1882,11 @@ RT_EXPORT fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2Valu
         if (order[i] != 1) {
             log_error(in, "%s: order %d for value reference %u is not supported (maxInputDerivativeOrder = 1)",
                       fn, (int)order[i], vr[i]);
+            return fmi2Error;
+        }
+        if (!isfinite(value[i])) {
+            log_error(in, "%s: the derivative of %s = %g: the value must be finite", fn,
+                      vr_label(in, vr[i], label, sizeof label), value[i]);
             return fmi2Error;
         }
     }
@@ -1587,6 +1914,7 @@ RT_EXPORT fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPo
                                 fmi2Real communicationStepSize, fmi2Boolean noSetFMUStatePriorToCurrentPoint)
 {
     rt_instance *in = (rt_instance *)c;
+    fmi2Status status;
     double t, t_end;
 
     (void)noSetFMUStatePriorToCurrentPoint;
@@ -1600,17 +1928,27 @@ RT_EXPORT fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPo
                   currentCommunicationPoint, t);
         return fmi2Error;
     }
-    if (!(communicationStepSize >= 0.0) || !isfinite(communicationStepSize)) {
-        log_error(in, "fmi2DoStep: communicationStepSize = %g must be finite and >= 0", communicationStepSize);
+    if (communicationStepSize == 0.0) {
+        log_error(in, "fmi2DoStep: communicationStepSize = 0 at t = %.16g: a step of size 0 is an event "
+                  "iteration in FMI 2.0, which this FMU does not support (it has no events); the step size "
+                  "must be > 0", t);
+        return fmi2Error;
+    }
+    if (!(communicationStepSize > 0.0) || !isfinite(communicationStepSize)) {
+        log_error(in, "fmi2DoStep: communicationStepSize = %.16g must be finite and > 0", communicationStepSize);
         return fmi2Error;
     }
     t_end = currentCommunicationPoint + communicationStepSize;
-    if (in->nx > 0 && t_end - t > min_step(t, t_end)) {
-        if (!integrate(in, t_end)) return fmi2Error;
-    } else if (!advance(in, t_end)) {
+    if (in->s.stop_defined && t_end > in->s.stop_time + stop_allowance(in)) {
+        log_error(in, "fmi2DoStep: the step from t = %.16g with communicationStepSize = %.16g ends at t = %.16g, "
+                  "after stopTime = %.16g of fmi2SetupExperiment", currentCommunicationPoint,
+                  communicationStepSize, t_end, in->s.stop_time);
         return fmi2Error;
     }
-    return fmi2OK;
+    if (in->nx > 0 && t_end - t > min_step(t, t_end)) status = integrate(in, t_end);
+    else status = advance(in, t_end);
+    if (status == fmi2OK) in->s.n_steps++;
+    return status;
 }
 
 RT_EXPORT fmi2Status fmi2CancelStep(fmi2Component c)
@@ -1639,7 +1977,8 @@ RT_EXPORT fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2
     if (!allowed(in, "fmi2GetStatus", M_CS_STATUS, fmi2CoSimulation)) return fmi2Error;
     if (!not_null(in, "fmi2GetStatus", "value", value)) return fmi2Error;
     if (s != fmi2DoStepStatus) return no_status(in, "fmi2GetStatus", s);
-    *value = fmi2OK; /* the last fmi2DoStep completed */
+    /* the status of the last fmi2DoStep: it returns synchronously, never fmi2Pending */
+    *value = in->s.state == ST_STEP_FAILED ? fmi2Discard : fmi2OK;
     return fmi2OK;
 }
 
@@ -1651,6 +1990,7 @@ RT_EXPORT fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, 
     if (!allowed(in, "fmi2GetRealStatus", M_CS_STATUS, fmi2CoSimulation)) return fmi2Error;
     if (!not_null(in, "fmi2GetRealStatus", "value", value)) return fmi2Error;
     if (s != fmi2LastSuccessfulTime) return no_status(in, "fmi2GetRealStatus", s);
+    /* the end of the last step, or after fmi2Discard the time the failed step reached */
     *value = in->s.time;
     return fmi2OK;
 }
@@ -1673,7 +2013,10 @@ RT_EXPORT fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind 
     if (!allowed(in, "fmi2GetBooleanStatus", M_CS_STATUS, fmi2CoSimulation)) return fmi2Error;
     if (!not_null(in, "fmi2GetBooleanStatus", "value", value)) return fmi2Error;
     if (s != fmi2Terminated) return no_status(in, "fmi2GetBooleanStatus", s);
-    *value = fmi2False; /* the slave never asks to terminate */
+    /* After fmi2Discard the slave cannot continue past the last successful time by itself (FMPy,
+       for one, then records that time and terminates); a master may still redo the step from an
+       earlier FMU state.  Otherwise the slave never asks to terminate. */
+    *value = in->s.state == ST_STEP_FAILED ? fmi2True : fmi2False;
     return fmi2OK;
 }
 

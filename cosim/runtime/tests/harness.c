@@ -1,9 +1,17 @@
 /*
  * harness.c -- tests of fmi2_runtime.c against the hand-written model in test_model.c.
  *
- * Build (see run.sh):  cc -std=c99 -I<fmi2 headers> -I.. harness.c test_model.c ../fmi2_runtime.c -lm
+ * Build (see run.sh):  cc -std=c99 -I<fmi2 headers> -I.. harness.c test_model.c ../fmi2_runtime.c -lm -ldl
+ * Run:                 harness SMALL.so SMALL_SAME_GUID.so TWIN.so
+ *   the three arguments are other FMUs (fmi2_runtime.c compiled with another model into a shared
+ *   library, see run.sh): test_model_small.c with its own GUID, test_model_small.c claiming this
+ *   model's GUID, and test_model.c with the GUID TWIN_GUID.  They are the foreign FMUs whose FMU
+ *   states the runtime must refuse.
  * Exit code 0 if every check passes.
  */
+#define _POSIX_C_SOURCE 200809L /* dlopen under -std=c99 */
+#include <dlfcn.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -16,6 +24,8 @@
 extern long test_model_evals;
 
 #define GUID "{8c4e810f-3df3-4a00-8276-176fa3c9f000}"
+#define SMALL_GUID "{5d1b2c3a-7f4e-4b21-9a63-0c2d7e8f1a42}" /* default of test_model_small.c */
+#define TWIN_GUID "{8c4e810f-3df3-4a00-8276-176fa3c9f001}"  /* passed by run.sh */
 
 enum { VR_S, VR_V, VR_W, VR_DS, VR_DV, VR_DW, VR_U, VR_K, VR_N, VR_B, VR_H, VR_OMEGA, VR_N10, VR_F, VR_E, NV };
 
@@ -27,6 +37,7 @@ static int n_checks = 0, n_failed = 0;
 #define CHECK(cond) check((cond) != 0, #cond, __FILE__, __LINE__)
 #define CHECK_OK(call) check((call) == fmi2OK, #call " == fmi2OK", __FILE__, __LINE__)
 #define CHECK_ERR(call) check((call) == fmi2Error, #call " == fmi2Error", __FILE__, __LINE__)
+#define CHECK_DISCARD(call) check((call) == fmi2Discard, #call " == fmi2Discard", __FILE__, __LINE__)
 #define CHECK_NEAR(a, b, tol) check_near((a), (b), (tol), #a, __FILE__, __LINE__)
 
 static void check(int ok, const char *what, const char *file, int line)
@@ -256,9 +267,10 @@ static void test_state_machine(void)
     CHECK(logged(&lb, "currentCommunicationPoint", NULL));
     CHECK_ERR(fmi2DoStep(c, 2.0, -0.1, fmi2True));
     CHECK_ERR(fmi2DoStep(c, 2.0, NAN, fmi2True));
-    CHECK_OK(fmi2DoStep(c, 2.0 + 1e-14, 0.0, fmi2True)); /* within the tolerance, h = 0 */
+    CHECK_ERR(fmi2DoStep(c, 2.0, INFINITY, fmi2True));
+    CHECK_ERR(fmi2DoStep(c, 2.0 + 1e-14, 0.0, fmi2True)); /* see test_zero_step_and_step_past_stop_time... */
     CHECK_NEAR(get(c, VR_S), 1.0, 0.0);
-    CHECK_OK(fmi2DoStep(c, 2.0, 1e-15, fmi2True)); /* too short to integrate, but legal */
+    CHECK_OK(fmi2DoStep(c, 2.0 + 1e-14, 1e-15, fmi2True)); /* within the tolerance; too short to integrate */
     CHECK_NEAR(get(c, VR_S), 1.0, 1e-14);
     CHECK_OK(fmi2DoStep(c, 2.0 + 1e-14, 0.5, fmi2True));
     CHECK_OK(fmi2DoStep(c, 2.5 + 1e-14, 0.5, fmi2True));
@@ -518,19 +530,24 @@ static void test_cs_outputs_and_inputs(void)
     CHECK(get(c, VR_DV) == -4.0 * s - 0.2 * get(c, VR_V) + 0.5);
     CHECK(get(c, VR_DS) == get(c, VR_V));
 
-    /* after a step with input derivatives the input holds its end value, the derivative is reset */
+    /* after a step with input derivatives the model sees the input's end value (the input itself
+       stays as set, see test_input_derivative_does_not_overwrite_input), the derivative is reset */
     CHECK_OK(fmi2SetRealInputDerivatives(c, &vu, 1, &order, &r));
     CHECK_OK(fmi2DoStep(c, 0.7, 0.5, fmi2True));
-    u = get(c, VR_U);
-    CHECK_NEAR(u, 0.5 + 0.3 * 0.5, 1e-15);
-    CHECK(get(c, VR_F) == 4.0 * get(c, VR_S) + u);
+    u = 0.5 + 0.3 * 0.5;
+    CHECK(get(c, VR_U) == 0.5);
+    CHECK_NEAR(get(c, VR_F), 4.0 * get(c, VR_S) + u, 1e-15);
     CHECK_OK(fmi2DoStep(c, 1.2, 0.5, fmi2True));
-    CHECK(get(c, VR_U) == u);
+    CHECK_NEAR(get(c, VR_F), 4.0 * get(c, VR_S) + u, 1e-15);
 
-    /* h = 0 applies nothing but re-evaluates */
+    /* a new input value is seen at once by the outputs */
     CHECK_OK(set(c, VR_U, 2.0));
-    CHECK_OK(fmi2DoStep(c, 1.7, 0.0, fmi2True));
     CHECK(get(c, VR_F) == 4.0 * get(c, VR_S) + 2.0);
+    /* non-finite input derivatives are refused */
+    r = NAN;
+    CHECK_ERR(fmi2SetRealInputDerivatives(c, &vu, 1, &order, &r));
+    CHECK(logged(&lb, "u (value reference 6)", "finite"));
+    r = 0.3;
 
     /* only first-order derivatives of Real inputs */
     order = 2;
@@ -584,7 +601,9 @@ static void test_cs_failures(void)
     fmi2Component c = start(fmi2CoSimulation, &cb, 1e-8);
     fmi2Real t;
 
-    /* a failing model evaluation ends the step with an error and the instance in the error state */
+    /* a model that cannot be evaluated at the communication point with the environment's inputs:
+       nothing of the step can be computed, an error (integration failures inside the step are
+       fmi2Discard, see test_integration_failure_is_discard_with_last_successful_time) */
     CHECK_OK(fmi2DoStep(c, 0.0, 0.5, fmi2True));
     CHECK_OK(set(c, VR_U, 2e6));
     CHECK_ERR(fmi2DoStep(c, 0.5, 0.5, fmi2True));
@@ -594,33 +613,8 @@ static void test_cs_failures(void)
     CHECK_ERR(fmi2GetRealStatus(c, fmi2LastSuccessfulTime, &t));
     CHECK_NEAR(get(c, VR_S), get(c, VR_S), 0.0); /* values remain readable for diagnosis */
     CHECK_ERR(set(c, VR_U, 0.0));
+    CHECK_ERR(fmi2Terminate(c)); /* FMI 2.0: not in the error state; fmi2FreeInstance or fmi2Reset */
     CHECK_OK(fmi2Reset(c));
-    fmi2FreeInstance(c);
-
-    /* a non-finite solution: adaptive steps shrink until the step size underflows */
-    c = start(fmi2CoSimulation, &cb, 1e-8);
-    CHECK_OK(fmi2DoStep(c, 0.0, 0.5, fmi2True));
-    CHECK_OK(set(c, VR_U, INFINITY));
-    CHECK_ERR(fmi2DoStep(c, 0.5, 0.5, fmi2True));
-    CHECK(logged(&lb, "non-finite", "at t = 0.5"));
-    fmi2FreeInstance(c);
-
-    /* with fixed steps the first non-finite state is an error */
-    c = start_init(fmi2CoSimulation, &cb, 1e-8);
-    set(c, VR_H, 0.01);
-    fmi2ExitInitializationMode(c);
-    CHECK_OK(fmi2DoStep(c, 0.0, 0.5, fmi2True));
-    CHECK_OK(set(c, VR_U, INFINITY));
-    CHECK_ERR(fmi2DoStep(c, 0.5, 0.5, fmi2True));
-    CHECK(logged(&lb, "non-finite", "at t = 0.51"));
-    fmi2FreeInstance(c);
-
-    /* too many steps */
-    c = start_init(fmi2CoSimulation, &cb, 1e-8);
-    set(c, VR_H, 1e-7);
-    fmi2ExitInitializationMode(c);
-    CHECK_ERR(fmi2DoStep(c, 0.0, 1.0, fmi2True));
-    CHECK(logged(&lb, "more than 1000000 steps", "at t = 0.")); /* t = 0.1 after 1e6 steps */
     fmi2FreeInstance(c);
 }
 
@@ -700,10 +694,14 @@ static void test_fmu_state(void)
     CHECK_ERR(fmi2DeSerializeFMUstate(c, bytes, size, &state2));
     CHECK(logged(&lb, "version", NULL));
     bytes[4] ^= 0x01;
-    bytes[8] ^= 0x01;
+    bytes[8] ^= 0x01; /* nv */
     CHECK_ERR(fmi2DeSerializeFMUstate(c, bytes, size, &state2));
-    CHECK(logged(&lb, "different model", NULL));
+    CHECK(logged(&lb, "other sizes", NULL));
     bytes[8] ^= 0x01;
+    bytes[8 + 10 * 4 + 5] ^= 0x01; /* a character of the GUID */
+    CHECK_ERR(fmi2DeSerializeFMUstate(c, bytes, size, &state2));
+    CHECK(logged(&lb, "another FMU", NULL));
+    bytes[8 + 10 * 4 + 5] ^= 0x01;
     CHECK(state2 == NULL);
     CHECK_ERR(fmi2SetFMUstate(c, NULL));
     CHECK_ERR(fmi2SetFMUstate(c, (fmi2FMUstate)bytes));
@@ -985,8 +983,390 @@ static void test_instances(void)
     fmi2FreeInstance(b);
 }
 
-int main(void)
+/* ------------------------------------------------------------------------------------------ */
+/* Another FMU in the same process: a shared library built by run.sh                            */
+
+typedef struct {
+    void *lib;
+    const char *guid;
+    fmi2InstantiateTYPE *instantiate;
+    fmi2FreeInstanceTYPE *free_instance;
+    fmi2SetupExperimentTYPE *setup_experiment;
+    fmi2EnterInitializationModeTYPE *enter_init;
+    fmi2ExitInitializationModeTYPE *exit_init;
+    fmi2DoStepTYPE *do_step;
+    fmi2GetFMUstateTYPE *get_state;
+    fmi2SetFMUstateTYPE *set_state;
+    fmi2FreeFMUstateTYPE *free_state;
+    fmi2SerializedFMUstateSizeTYPE *serialized_size;
+    fmi2SerializeFMUstateTYPE *serialize;
+    fmi2DeSerializeFMUstateTYPE *deserialize;
+} other_fmu;
+
+/* dlsym returns an object pointer; copying its bytes into a function pointer is the POSIX idiom
+   that ISO C (-Wpedantic) accepts. */
+static int symbol(void *lib, const char *name, void *fn_ptr, size_t size)
 {
+    void *p = dlsym(lib, name);
+    if (!p) {
+        printf("    %s: %s not found\n", name, dlerror());
+        return 0;
+    }
+    memcpy(fn_ptr, &p, size);
+    return 1;
+}
+
+#define SYMBOL(o, field, name) symbol((o)->lib, name, &(o)->field, sizeof (o)->field)
+
+static int load_other(other_fmu *o, const char *path, const char *guid)
+{
+    memset(o, 0, sizeof *o);
+    o->guid = guid;
+    o->lib = path ? dlopen(path, RTLD_NOW | RTLD_LOCAL) : NULL;
+    if (!o->lib) {
+        printf("    cannot load the other FMU %s: %s\n", path ? path : "(not given)", path ? dlerror() : "");
+        return 0;
+    }
+    return SYMBOL(o, instantiate, "fmi2Instantiate") && SYMBOL(o, free_instance, "fmi2FreeInstance") &&
+           SYMBOL(o, setup_experiment, "fmi2SetupExperiment") &&
+           SYMBOL(o, enter_init, "fmi2EnterInitializationMode") &&
+           SYMBOL(o, exit_init, "fmi2ExitInitializationMode") && SYMBOL(o, do_step, "fmi2DoStep") &&
+           SYMBOL(o, get_state, "fmi2GetFMUstate") && SYMBOL(o, set_state, "fmi2SetFMUstate") &&
+           SYMBOL(o, free_state, "fmi2FreeFMUstate") &&
+           SYMBOL(o, serialized_size, "fmi2SerializedFMUstateSize") &&
+           SYMBOL(o, serialize, "fmi2SerializeFMUstate") && SYMBOL(o, deserialize, "fmi2DeSerializeFMUstate");
+}
+
+static const char *other_paths[3];
+
+/* ------------------------------------------------------------------------------------------ */
+/* Defect tests (issue 10)                                                                      */
+
+/* One foreign FMU: its FMU states are refused by this model's instances and the other way round,
+   in memory and serialized, and nothing of either instance changes. */
+static void foreign_state_case(const char *path, const char *guid, const char *why)
+{
+    logbook lb, lbo;
+    fmi2CallbackFunctions cb = callbacks(&lb), cbo = callbacks(&lbo);
+    other_fmu o;
+    fmi2Component c, oc;
+    fmi2FMUstate mine = NULL, theirs = NULL, kept, restored = NULL;
+    size_t n = 0, n_mine = 0;
+    char *bytes, *bytes_mine;
+    double s;
+
+    printf("  foreign FMU state from %s (%s)\n", path ? path : "(missing)", why);
+    CHECK(load_other(&o, path, guid));
+    if (!o.lib) return;
+    c = start(fmi2CoSimulation, &cb, 1e-8);
+    oc = o.instantiate("other", fmi2CoSimulation, o.guid, "", &cbo, fmi2False, fmi2False);
+    CHECK(oc != NULL);
+    if (!oc) { fmi2FreeInstance(c); dlclose(o.lib); return; }
+    CHECK_OK(o.setup_experiment(oc, fmi2False, 0.0, 0.0, fmi2False, 0.0));
+    CHECK_OK(o.enter_init(oc));
+    CHECK_OK(o.exit_init(oc));
+    CHECK_OK(o.do_step(oc, 0.0, 0.5, fmi2True));
+    CHECK_OK(o.get_state(oc, &theirs));
+    CHECK_OK(fmi2DoStep(c, 0.0, 0.5, fmi2True));
+    CHECK_OK(fmi2GetFMUstate(c, &mine));
+    s = get(c, VR_S);
+
+    /* in memory: refused before anything is read beyond the identity */
+    CHECK_ERR(fmi2SetFMUstate(c, theirs));
+    CHECK(logged(&lb, "fmi2SetFMUstate", why));
+    CHECK_ERR(o.set_state(oc, mine));
+    CHECK(logged(&lbo, "fmi2SetFMUstate", why));
+    kept = theirs;
+    CHECK_ERR(fmi2GetFMUstate(c, &theirs)); /* would overwrite the other FMU's state */
+    CHECK(theirs == kept);
+    CHECK_ERR(fmi2FreeFMUstate(c, &theirs)); /* would free it with the wrong allocator */
+    CHECK(theirs == kept);
+    CHECK_ERR(fmi2SerializedFMUstateSize(c, theirs, &n));
+    CHECK_ERR(fmi2SerializeFMUstate(c, theirs, (fmi2Byte *)&n, sizeof n));
+
+    /* serialized: lengths and identity are checked before anything is copied */
+    CHECK_OK(o.serialized_size(oc, theirs, &n));
+    bytes = (char *)malloc(n);
+    CHECK_OK(o.serialize(oc, theirs, bytes, n));
+    CHECK_ERR(fmi2DeSerializeFMUstate(c, bytes, n, &restored));
+    CHECK(logged(&lb, "fmi2DeSerializeFMUstate", why));
+    CHECK(restored == NULL);
+    CHECK_OK(fmi2SerializedFMUstateSize(c, mine, &n_mine));
+    bytes_mine = (char *)malloc(n_mine);
+    CHECK_OK(fmi2SerializeFMUstate(c, mine, bytes_mine, n_mine));
+    CHECK_ERR(o.deserialize(oc, bytes_mine, n_mine, &restored));
+    CHECK(restored == NULL);
+
+    /* neither instance was harmed */
+    CHECK(get(c, VR_S) == s);
+    CHECK_OK(fmi2DoStep(c, 0.5, 0.5, fmi2True));
+    CHECK_OK(fmi2SetFMUstate(c, mine));
+    CHECK(get(c, VR_S) == s);
+    CHECK_OK(o.do_step(oc, 0.5, 0.5, fmi2True));
+    CHECK_OK(o.set_state(oc, theirs));
+
+    free(bytes);
+    free(bytes_mine);
+    CHECK_OK(fmi2FreeFMUstate(c, &mine));
+    CHECK_OK(o.free_state(oc, &theirs));
+    o.free_instance(oc);
+    fmi2FreeInstance(c);
+    dlclose(o.lib);
+}
+
+static void test_fmu_state_of_another_fmu_is_refused(void)
+{
+    foreign_state_case(other_paths[0], SMALL_GUID, "another FMU");
+    foreign_state_case(other_paths[1], GUID, "sizes");        /* same GUID, other sizes */
+    foreign_state_case(other_paths[2], TWIN_GUID, "another FMU"); /* same sizes, other GUID */
+}
+
+static void test_input_derivative_does_not_overwrite_input(void)
+{
+    logbook lb;
+    fmi2CallbackFunctions cb = callbacks(&lb);
+    fmi2Component c = start(fmi2CoSimulation, &cb, 1e-10);
+    const fmi2ValueReference vu = VR_U;
+    const fmi2Integer order = 1;
+    const double r = 1.0;
+    double s;
+
+    CHECK_OK(set(c, VR_U, 1.0));
+    CHECK_OK(fmi2SetRealInputDerivatives(c, &vu, 1, &order, &r));
+    CHECK_OK(fmi2DoStep(c, 0.0, 0.1, fmi2True));
+    CHECK(get(c, VR_U) == 1.0); /* as the environment set it */
+    /* the model saw the input extrapolated to the end of the step, u(0.1) = 1 + 0.1 r */
+    s = get(c, VR_S);
+    CHECK_NEAR(get(c, VR_F), 4.0 * s + 1.1, 1e-15);
+    /* the derivative applies to one step; without new inputs the end value is held */
+    CHECK_OK(fmi2DoStep(c, 0.1, 0.1, fmi2True));
+    CHECK(get(c, VR_U) == 1.0);
+    s = get(c, VR_S);
+    CHECK_NEAR(get(c, VR_F), 4.0 * s + 1.1, 1e-15);
+    /* setting the input again, even to the value it reads, ends the extrapolation */
+    CHECK_OK(set(c, VR_U, 1.0));
+    CHECK(get(c, VR_F) == 4.0 * s + 1.0);
+    CHECK(get(c, VR_U) == 1.0);
+    fmi2FreeInstance(c);
+}
+
+static void test_zero_step_and_step_past_stop_time_are_refused(void)
+{
+    logbook lb;
+    fmi2CallbackFunctions cb = callbacks(&lb);
+    fmi2Component c = fmi2Instantiate("stop", fmi2CoSimulation, GUID, "", &cb, fmi2False, fmi2False);
+    double t, s;
+    int i;
+
+    /* an undefined stop time is ignored; a defined one must be a time not before the start */
+    CHECK_ERR(fmi2SetupExperiment(c, fmi2False, 0.0, 0.0, fmi2True, -1.0));
+    CHECK(logged(&lb, "stopTime = -1", "startTime = 0"));
+    CHECK_ERR(fmi2SetupExperiment(c, fmi2False, 0.0, 0.0, fmi2True, NAN));
+    CHECK_OK(fmi2SetupExperiment(c, fmi2False, 0.0, 0.0, fmi2False, NAN));
+    CHECK_OK(fmi2Reset(c));
+    CHECK_OK(fmi2SetupExperiment(c, fmi2True, 1e-8, 0.0, fmi2True, 1.0));
+    CHECK_OK(fmi2EnterInitializationMode(c));
+    CHECK_OK(fmi2ExitInitializationMode(c));
+
+    /* h = 0 is an event iteration in FMI 2.0, which the runtime does not support; h < 0 is wrong */
+    CHECK_ERR(fmi2DoStep(c, 0.0, 0.0, fmi2True));
+    CHECK(logged(&lb, "communicationStepSize = 0", "event iteration"));
+    CHECK_ERR(fmi2DoStep(c, 0.0, -0.1, fmi2True));
+    CHECK(logged(&lb, "communicationStepSize = -0.1", "> 0"));
+    CHECK_ERR(fmi2DoStep(c, 0.0, -0.0, fmi2True));
+    CHECK_OK(fmi2GetRealStatus(c, fmi2LastSuccessfulTime, &t));
+    CHECK(t == 0.0 && get(c, VR_S) == 1.0); /* nothing happened */
+
+    for (i = 0; i < 3; i++) CHECK_OK(fmi2DoStep(c, 0.3 * i, 0.3, fmi2True));
+    s = get(c, VR_S);
+    CHECK_ERR(fmi2DoStep(c, 0.9, 0.3, fmi2True)); /* would end at 1.2 */
+    CHECK(logged(&lb, "ends at t = 1.2", "stopTime = 1"));
+    CHECK(get(c, VR_S) == s);
+    CHECK_OK(fmi2GetRealStatus(c, fmi2LastSuccessfulTime, &t));
+    CHECK_NEAR(t, 0.9, 1e-15);
+    CHECK_OK(fmi2DoStep(c, t, 1.0 - t, fmi2True)); /* the last, shorter step lands on stopTime */
+    CHECK_ERR(fmi2DoStep(c, 1.0, 1e-9, fmi2True));
+    CHECK(logged(&lb, "stopTime", NULL));
+    fmi2FreeInstance(c);
+
+    /* a master adding up its time overshoots stopTime by rounding only: accepted */
+    c = fmi2Instantiate("stop", fmi2CoSimulation, GUID, "", &cb, fmi2False, fmi2False);
+    CHECK_OK(fmi2SetupExperiment(c, fmi2False, 0.0, 0.0, fmi2True, 0.3));
+    CHECK_OK(fmi2EnterInitializationMode(c));
+    CHECK_OK(fmi2ExitInitializationMode(c));
+    for (i = 0, t = 0.0; i < 3; i++, t += 0.1) CHECK_OK(fmi2DoStep(c, t, 0.1, fmi2True));
+    CHECK(t > 0.3); /* 0.30000000000000004 */
+    fmi2FreeInstance(c);
+
+    /* ... but not by more */
+    c = fmi2Instantiate("stop", fmi2CoSimulation, GUID, "", &cb, fmi2False, fmi2False);
+    CHECK_OK(fmi2SetupExperiment(c, fmi2False, 0.0, 0.0, fmi2True, 0.3));
+    CHECK_OK(fmi2EnterInitializationMode(c));
+    CHECK_OK(fmi2ExitInitializationMode(c));
+    CHECK_OK(fmi2DoStep(c, 0.0, 0.2, fmi2True));
+    CHECK_ERR(fmi2DoStep(c, 0.2, 0.1 + 1e-12, fmi2True));
+    fmi2FreeInstance(c);
+}
+
+/* The escape time of w' = w^2 from w(t0) = w0. */
+static double escape_time(double t0, double w0) { return t0 + 1.0 / w0; }
+
+static void test_integration_failure_is_discard_with_last_successful_time(void)
+{
+    logbook lb;
+    fmi2CallbackFunctions cb = callbacks(&lb);
+    fmi2Component c = start(fmi2CoSimulation, &cb, 1e-8);
+    fmi2FMUstate before = NULL, failed = NULL;
+    fmi2Status st = fmi2OK;
+    fmi2Boolean terminated = fmi2False;
+    double t, t_esc, s0, v0, s, v, w, x;
+
+    /* adaptive steps: w' = w^2 escapes at t_esc inside the step; the step size underflows there */
+    CHECK_OK(fmi2DoStep(c, 0.0, 0.5, fmi2True));
+    s0 = get(c, VR_S);
+    v0 = get(c, VR_V);
+    t_esc = escape_time(0.5, get(c, VR_W));
+    CHECK_OK(fmi2GetFMUstate(c, &before));
+    CHECK_OK(set(c, VR_U, 1001.0));
+    CHECK_DISCARD(fmi2DoStep(c, 0.5, 1.0, fmi2True));
+    CHECK(logged(&lb, "fmi2DoStep", "last successful time"));
+    CHECK(lb.last_status == fmi2Discard);
+    CHECK_OK(fmi2GetRealStatus(c, fmi2LastSuccessfulTime, &t));
+    printf("  escape at t = %.15g, Discard with last successful time %.15g\n", t_esc, t);
+    CHECK(t > 0.5 && fabs(t - t_esc) < 1e-6); /* the numerical escape time is off by ~ the tolerance */
+    /* the state and the outputs are those at the last successful time */
+    w = get(c, VR_W);
+    CHECK(isfinite(w) && w > 1e5);
+    CHECK(get(c, VR_DW) == w * w);
+    exact_sv(t - 0.5, 4.0, 0.2, 1001.0, 0.0, s0, v0, &s, &v);
+    CHECK_NEAR(get(c, VR_S), s, 1e-6 * fabs(s));
+    CHECK_NEAR(get(c, VR_V), v, 1e-6 * fabs(v));
+    CHECK(get(c, VR_F) == 4.0 * get(c, VR_S) + 1001.0);
+    CHECK(get(c, VR_U) == 1001.0);
+    /* FMI 2.0 status functions after fmi2Discard */
+    CHECK_OK(fmi2GetBooleanStatus(c, fmi2Terminated, &terminated));
+    CHECK(terminated == fmi2True); /* the slave cannot continue past t */
+    CHECK_OK(fmi2GetStatus(c, fmi2DoStepStatus, &st));
+    CHECK(st == fmi2Discard);
+    /* stepFailed: no more steps and no inputs; FMU states, termination, reset are possible */
+    CHECK_ERR(fmi2DoStep(c, t, 0.1, fmi2True));
+    CHECK(logged(&lb, "fmi2DoStep", "stepFailed"));
+    CHECK_ERR(set(c, VR_U, 0.0));
+    CHECK_OK(fmi2GetFMUstate(c, &failed));
+    CHECK_OK(fmi2GetDirectionalDerivative(c, (const fmi2ValueReference[]){ VR_DW }, 1,
+                                          (const fmi2ValueReference[]){ VR_W }, 1, (const double[]){ 1.0 }, &x));
+    CHECK(x == 2.0 * w);
+    /* redo from the state before the step (here: without the input that made it fail) */
+    CHECK_OK(fmi2SetFMUstate(c, before));
+    CHECK_OK(fmi2GetRealStatus(c, fmi2LastSuccessfulTime, &t));
+    CHECK(t == 0.5);
+    CHECK_OK(fmi2DoStep(c, 0.5, 0.5, fmi2True));
+    CHECK_OK(fmi2GetStatus(c, fmi2DoStepStatus, &st));
+    CHECK(st == fmi2OK);
+    /* and terminate after the failure, as a master does in its clean-up */
+    CHECK_OK(fmi2SetFMUstate(c, failed));
+    CHECK_OK(fmi2Terminate(c));
+    CHECK(get(c, VR_W) == w);
+    CHECK_OK(fmi2FreeFMUstate(c, &before));
+    CHECK_OK(fmi2FreeFMUstate(c, &failed));
+    fmi2FreeInstance(c);
+
+    /* fixed steps: the first non-finite state ends the step at the last finite one */
+    c = start_init(fmi2CoSimulation, &cb, 1e-8);
+    set(c, VR_H, 0.01);
+    fmi2ExitInitializationMode(c);
+    CHECK_OK(fmi2DoStep(c, 0.0, 0.5, fmi2True));
+    CHECK_OK(set(c, VR_U, 1001.0));
+    CHECK_DISCARD(fmi2DoStep(c, 0.5, 1.5, fmi2True));
+    CHECK(logged(&lb, "non-finite", "last successful time"));
+    CHECK_OK(fmi2GetRealStatus(c, fmi2LastSuccessfulTime, &t));
+    CHECK(t > 1.0 && t < 2.0);
+    CHECK_NEAR(t / 0.01, floor(t / 0.01 + 0.5), 1e-9); /* on the fixed grid */
+    CHECK(isfinite(get(c, VR_W)) && isfinite(get(c, VR_DW)));
+    CHECK_OK(fmi2Reset(c)); /* reset works after a failure, too */
+    fmi2FreeInstance(c);
+
+    /* too many steps: the step ends where the budget ran out */
+    c = start_init(fmi2CoSimulation, &cb, 1e-8);
+    set(c, VR_H, 1e-7);
+    fmi2ExitInitializationMode(c);
+    CHECK_DISCARD(fmi2DoStep(c, 0.0, 1.0, fmi2True));
+    CHECK(logged(&lb, "more than 1000000 steps", "last successful time"));
+    CHECK_OK(fmi2GetRealStatus(c, fmi2LastSuccessfulTime, &t));
+    CHECK_NEAR(t, 0.1, 1e-9);
+    exact_sv(t, 4.0, 0.2, 0.5, 0.0, 1.0, 0.0, &s, &v);
+    CHECK_NEAR(get(c, VR_S), s, 1e-8);
+    CHECK_OK(fmi2Terminate(c));
+    fmi2FreeInstance(c);
+}
+
+static void test_nonfinite_derivatives_are_reported(void)
+{
+    logbook lb;
+    fmi2CallbackFunctions cb = callbacks(&lb);
+    fmi2Component me = start(fmi2ModelExchange, &cb, 0.0), c;
+    fmi2Boolean enter, term;
+    double x[3] = { 1.0, 0.0, 1e200 }, dx[3], f;
+    const fmi2ValueReference vf = VR_F;
+
+    /* Model Exchange: fmi2Discard, so that the integrator can retry with a smaller step */
+    CHECK_OK(fmi2EnterContinuousTimeMode(me));
+    CHECK_OK(set(me, VR_U, 1001.0));
+    CHECK_OK(fmi2SetContinuousStates(me, x, 3));
+    CHECK_DISCARD(fmi2GetDerivatives(me, dx, 3));
+    CHECK(logged(&lb, "der(w)", "inf"));
+    CHECK(lb.last_status == fmi2Discard);
+    CHECK_DISCARD(fmi2GetDerivatives(me, dx, 3)); /* not remembered as evaluated */
+    CHECK_DISCARD(fmi2GetReal(me, &vf, 1, &f));   /* every getter that evaluates the model */
+    x[2] = 1.0;
+    CHECK_OK(fmi2SetContinuousStates(me, x, 3)); /* the instance is still usable */
+    CHECK_OK(fmi2GetDerivatives(me, dx, 3));
+    CHECK(dx[2] == 1.0);
+    CHECK_OK(fmi2CompletedIntegratorStep(me, fmi2True, &enter, &term));
+    /* a failing evaluation, too */
+    CHECK_OK(set(me, VR_U, 2e6));
+    CHECK_DISCARD(fmi2GetDerivatives(me, dx, 3));
+    CHECK(logged(&lb, "evaluation failed", NULL));
+    CHECK_OK(set(me, VR_U, 0.5));
+    CHECK_OK(fmi2GetDerivatives(me, dx, 3));
+    CHECK_OK(fmi2Terminate(me));
+    fmi2FreeInstance(me);
+
+    /* initialization mode: a start point with non-finite derivatives is an error */
+    c = start_init(fmi2CoSimulation, &cb, 0.0);
+    CHECK_OK(set(c, VR_W, 1e200));
+    CHECK_OK(set(c, VR_U, 1001.0));
+    CHECK_ERR(fmi2GetReal(c, &vf, 1, &f));
+    CHECK(logged(&lb, "der(w)", "inf"));
+    CHECK_ERR(fmi2ExitInitializationMode(c));
+    fmi2FreeInstance(c);
+}
+
+static void test_nonfinite_real_is_refused(void)
+{
+    logbook lb;
+    fmi2CallbackFunctions cb = callbacks(&lb);
+    fmi2Component c = fmi2Instantiate("nan", fmi2CoSimulation, GUID, "", &cb, fmi2False, fmi2False);
+    const fmi2ValueReference vr[2] = { VR_S, VR_K };
+    const double values[2] = { 3.0, NAN };
+
+    CHECK_ERR(set(c, VR_K, NAN));
+    CHECK(logged(&lb, "k (value reference 7)", "nan"));
+    CHECK_ERR(set(c, VR_S, INFINITY));
+    CHECK(logged(&lb, "s (value reference 0)", "inf"));
+    CHECK_ERR(set(c, VR_U, -INFINITY));
+    CHECK_ERR(fmi2SetReal(c, vr, 2, values)); /* nothing of a refused call is applied */
+    CHECK_OK(fmi2EnterInitializationMode(c));
+    CHECK(get(c, VR_K) == 4.0 && get(c, VR_S) == 1.0 && get(c, VR_U) == 0.5);
+    CHECK_ERR(set(c, VR_H, NAN));
+    fmi2FreeInstance(c);
+}
+
+int main(int argc, char **argv)
+{
+    int i;
+
+    for (i = 0; i < 3; i++) other_paths[i] = i + 1 < argc ? argv[i + 1] : NULL;
     printf("fmi2_runtime tests\n");
     test_basics();
     test_state_machine();
@@ -1002,6 +1382,12 @@ int main(void)
     test_model_exchange();
     test_logging();
     test_instances();
+    test_fmu_state_of_another_fmu_is_refused();
+    test_input_derivative_does_not_overwrite_input();
+    test_zero_step_and_step_past_stop_time_are_refused();
+    test_integration_failure_is_discard_with_last_successful_time();
+    test_nonfinite_derivatives_are_reported();
+    test_nonfinite_real_is_refused();
     CHECK(n_live_allocations == 0); /* everything allocated through the callbacks was freed */
     printf("%d checks, %d failed\n", n_checks, n_failed);
     return n_failed == 0 ? 0 : 1;

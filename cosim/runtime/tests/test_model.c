@@ -5,12 +5,17 @@
  *
  *   s' = v
  *   v' = -k s - d v + g u       d = 0.1 n (Integer parameter n), g = b ? 1 : 0 (Boolean parameter b)
- *   w' = -w                     w(0) = k / 2 (calculated start)
+ *   w' = -w                     w(0) = k / 2 (calculated start), for u <= 1000
+ *   w' = w^2                    for u > 1000: w = 1 / (t_esc - t) escapes to infinity in finite time
  *
  *   calculated parameters: omega = sqrt(k) (Real), n10 = 10 n (Integer)
  *   algebraics:            f = k s + u,  e = v^2 + w
  *
- * eval fails for finite u > 1e6, so that the harness can test error handling.
+ * eval fails for finite u > 1e6, so that the harness can test error handling; u > 1000 gives a solution
+ * that cannot be continued past a finite time (an integration failure inside fmi2DoStep).
+ *
+ * Compiled with -DTEST_MODEL_GUID='"{...}"' it is a different FMU of the same sizes (run.sh builds such
+ * a twin as a shared library, to test that an FMU state of another FMU is refused).
  *
  * Value references:
  *   0 s   1 v   2 w   3 der(s)   4 der(v)   5 der(w)   6 u
@@ -19,6 +24,10 @@
 #include <math.h>
 
 #include "cosim_model.h"
+
+#ifndef TEST_MODEL_GUID
+#define TEST_MODEL_GUID "{8c4e810f-3df3-4a00-8276-176fa3c9f000}"
+#endif
 
 /* Number of eval calls, so that the harness can count integrator steps (test code only). */
 long test_model_evals = 0;
@@ -48,7 +57,7 @@ static int eval(double t, const double *x, const double *u, const double *p, dou
     if (isfinite(u[0]) && u[0] > 1e6) return 1;
     xdot[0] = x[1];
     xdot[1] = -k * x[0] - d * x[1] + g * u[0];
-    xdot[2] = -x[2];
+    xdot[2] = u[0] > 1000.0 ? x[2] * x[2] : -x[2];
     z[0] = k * x[0] + u[0];
     z[1] = x[1] * x[1] + x[2];
     return 0;
@@ -60,10 +69,9 @@ static int jvp(double t, const double *x, const double *u, const double *p,
     const double k = p[P_K], d = 0.1 * p[P_N], g = p[P_B] != 0.0 ? 1.0 : 0.0;
 
     (void)t;
-    (void)u;
     dxdot[0] = dx[1];
     dxdot[1] = -k * dx[0] - dp[P_K] * x[0] - d * dx[1] + g * du[0];
-    dxdot[2] = -dx[2];
+    dxdot[2] = u[0] > 1000.0 ? 2.0 * x[2] * dx[2] : -dx[2];
     dz[0] = k * dx[0] + dp[P_K] * x[0] + du[0];
     dz[1] = 2.0 * x[1] * dx[1] + dx[2];
     return 0;
@@ -89,8 +97,13 @@ static const double start[15] = {
 
 static const unsigned char state_start_calculated[3] = { 0, 0, 1 };
 
+static const char *const names[15] = {
+    "s", "v", "w", "der(s)", "der(v)", "der(w)", "u", "k", "n", "b", "solver.fixedStepSize", "omega", "n10",
+    "f", "e"
+};
+
 const cosim_model COSIM_MODEL = {
-    "{8c4e810f-3df3-4a00-8276-176fa3c9f000}",
+    TEST_MODEL_GUID,
     3, 1, 4, 2, 2,
     1e-6,
     10,
@@ -100,5 +113,6 @@ const cosim_model COSIM_MODEL = {
     calc_parameters,
     start_states,
     eval,
-    jvp
+    jvp,
+    names
 };

@@ -1,0 +1,141 @@
+"""Every writing command: an output that cannot be written is refused before any work; results
+appear under their final name only when complete; -o picks the format by suffix."""
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+
+from conftest import ROOT, run_cli
+
+MODEL = "Bicycle.Bicycles.SelfStabilizing"
+SYSTEM = ROOT / "cosim" / "systems" / "rider-p-control.toml"
+
+
+def _blocked(tmp_path):
+    """A path below a regular file: no folder can be made there, whoever runs the test (root too)."""
+    blocker = tmp_path / "blocker"
+    blocker.write_text("a file, not a folder\n")
+    return blocker / "sub"
+
+
+def _commands(fmu, tmp_path):
+    """(id, argv, message) of every writing option, each pointed at an unwritable or directory path."""
+    blocked = _blocked(tmp_path)
+    folder = tmp_path / "existing-folder"
+    folder.mkdir()
+    ok = str(tmp_path / "ok.csv")
+    sim = ["simulate", str(fmu), "--stop-time", "0.5"]
+    return [
+        ("simulate-o-blocked", [*sim, "-o", str(blocked / "r.csv")], "is a file, not a folder"),
+        ("simulate-o-directory", [*sim, "-o", str(folder)], "is a directory"),
+        ("simulate-plot-blocked", [*sim, "-o", ok, "--plot", str(blocked / "p.png")], "is a file, not a folder"),
+        ("simulate-plot-directory", [*sim, "-o", ok, "--plot", str(folder)], "is a directory"),
+        ("run-o-blocked", ["run", str(SYSTEM), "-o", str(blocked / "r.csv")], "is a file, not a folder"),
+        ("run-o-directory", ["run", str(SYSTEM), "-o", str(folder)], "is a directory"),
+        ("run-plot-directory", ["run", str(SYSTEM), "-o", ok, "--plot", str(folder)], "is a directory"),
+        ("export-ssp-blocked", ["export-ssp", str(SYSTEM), "-o", str(blocked / "s.ssp")], "is a file, not a folder"),
+        ("export-ssp-directory", ["export-ssp", str(SYSTEM), "-o", str(folder)], "is a directory"),
+        ("figures-blocked", ["figures", "fig5", "-o", str(blocked)], "is a file, not a folder"),
+        ("figures-file", ["figures", "fig5", "-o", str(tmp_path / "blocker")], "is a file, not a folder"),
+        ("demo-blocked", ["demo", "-o", str(blocked)], "is a file, not a folder"),
+    ]
+
+
+CASE_IDS = ["simulate-o-blocked", "simulate-o-directory", "simulate-plot-blocked", "simulate-plot-directory",
+            "run-o-blocked", "run-o-directory", "run-plot-directory", "export-ssp-blocked", "export-ssp-directory",
+            "figures-blocked", "figures-file", "demo-blocked"]
+
+
+@pytest.mark.parametrize("case", CASE_IDS)
+def test_unwritable_output_is_refused_before_any_work(fmus, tmp_path, case):
+    """One message naming the path, exit 2, nothing written; the FMU folder stays empty, so no
+    model was built (the demo would otherwise build all of them first)."""
+    _, argv, message = next(c for c in _commands(fmus[MODEL], tmp_path) if c[0] == case)
+    fresh_fmus = tmp_path / "fresh-fmus"
+    before = {p for p in tmp_path.rglob("*")}
+    result = run_cli(*argv, env={"COSIM_FMU_DIR": str(fresh_fmus)}, cwd=tmp_path)
+    assert result.returncode == 2, result.stdout + result.stderr
+    assert "Traceback" not in result.stderr and "internal error" not in result.stderr, result.stderr
+    assert message in result.stderr, result.stderr
+    assert not fresh_fmus.exists() or not any(fresh_fmus.iterdir()), "work was done before the refusal"
+    assert {p for p in tmp_path.rglob("*")} == before, "something was written"
+
+
+@pytest.mark.parametrize("verb", ["simulate", "run"])
+def test_npy_output_is_a_numpy_structured_array(fmus, tmp_path, verb):
+    out = tmp_path / "r.npy"
+    argv = ["simulate", str(fmus[MODEL]), "--stop-time", "1", "--step", "0.1"] if verb == "simulate" \
+        else ["run", str(SYSTEM)]
+    result = run_cli(*argv, "-o", str(out))
+    assert result.returncode == 0, result.stderr
+    assert out.read_bytes()[:6] == b"\x93NUMPY"  # not CSV text
+    data = np.load(out)
+    assert data.dtype.names[0] == "time" and len(data.dtype.names) > 1
+    if verb == "simulate":
+        assert data["time"][-1] == pytest.approx(1.0, abs=1e-12) and len(data) == 11
+
+
+@pytest.mark.parametrize("verb", ["simulate", "run"])
+@pytest.mark.parametrize("suffix", [".txt", ".json", ""])
+def test_unknown_result_suffix_is_refused_listing_csv_and_npy(fmus, tmp_path, verb, suffix):
+    out = tmp_path / f"r{suffix}"
+    argv = ["simulate", str(fmus[MODEL]), "--stop-time", "1"] if verb == "simulate" else ["run", str(SYSTEM)]
+    result = run_cli(*argv, "-o", str(out))
+    assert result.returncode == 2 and "Traceback" not in result.stderr
+    assert "unknown result format" in result.stderr and ".csv" in result.stderr and ".npy" in result.stderr
+    assert not out.exists()
+
+
+def test_unknown_plot_format_is_refused(fmus, tmp_path):
+    result = run_cli("simulate", str(fmus[MODEL]), "--stop-time", "1", "-o", str(tmp_path / "r.csv"),
+                     "--plot", str(tmp_path / "p.xyz"))
+    assert result.returncode == 2 and "unknown image format '.xyz'" in result.stderr and ".png" in result.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_simulate_csv_is_not_left_half_written_under_final_name(fmus, tmp_path, monkeypatch):
+    """The CSV is written to a hidden temporary name and renamed: a failure (or a kill) part-way
+    leaves neither a partial file under the final name nor the temporary file."""
+    from cosim import simulation
+
+    result = simulation.simulate(fmus[MODEL], 1.0, 0.1)
+    out = tmp_path / "r.csv"
+
+    def savetxt_dies_half_way(fname, data, **kwargs):
+        with open(fname, "w") as f:
+            f.write("time,phi\n0,0\n")  # a complete-looking beginning
+        raise KeyboardInterrupt  # as a Ctrl-C in the middle of writing
+
+    monkeypatch.setattr(simulation.np, "savetxt", savetxt_dies_half_way)
+    with pytest.raises(KeyboardInterrupt):
+        simulation.write_csv(result, out)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_plot_and_figure_json_are_written_atomically(fmus, tmp_path, monkeypatch):
+    """Plots and the figures' JSON go through cosim.outputs.atomic_output as well."""
+    from cosim import outputs, simulation
+
+    used = []
+    original = outputs.atomic_output
+
+    def spy(path, what="output file"):
+        used.append(os.fspath(path))
+        return original(path, what)
+
+    monkeypatch.setattr(outputs, "atomic_output", spy)
+    result = simulation.simulate(fmus[MODEL], 1.0, 0.1)
+    simulation.plot(result, tmp_path / "p.png")
+    simulation.write_result(result, tmp_path / "r.npy")
+    outputs.write_text(tmp_path / "fig.json", "{}\n")
+    assert [os.path.basename(p) for p in used] == ["p.png", "r.npy", "fig.json"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["fig.json", "p.png", "r.npy"]
+
+
+def test_build_jobs_zero_is_refused(tmp_path):
+    result = run_cli("build", MODEL, "-j", "0", "-o", str(tmp_path / "out"))
+    assert result.returncode == 2 and "Traceback" not in result.stderr
+    assert "-j/--jobs: must be at least 1" in result.stderr
+    assert not (tmp_path / "out").exists()

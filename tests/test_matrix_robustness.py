@@ -1,0 +1,681 @@
+"""`cosim matrix` whatever the input (issue 10): earlier results, failed cases, unbounded work,
+an unreachable scheduler, the verdict of slow modes, orphaned workers, outputs, bad specs.
+
+Tolerances (stated per test): exponents identified by the modal fit vs the exponents of
+synthetic signals: absolute 1e-6 1/s; no absolute wall-clock assertion anywhere (subprocesses
+get generous timeouts, waits are bounded loops).
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+import resource
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import ROOT, run_cli
+from cosim.matrix import classify, expr
+from cosim.matrix.spec import MAX_CASES, SpecError, load_spec, spec_from_dict
+from cosim.matrix.store import read_records
+
+FAST = {"stop": 2.0}
+
+
+def _toml(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float, str)):
+        return json.dumps(v)
+    if isinstance(v, list):
+        return "[" + ", ".join(_toml(x) for x in v) + "]"
+    if isinstance(v, dict):
+        return "{" + ", ".join(f"{json.dumps(k)} = {_toml(x)}" for k, x in v.items()) + "}"
+    raise TypeError(v)
+
+
+def _write_spec(path: Path, studies: list[dict], matrix: dict | None = None) -> Path:
+    lines = ["[matrix]"] + [f"{k} = {_toml(v)}" for k, v in {"name": path.stem, **(matrix or {})}.items()]
+    for study in studies:
+        lines.append("[[study]]")
+        lines += [f"{json.dumps(k)} = {_toml(v)}" for k, v in study.items()]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def _whipple(name="bench", speeds=(3.0, 5.0, 7.0), **extra) -> dict:
+    return {"name": name, "observe": "bike.phi", "connections": [],
+            "components": {"bike": {"model": "Bicycle.Bicycles.WhippleLinear", "parameter_set": "benchmark",
+                                    "parameters": {"v": "=v", "phi0": 0.01}}},
+            "axes": {"v": list(speeds)}, **extra}
+
+
+def _matrix(*args: str) -> subprocess.CompletedProcess:
+    result = run_cli("matrix", *args, "--no-progress")
+    assert "Traceback" not in result.stderr, result.stderr
+    return result
+
+
+def _snapshot(folder: Path) -> dict:
+    return {p.relative_to(folder): (p.stat().st_mtime_ns, p.read_bytes()) for p in folder.rglob("*") if p.is_file()}
+
+
+# --------------------------------------------------------------------------- 1. earlier results
+
+def test_run_into_folder_with_results_without_resume_or_force_is_refused(fmus, tmp_path):
+    spec = _write_spec(tmp_path / "small.toml", [_whipple()], FAST)
+    out = tmp_path / "out"
+    first = _matrix(str(spec), "-o", str(out), "--workers", "1")
+    assert first.returncode == 0, first.stderr
+    before = _snapshot(out)
+    again = _matrix(str(spec), "-o", str(out), "--workers", "1")
+    assert again.returncode == 2
+    lines = again.stderr.strip().splitlines()
+    assert len(lines) == 1 and str(out) in lines[0] and "--resume" in lines[0] and "--force" in lines[0], lines
+    assert _snapshot(out) == before  # nothing changed
+    forced = _matrix(str(spec), "-o", str(out), "--workers", "1", "--force")
+    assert forced.returncode == 0 and "3 cases (3 run, 0 resumed)" in forced.stdout, forced.stdout + forced.stderr
+    assert len(read_records(out / "results.jsonl")[0]) == 3
+    both = _matrix(str(spec), "-o", str(out), "--resume", "--force")
+    assert both.returncode == 2 and "not allowed with" in both.stderr
+
+
+# --------------------------------------------------------------------------- 2. failed cases
+
+CRASH_ONCE = '''
+import os, signal
+from cosim.cosimulation import factory
+from cosim.cosimulation.controllers import Proportional
+from cosim.matrix import predict
+
+
+class CrashWhileMarked(Proportional):
+    """T = -k phi; segfaults the worker at t = 0.5 s while the file 'marker' exists (a flaky FMU)."""
+
+    def __init__(self, name, k=1.0, marker=""):
+        super().__init__(name, k)
+        self.marker = marker
+
+    def step(self, t, h):
+        if t >= 0.5 and self.marker and os.path.exists(self.marker):
+            os.kill(os.getpid(), signal.SIGSEGV)
+
+
+factory.PYTHON_BLOCKS["CrashWhileMarked"] = CrashWhileMarked
+predict.LINEAR_BLOCKS["CrashWhileMarked"] = lambda p, s: predict.static([[-p["k"]]], ["phi"], ["T"])
+'''
+
+
+def test_resume_retries_cases_failed_by_a_crashed_worker_unless_keep_failed(fmus, tmp_path):
+    (tmp_path / "crash_once.py").write_text(CRASH_ONCE)
+    marker = tmp_path / "marker"
+    marker.write_text("crash")
+    study = {"name": "flaky", "observe": "bike.phi", "connections": ["bike.phi -> rider.phi", "rider.T -> bike.T_phi"],
+             "components": {"bike": {"model": "Bicycle.Bicycles.WhippleLinear", "parameter_set": "benchmark",
+                                     "parameters": {"v": 5.0, "phi0": 0.01}},
+                            "rider": {"python": "CrashWhileMarked",
+                                      "parameters": {"k": "=k", "marker": "=m"}}},
+             "cases": [{"k": 1.0, "m": ""}, {"k": 2.0, "m": str(marker)}, {"k": 3.0, "m": ""}]}
+    spec = _write_spec(tmp_path / "flaky.toml", [study], {**FAST, "imports": ["crash_once.py"], "timeout": 60.0})
+    out = tmp_path / "out"
+    first = _matrix(str(spec), "-o", str(out), "--workers", "1")
+    assert first.returncode == 1 and "1 failed" in first.stdout, first.stdout + first.stderr
+    failed = [r for r in read_records(out / "results.jsonl")[0] if r["agreement"] == "failed"]
+    assert len(failed) == 1 and "SIGSEGV" in failed[0]["error"]
+    marker.unlink()  # the cause is gone: a retry succeeds
+    kept = _matrix(str(spec), "-o", str(out), "--workers", "1", "--resume", "--keep-failed")
+    assert kept.returncode == 1 and "(0 run, 3 resumed)" in kept.stdout and "1 failed" in kept.stdout, kept.stdout
+    retried = _matrix(str(spec), "-o", str(out), "--workers", "1", "--resume")
+    assert retried.returncode == 0, retried.stdout + retried.stderr
+    assert "(1 run, 2 resumed, 1 failed run again)" in retried.stdout and "0 failed" in retried.stdout
+    records = read_records(out / "results.jsonl")[0]
+    assert len(records) == 3 and len({r["key"] for r in records}) == 3  # one line per case
+    assert all(r["agreement"] == "agree" for r in records)
+
+
+def test_resume_keeps_the_records_after_a_corrupted_line(tmp_path):
+    """A line edited or corrupted by hand used to end the read: every later record was cut off."""
+    from cosim.matrix.store import ResultStore
+
+    with ResultStore(tmp_path, resume=False) as store:
+        for k in range(4):
+            store.append({"key": f"k{k}", "agreement": "failed" if k == 3 else "agree"})
+    lines = (tmp_path / "results.jsonl").read_bytes().splitlines(keepends=True)
+    lines[1] = b'{"key": "k1", "agree\n'                      # corrupted in the middle
+    (tmp_path / "results.jsonl").write_bytes(b"".join(lines) + b'[1, 2]\n{"key": "k9", "ag')  # not a record; torn
+    with ResultStore(tmp_path, resume=True) as store:
+        assert sorted(store.records) == ["k0", "k2", "k3"] and store.torn > 0
+    assert [r["key"] for r in read_records(tmp_path / "results.jsonl")[0]] == ["k0", "k2", "k3"]
+    with ResultStore(tmp_path, resume=True, retry_failed=True) as store:
+        assert sorted(store.records) == ["k0", "k2"] and store.retried == {"k3"}
+    assert (tmp_path / "results.jsonl").read_bytes().count(b"\n") == 2  # one line per kept case
+
+
+def test_keep_failed_without_resume_is_refused(tmp_path):
+    spec = _write_spec(tmp_path / "small.toml", [_whipple()], FAST)
+    result = _matrix(str(spec), "-o", str(tmp_path / "out"), "--keep-failed")
+    assert result.returncode == 2 and "--keep-failed applies only with --resume" in result.stderr
+    assert not (tmp_path / "out").exists()
+
+
+# --------------------------------------------------------------------------- 3. unbounded work
+
+def _limited_memory() -> None:
+    """2 GB of address space: a regression (expanding 10^9 cases) fails instead of eating the machine."""
+    resource.setrlimit(resource.RLIMIT_AS, (2 * 1024 ** 3, 2 * 1024 ** 3))
+
+
+@pytest.mark.parametrize("axes, sizes", [
+    ({"v": {"from": 0.0, "to": 1e9, "step": 1.0}}, "axis 'v' has 1000000001 values"),
+    ({"v": {"linspace": [0.0, 1.0, 1e12]}}, "axis 'v' has 1000000000000 values"),
+    ({"v": {"from": 0.0, "to": 999.0, "step": 1.0}, "w": {"from": 0.0, "to": 999.0, "step": 1.0}},
+     "axes v (1000) x w (1000) = 1000000 cases"),
+], ids=["from-to-step-1e9", "linspace-1e12", "product-1e6"])
+def test_spec_beyond_case_limit_is_refused_before_expanding(tmp_path, axes, sizes):
+    spec = _write_spec(tmp_path / "huge.toml", [_whipple(axes=axes)], FAST)
+    result = subprocess.run([sys.executable, "-m", "cosim", "matrix", str(spec), "-o", str(tmp_path / "out")],
+                            capture_output=True, text=True, cwd=ROOT, timeout=300, preexec_fn=_limited_memory)
+    assert result.returncode == 2 and "Traceback" not in result.stderr, result.stderr
+    assert str(spec) in result.stderr and sizes in result.stderr, result.stderr
+    assert f"limit of {MAX_CASES}" in result.stderr and "--max-cases" in result.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_max_cases_option_sets_the_limit(tmp_path):
+    spec = _write_spec(tmp_path / "small.toml", [_whipple(), _whipple("other", speeds=(4.0, 6.0))], FAST)
+    result = _matrix(str(spec), "-o", str(tmp_path / "out"), "--max-cases", "4")
+    assert result.returncode == 2
+    assert "3 (bench) + 2 (other) = 5 cases, more than the limit of 4" in result.stderr, result.stderr
+    assert len(load_spec(spec, max_cases=5).cases()) == 5
+
+
+@pytest.mark.parametrize("text, message", [
+    ("9**9**9", "the power 9**387420489 exceeds 4096 bits"),
+    ("10**10**10", "exceeds 4096 bits"),
+    ("2**100000", "exceeds 4096 bits"),
+    ("(2**4000)*(2**4000)", "an integer beyond 4096 bits"),
+    ("'a' * 10**9", "a string longer than 10000 characters"),
+    ("round(5, -10**9)", "ndigits"),
+    ("-" * 500 + "1", "nested more than 100 levels"),
+    ("1" + "+1" * 600, "longer than 1000 characters"),
+    ("(-8)**0.5", "complex"),
+    ("10.0**400", "overflows a float"),
+], ids=["9**9**9", "10**10**10", "2**100000", "big-product", "string-repetition", "round-ndigits", "deep-nesting",
+        "long", "complex", "float-overflow"])
+def test_costly_expression_is_refused(text, message):
+    """Each in its own process with a timeout: a regression would hang, not pass."""
+    code = ("import sys; from cosim.matrix import expr\n"
+            "try:\n    expr.evaluate(sys.argv[1], {})\nexcept expr.ExpressionError as exc:\n    print(exc)\n"
+            "else:\n    print('accepted')\n")
+    result = subprocess.run([sys.executable, "-c", code, text], capture_output=True, text=True, cwd=ROOT, timeout=60)
+    assert result.returncode == 0 and "Traceback" not in result.stderr, result.stderr
+    assert result.stdout.startswith("expression '") and message in result.stdout, result.stdout
+
+
+def test_costly_expression_in_spec_names_file_and_expression(tmp_path):
+    study = _whipple()
+    study["components"]["bike"]["parameters"]["v"] = "=9**9**9"
+    spec = _write_spec(tmp_path / "costly.toml", [study], FAST)
+    result = subprocess.run([sys.executable, "-m", "cosim", "matrix", str(spec), "-o", str(tmp_path / "out")],
+                            capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert result.returncode == 2 and "Traceback" not in result.stderr
+    line = result.stderr.strip()
+    assert "\n" not in line and str(spec) in line and "parameters 'v'" in line and "'9**9**9'" in line, line
+
+
+@pytest.mark.parametrize("text, value", [("2**10", 1024), ("2.0**5000 > 1 if False else 3", 3), ("3**-2", 1 / 9),
+                                         ("round(3.14159, 2)", 3.14), ("2**4095 > 0", True)],
+                         ids=["small-power", "short-circuit", "negative-exponent", "round", "largest-power"])
+def test_reasonable_expressions_still_evaluate(text, value):
+    assert expr.evaluate(text, {}) == pytest.approx(value)
+
+
+# --------------------------------------------------------------------------- 4. scheduler
+
+def _closed_port() -> int:
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]  # closed again when the socket is
+
+
+def test_unreachable_scheduler_is_one_line_naming_the_address(tmp_path):
+    pytest.importorskip("distributed")
+    spec = _write_spec(tmp_path / "small.toml", [_whipple()], FAST)
+    address = f"tcp://127.0.0.1:{_closed_port()}"
+    result = subprocess.run([sys.executable, "-m", "cosim", "matrix", str(spec), "-o", str(tmp_path / "out"),
+                             "--scheduler", address], capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert result.returncode == 2 and "Traceback" not in result.stderr, result.stderr
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and address in lines[0] and "cannot reach the Dask scheduler" in lines[0], lines
+    assert "within 5 s" in lines[0]  # the connection timeout (pool.SCHEDULER_TIMEOUT), not 60 s
+    assert not (tmp_path / "out" / "results.jsonl").exists()
+
+
+@pytest.mark.parametrize("address", ["tcp://127.0.0.1:notaport", "ftp://127.0.0.1:8786", "tcp://127.0.0.1"],
+                         ids=["port-not-a-number", "unknown-scheme", "no-port"])
+def test_malformed_scheduler_address_is_one_line(tmp_path, address):
+    pytest.importorskip("distributed")
+    spec = _write_spec(tmp_path / "small.toml", [_whipple()], FAST)
+    result = subprocess.run([sys.executable, "-m", "cosim", "matrix", str(spec), "-o", str(tmp_path / "out"),
+                             "--scheduler", address], capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert result.returncode == 2 and "Traceback" not in result.stderr, result.stderr
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and repr(address) in lines[0] and "is not a scheduler address" in lines[0], lines
+
+
+# --------------------------------------------------------------------------- 5. slow modes
+
+def _rear_steered(stop: float | None) -> dict:
+    study = {"name": "rear", "observe": "bike.phi",
+             "connections": ["bike.phi -> rider.phi", "rider.delta -> bike.delta"],
+             "components": {"bike": {"model": "Bicycle.Bicycles.RearSteered", "parameters": {"V": "=-U"},
+                                     "initial": {"frame.phi": 0.01}},
+                            "rider": {"python": "SteerAngleFeedback", "parameters": {"k2": "=k2"}}},
+             "axes": {"U": [10.0], "k2": [0.1]}}
+    if stop is not None:
+        study["stop"] = stop
+    return study
+
+
+def test_verdict_of_slow_unstable_mode_does_not_depend_on_stop_time(fmus):
+    """The paper's rear-steered bicycle at 10 m/s with k2 = 0.1: a slow unstable oscillation
+    (0.31 +- 0.29j 1/s, a 22 s period). With an 8 s run the old envelope comparison fell in a zero
+    crossing and said 'stable'; the modal fit sees the same mode at 8 s, 10 s (the default) and 20 s."""
+    from cosim.matrix.worker import FMUCache, run_case
+
+    paths = {k: str(v) for k, v in fmus.items()}
+    cache = FMUCache()
+    try:
+        records = {stop: run_case(spec_from_dict({"study": [_rear_steered(stop)]}).cases()[0].to_dict(), cache, paths)
+                   for stop in (8.0, None, 20.0)}
+    finally:
+        cache.close()
+    for stop, rec in records.items():
+        assert rec["prediction"]["class"] == "unstable", stop
+        assert rec["observed"]["class"] in classify.UNSTABLE and rec["agreement"] == "agree", (stop, rec["observed"])
+        if rec["observed"]["class"] != "fell":
+            assert rec["observed"]["growth_method"] == "modal"
+            assert rec["observed"]["growth_rate"] == pytest.approx(rec["prediction"]["max_re"], abs=1e-3), stop
+
+
+@pytest.mark.parametrize("stop", [4.0, 8.0, 10.0, 30.0], ids=lambda s: f"stop={s:g}")
+@pytest.mark.parametrize("kind, expected, rate", [
+    ("slow-oscillation", "unstable", 0.308),            # rear-steered bicycle, 22 s period
+    ("capsize-under-weave", "unstable", 0.03),          # slow capsize hidden by a large decaying weave
+    ("weave-over-slow-decay", "stable", -0.05),         # slowly decaying mode under a faster transient
+    ("undamped", "marginal", 0.0),                      # crowned rollers with R > h
+], ids=lambda v: v if isinstance(v, str) else None)
+def test_observed_class_of_slow_modes_does_not_depend_on_stop_time(kind, expected, rate, stop):
+    t = np.round(np.arange(0.0, stop + 1e-9, 0.01), 10)
+    if kind == "slow-oscillation":
+        x = 0.01 * np.exp(0.308 * t) * np.cos(0.29 * t + 0.3)
+    elif kind == "capsize-under-weave":
+        x = 0.01 * np.exp(-0.5 * t) * np.sin(5 * t) + 1e-4 * np.exp(0.03 * t)
+    elif kind == "weave-over-slow-decay":
+        x = 0.02 * np.exp(-1.0 * t) * np.cos(6 * t) + 1e-3 * np.exp(-0.05 * t)
+    else:
+        x = 0.01 * np.cos(3 * t)
+    obs = classify.observe(t, x, "completed", 0.01)
+    assert obs["class"] == expected and obs["growth_method"] == "modal"
+    assert obs["growth_rate"] == pytest.approx(rate, abs=1e-6)
+
+
+@pytest.mark.parametrize("kind", ["clipped", "noisy", "sawtooth"])
+def test_signal_that_is_not_a_sum_of_modes_falls_back_to_the_envelope(kind):
+    t = np.linspace(0.0, 10.0, 1001)
+    if kind == "clipped":
+        x = np.clip(0.01 * np.exp(0.2 * t) * np.sin(5 * t), -0.02, 0.02)
+    elif kind == "noisy":
+        x = 0.01 * np.exp(-0.3 * t) * np.sin(5 * t) + 1e-4 * np.random.default_rng(1).standard_normal(t.size)
+    else:
+        x = (t % 1.0) - 0.5
+    assert classify.modal_fit(t, x) is None
+    assert classify.observe(t, x, "completed", 0.01)["growth_method"] == "envelope"
+
+
+# --------------------------------------------------------------------------- 6. orphans
+
+def _descendants_alive(procs) -> list:
+    import psutil
+
+    alive = []
+    for p in procs:
+        try:
+            if p.status() != psutil.STATUS_ZOMBIE:
+                alive.append(p)
+        except psutil.NoSuchProcess:
+            pass
+    return alive
+
+
+def _wait_gone(procs, seconds: float = 60.0) -> list:
+    deadline = time.monotonic() + seconds
+    while (alive := _descendants_alive(procs)) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    return alive
+
+
+HANG = '''
+import os, time
+from pathlib import Path
+from cosim.cosimulation import factory
+from cosim.cosimulation.controllers import Proportional
+from cosim.matrix import predict
+
+
+class Hang(Proportional):
+    """T = -k phi; at t = 0.5 s announces itself in the folder 'flag' and sleeps (a hung FMU)."""
+
+    def __init__(self, name, k=1.0, flag=""):
+        super().__init__(name, k)
+        self.flag = flag
+
+    def step(self, t, h):
+        if t >= 0.5:
+            (Path(self.flag) / str(os.getpid())).write_text("running")
+            time.sleep(3600)
+
+
+factory.PYTHON_BLOCKS["Hang"] = Hang
+predict.LINEAR_BLOCKS["Hang"] = lambda p, s: predict.static([[-p["k"]]], ["phi"], ["T"])
+'''
+
+
+def test_killed_matrix_leaves_no_worker_behind(fmus, tmp_path):
+    """kill -9 of `cosim matrix --workers 2` while both workers are busy in a case (that would
+    run for an hour): every process it started is gone within a bounded wait."""
+    psutil = pytest.importorskip("psutil")
+    (tmp_path / "hang.py").write_text(HANG)
+    flags = tmp_path / "running"
+    flags.mkdir()
+    study = {"name": "hang", "observe": "bike.phi", "connections": ["bike.phi -> rider.phi", "rider.T -> bike.T_phi"],
+             "components": {"bike": {"model": "Bicycle.Bicycles.WhippleLinear", "parameter_set": "benchmark",
+                                     "parameters": {"v": 5.0, "phi0": 0.01}},
+                            "rider": {"python": "Hang", "parameters": {"k": "=k", "flag": str(flags)}}},
+             "axes": {"k": [1.0, 2.0, 3.0, 4.0]}}
+    spec = _write_spec(tmp_path / "hang.toml", [study], {**FAST, "imports": ["hang.py"], "timeout": 3600.0})
+    proc = subprocess.Popen([sys.executable, "-m", "cosim", "matrix", str(spec), "-o", str(tmp_path / "out"),
+                             "--workers", "2", "--no-progress"], cwd=ROOT,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        parent = psutil.Process(proc.pid)
+        deadline = time.monotonic() + 300
+        while len(list(flags.iterdir())) < 2 and time.monotonic() < deadline and proc.poll() is None:
+            time.sleep(0.05)
+        busy = {int(p.name) for p in flags.iterdir()}
+        everyone = parent.children(recursive=True)
+        assert len(busy) == 2 and busy <= {p.pid for p in everyone}, "both workers must be running a case"
+        proc.send_signal(signal.SIGKILL)
+        proc.wait(timeout=60)
+        assert _wait_gone(everyone) == [], "processes outlived the killed matrix"
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        for p in _descendants_alive(locals().get("everyone", [])):  # never leave them behind, even on failure
+            p.kill()
+
+
+POOL_PARENT = """
+import functools, os, time
+from concurrent.futures import ProcessPoolExecutor
+from cosim.processes import die_with_parent
+
+init = functools.partial(die_with_parent, pdeathsig={pdeathsig})
+pool = ProcessPoolExecutor(2, initializer=init, initargs=(os.getpid(),))
+futures = [pool.submit(time.sleep, 600) for _ in range(2)]
+while len(pool._processes) < 2:
+    time.sleep(0.05)
+print(" ".join(str(p) for p in pool._processes), flush=True)
+time.sleep(600)
+"""
+
+
+@pytest.mark.parametrize("pdeathsig", [True, False], ids=["pdeathsig-and-watchdog", "watchdog-only"])
+def test_pool_workers_die_with_their_parent(pdeathsig):
+    """cosim.processes.die_with_parent as a ProcessPoolExecutor initializer (as `cosim build -j`
+    can use it): kill -9 of the parent ends its pool workers, by the kernel's parent-death signal
+    or by the watchdog thread alone."""
+    psutil = pytest.importorskip("psutil")
+    proc = subprocess.Popen([sys.executable, "-c", POOL_PARENT.format(pdeathsig=pdeathsig)], cwd=ROOT,
+                            stdout=subprocess.PIPE, text=True)
+    try:
+        pids = [int(p) for p in proc.stdout.readline().split()]
+        assert len(pids) == 2
+        workers = [psutil.Process(p) for p in pids]
+        assert _descendants_alive(workers) == workers
+        proc.send_signal(signal.SIGKILL)
+        proc.wait(timeout=60)
+        assert _wait_gone(workers) == []
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        proc.stdout.close()
+
+
+def test_worker_whose_parent_died_before_it_started_exits():
+    """The race at start: the parent is gone before die_with_parent runs (passed its pid)."""
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+    result = subprocess.run([sys.executable, "-c", f"from cosim.processes import die_with_parent\n"
+                             f"die_with_parent({dead.pid})\nimport time; time.sleep(60)\nprint('alive')"],
+                            capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert result.returncode == -signal.SIGKILL and "alive" not in result.stdout
+
+
+# --------------------------------------------------------------------------- 7. outputs
+
+@pytest.mark.parametrize("where", ["file", "under-file"])
+def test_unusable_output_folder_is_refused_before_any_work(tmp_path, where):
+    spec = _write_spec(tmp_path / "small.toml", [_whipple()], FAST)
+    blocker = tmp_path / "blocker"
+    blocker.write_text("not a folder")
+    out = blocker if where == "file" else blocker / "sub"
+    result = _matrix(str(spec), "-o", str(out), "--fmu-dir", str(tmp_path / "fmus"))
+    assert result.returncode == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and "is a file" in lines[0] and str(blocker) in lines[0], lines
+    assert blocker.read_text() == "not a folder"
+    assert not (tmp_path / "fmus").exists()  # nothing was built
+
+
+def test_fmu_folder_that_is_a_file_is_refused_before_any_work(tmp_path):
+    spec = _write_spec(tmp_path / "small.toml", [_whipple()], FAST)
+    blocker = tmp_path / "fmus"
+    blocker.write_text("not a folder")
+    result = _matrix(str(spec), "-o", str(tmp_path / "out"), "--fmu-dir", str(blocker))
+    assert result.returncode == 2 and "FMU folder" in result.stderr and str(blocker) in result.stderr, result.stderr
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root writes into read-only folders")
+def test_read_only_output_folder_is_refused_before_any_work(tmp_path):
+    spec = _write_spec(tmp_path / "small.toml", [_whipple()], FAST)
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    locked.chmod(0o500)
+    try:
+        result = _matrix(str(spec), "-o", str(locked / "out"))
+        assert result.returncode == 2 and "not writable" in result.stderr and str(locked) in result.stderr
+    finally:
+        locked.chmod(0o700)
+
+
+def test_report_files_appear_only_when_complete(fmus, tmp_path, monkeypatch):
+    """A failure while a heat map is written leaves neither a partial PNG under its final name
+    nor a temporary file; report.md, summary.json and matrix.json come through cosim.outputs."""
+    import matplotlib.figure
+
+    from cosim.errors import OutputError
+    from cosim.matrix.runner import run_matrix
+
+    spec = _write_spec(tmp_path / "small.toml", [_whipple()], FAST)
+    real = matplotlib.figure.Figure.savefig
+
+    def broken(self, fname, **kw):
+        Path(fname).write_bytes(b"\x89PNG half")
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", broken)
+    with pytest.raises(OutputError, match="No space left on device"):
+        run_matrix(spec, tmp_path / "out", workers=1, progress=False)
+    names = sorted(p.name for p in (tmp_path / "out").iterdir())
+    assert "bench.png" not in names and not [n for n in names if "partial" in n], names
+    assert len(read_records(tmp_path / "out" / "results.jsonl")[0]) == 3  # the results are kept
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", real)
+    result = run_matrix(spec, tmp_path / "out", workers=1, progress=False, resume=True)
+    assert result.exit_code == 0 and (tmp_path / "out" / "bench.png").read_bytes().startswith(b"\x89PNG\r\n")
+    assert json.loads((tmp_path / "out" / "summary.json").read_text())["cases"] == 3
+
+
+# --------------------------------------------------------------------------- 8. bad input
+
+def _study(**changes) -> dict:
+    study = _whipple()
+    for key, value in changes.items():
+        if value is _DELETE:
+            study.pop(key, None)
+        else:
+            study[key] = value
+    return study
+
+
+_DELETE = object()
+BIKE = {"model": "Bicycle.Bicycles.WhippleLinear", "parameter_set": "benchmark",
+        "parameters": {"v": "=v", "phi0": 0.01}}
+
+BAD_SPECS = {
+    # id: (document, words the message must contain)
+    "matrix-not-table": ({"matrix": 5, "study": [_study()]}, "[matrix]: expected a table"),
+    "name-number": ({"matrix": {"name": 5}, "study": [_study()]}, "[matrix] name: expected a string"),
+    "name-path": ({"matrix": {"name": "../x"}, "study": [_study()]}, "may only contain"),
+    "imports-number": ({"matrix": {"imports": 5}, "study": [_study()]}, "imports: expected an array of strings"),
+    "imports-missing": ({"matrix": {"imports": ["nope.py"]}, "study": [_study()]}, "no such file"),
+    "stop-inf": ({"matrix": {"stop": math.inf}, "study": [_study()]}, "'stop' must be finite"),
+    "stop-string": ({"matrix": {"stop": "10"}, "study": [_study()]}, "'stop' must be a number"),
+    "step-beyond-stop": ({"matrix": {"stop": 1.0, "step": 2.0}, "study": [_study()]}, "longer than stop"),
+    "timeout-zero": ({"matrix": {"timeout": 0.0}, "study": [_study()]}, "'timeout' must be"),
+    "extend-huge": ({"matrix": {"extend": 1e9}, "study": [_study()]}, "'extend' must be"),
+    "pade-order": ({"matrix": {"pade_order": 0}, "study": [_study()]}, "'pade_order' must be"),
+    "algorithm": ({"matrix": {"algorithm": "magic"}, "study": [_study()]}, "'algorithm' must be one of"),
+    "margin-nan": ({"matrix": {"margin": math.nan}, "study": [_study()]}, "'margin' must be"),
+    "study-number": ({"study": 5}, "no [[study]] tables"),
+    "study-entry-number": ({"study": [5]}, "study 1: expected a [[study]] table"),
+    "study-name-path": ({"study": [_study(name="../../etc/x")]}, "may only contain"),
+    "observe-number": ({"study": [_study(observe=5)]}, "observe: expected a string"),
+    "connections-string": ({"study": [_study(connections="a -> b")]}, "connections: expected an array of strings"),
+    "components-number": ({"study": [_study(components=5)]}, "components: expected tables"),
+    "component-number": ({"study": [_study(components={"bike": 5})]}, "component 'bike': expected a table"),
+    "parameters-number": ({"study": [_study(components={"bike": {**BIKE, "parameters": 5}})]},
+                          "component 'bike' parameters: expected a table"),
+    "parameter-list": ({"study": [_study(components={"bike": {**BIKE, "parameters": {"v": [1]}}})]},
+                       "parameters 'v': expected a number, boolean or string"),
+    "parameter-set-missing": ({"study": [_study(components={"bike": {**BIKE, "parameter_set": "nope"}})]},
+                              "parameter_set"),
+    "initial-string": ({"study": [_study(components={"bike": {**BIKE, "initial": {"frame.phi": "x"}}})]},
+                       "initial 'frame.phi': expected a finite number"),
+    "axes-number": ({"study": [_study(axes=5)]}, "axes: expected a table"),
+    "axis-string": ({"study": [_study(axes={"v": "fast"})]}, "axis 'v' must be a list or a table"),
+    "axis-linspace-short": ({"study": [_study(axes={"v": {"linspace": [1, 2]}})]},
+                            "linspace: expected an array [a, b, n]"),
+    "axis-linspace-fraction": ({"study": [_study(axes={"v": {"linspace": [1, 2, 2.5]}})]}, "whole number"),
+    "axis-step-string": ({"study": [_study(axes={"v": {"from": 1, "to": 2, "step": "x"}})]}, "step: expected a number"),
+    "axis-value-table": ({"study": [_study(axes={"v": [1.0, {"a": 1}]})]}, "axis 'v' value 2"),
+    "cases-number": ({"study": [_study(cases=5)]}, "cases: expected an array"),
+    "case-unknown-axis": ({"study": [_study(cases=[{"speed": 3.0}])]}, "unknown axis names speed"),
+    "variables-number": ({"study": [_study(variables=5)]}, "variables: expected a table"),
+    "variable-expression": ({"study": [_study(variables={"w": "v +* 2"})]}, "variable 'w'"),
+    "tune-number": ({"study": [_study(tune=5)]}, "tune: expected a table"),
+    "tune-points": ({"study": [_study(tune={"bike.v": {"points": 10 ** 9}})]}, "points: must be 3 to"),
+    "tune-scale": ({"study": [_study(tune={"bike.v": {"scale": "cubic"}})]}, "scale: must be 'log' or 'linear'"),
+    "checks-table": ({"study": [_study(checks={"kind": "region"})]}, "checks: expected an array"),
+    "check-unknown-axis": ({"study": [_study(checks=[{"kind": "stable-interval", "axis": "speed",
+                                                     "expected": [4.0, 6.0]}])]}, "axis 'speed' is not an axis"),
+    "check-expected": ({"study": [_study(checks=[{"kind": "stable-interval", "axis": "v", "expected": 5}])]},
+                       "expected: expected an array [low, high]"),
+    "check-expect": ({"study": [_study(checks=[{"kind": "region", "expect": "wobbly"}])]}, "expect must be one of"),
+    "check-where-name": ({"study": [_study(checks=[{"kind": "region", "expect": "stable", "where": "speed > 2"}])]},
+                         "unknown name(s) speed"),
+    "check-where-costly": ({"study": [_study(checks=[{"kind": "region", "expect": "stable",
+                                                      "where": "-" * 150 + "v"}])]}, "nested more than 100"),
+    "check-unknown-key": ({"study": [_study(checks=[{"kind": "region", "expect": "stable", "axis": "v"}])]},
+                          "unknown keys axis"),
+    "plot-unknown-axis": ({"study": [_study(plots=[{"x": "speed"}])]}, "'speed' is not a variable"),
+    "system-number": ({"study": [_study(system=5)]}, "system: expected a table"),
+    "system-stop-string": ({"study": [_study(system={"stop": "long"})]}, "[system] stop"),
+}
+
+
+@pytest.mark.parametrize("document, message", list(BAD_SPECS.values()), ids=list(BAD_SPECS))
+def test_bad_spec_is_one_message_naming_file_and_key(tmp_path, document, message):
+    path = tmp_path / "bad.toml"
+    with pytest.raises(SpecError) as info:
+        spec_from_dict(document, path).cases()
+    text = str(info.value)
+    assert text.startswith(str(path)) and message in text and "\n" not in text, text
+
+
+def _write_toml(path: Path, document: dict) -> Path:
+    """A TOML document from nested dicts (inline tables; inf/nan as TOML floats)."""
+    def value(v):
+        if isinstance(v, float) and not math.isfinite(v):
+            return "nan" if math.isnan(v) else ("inf" if v > 0 else "-inf")
+        if isinstance(v, dict):
+            return "{" + ", ".join(f"{json.dumps(k)} = {value(x)}" for k, x in v.items()) + "}"
+        if isinstance(v, list):
+            return "[" + ", ".join(value(x) for x in v) + "]"
+        return _toml(v)
+    lines = []
+    for key, v in document.items():
+        lines.append(f"{json.dumps(key)} = {value(v)}")
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+@pytest.mark.parametrize("name", ["stop-inf", "initial-string", "case-unknown-axis", "check-unknown-axis",
+                                  "study-name-path"])
+def test_bad_spec_file_is_one_message_on_the_command_line(tmp_path, name):
+    document, message = BAD_SPECS[name]
+    path = _write_toml(tmp_path / "bad.toml", document)
+    result = _matrix(str(path), "-o", str(tmp_path / "out"))
+    assert result.returncode == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and str(path) in lines[0] and message in lines[0], lines
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("args, message", [
+    (("--workers", "0"), "--workers: must be at least 1, got 0"),
+    (("--workers", "-2"), "--workers: must be at least 1, got -2"),
+    (("--workers", "two"), "--workers: expected a whole number"),
+    (("--max-cases", "0"), "--max-cases: must be at least 1"),
+], ids=["workers-0", "workers-negative", "workers-text", "max-cases-0"])
+def test_bad_option_values_are_refused(tmp_path, args, message):
+    spec = _write_spec(tmp_path / "small.toml", [_whipple()], FAST)
+    result = _matrix(str(spec), "-o", str(tmp_path / "out"), *args)
+    assert result.returncode == 2 and message in result.stderr, result.stderr
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("content, message", [(b"\xff\xfe\x00bad", "not a UTF-8 text file"),
+                                              (b"[matrix\nname = 1", "Expected ']'")],
+                         ids=["not-utf8", "toml-syntax"])
+def test_unreadable_spec_file_is_one_message(tmp_path, content, message):
+    path = tmp_path / "bad.toml"
+    path.write_bytes(content)
+    result = _matrix(str(path), "-o", str(tmp_path / "out"))
+    assert result.returncode == 2 and str(path) in result.stderr and message in result.stderr, result.stderr
+
+
+def test_failing_plugin_import_is_one_message(tmp_path):
+    (tmp_path / "broken.py").write_text("raise RuntimeError('plugin is broken')\n")
+    spec = _write_spec(tmp_path / "plug.toml", [_whipple()], {**FAST, "imports": ["broken.py"]})
+    result = _matrix(str(spec), "-o", str(tmp_path / "out"))
+    assert result.returncode == 2
+    assert "imports: " in result.stderr and "broken.py" in result.stderr and "plugin is broken" in result.stderr

@@ -1,0 +1,152 @@
+"""A solver failure part-way keeps what was computed: the nonlinear Whipple bicycle started at
+3 m/s (below its weave speed) with a small roll falls over; its steer angle swings to -pi/2,
+where the rolling constraints are singular, and the integrator gives up at t = 1.906 s.
+
+`simulate` and `run` write the rows up to the failure to NAME.incomplete.csv (never NAME.csv),
+say so on stderr naming the steer angle, and exit 4 -- with the runtime's fmi2Error and with its
+fmi2Discard + fmi2LastSuccessfulTime alike (the clean-up never calls fmi2Terminate after an
+error)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from conftest import run_cli
+
+WHIPPLE = "Bicycle.Bicycles.Whipple"
+FALLING = ["--param", "u_R0=-10", "--param", "phi0=0.05"]  # v = -u_R0 * rR = 3 m/s, 0.05 rad of roll
+FAILURE_TIME = 1.9056  # s, where the steer angle passes -pi/2 (both integrators agree to 1e-3 s)
+
+
+def _check_incomplete(result, folder, name, suffix=".csv"):
+    assert result.returncode == 4, result.stdout + result.stderr
+    assert "Traceback" not in result.stderr and "internal error" not in result.stderr, result.stderr
+    assert not (folder / f"{name}{suffix}").exists(), "an incomplete result under the final name"
+    partial = folder / f"{name}.incomplete{suffix}"
+    assert partial.is_file()
+    assert not [p for p in folder.iterdir() if ".partial" in p.name]
+    assert "steer angle" in result.stderr and "delta" in result.stderr and "pi/2" in result.stderr
+    assert f"to {partial}" in result.stderr
+    return partial
+
+
+@pytest.mark.parametrize("fmi_type", ["cs", "me"])
+def test_simulate_solver_failure_writes_rows_up_to_failure(fmus, tmp_path, fmi_type):
+    out = tmp_path / "w.csv"
+    result = run_cli("simulate", str(fmus[WHIPPLE]), "--stop-time", "5", "--step", "0.01", "--fmi-type", fmi_type,
+                     *FALLING, "-o", str(out), "--plot", str(tmp_path / "w.png"))
+    partial = _check_incomplete(result, tmp_path, "w")
+    assert (tmp_path / "w.incomplete.png").is_file() and not (tmp_path / "w.png").exists()
+    data = np.genfromtxt(partial, delimiter=",", names=True)  # an ordinary CSV a reader takes as is
+    assert data["time"][0] == 0.0 and data["phi"][0] == pytest.approx(0.05, abs=1e-12)
+    if fmi_type == "cs":  # CVode (me) gets past the singularity for a while before it gives up
+        assert data["time"][-1] == pytest.approx(FAILURE_TIME, abs=0.02)
+        assert abs(data["delta"][-1]) > 1.4
+    assert np.all(np.diff(data["time"]) > 0) and len(data) > 150
+
+
+def test_simulate_npy_incomplete_result_is_npy(fmus, tmp_path):
+    result = run_cli("simulate", str(fmus[WHIPPLE]), "--stop-time", "5", *FALLING, "-o", str(tmp_path / "w.npy"))
+    partial = _check_incomplete(result, tmp_path, "w", ".npy")
+    data = np.load(partial)
+    assert data["time"][-1] == pytest.approx(FAILURE_TIME, abs=0.02)
+
+
+@pytest.mark.parametrize("loop", ["fast-c-loop", "python-loop"])
+def test_run_solver_failure_writes_rows_up_to_failure_without_second_crash(fmus, tmp_path, loop):
+    """The C loop runs systems made only of FMUs; a Python block makes the master step in Python."""
+    extra = '\n[components.push]\npython = "Step"\nparameters = { amplitude = 0.0 }\n' if loop == "python-loop" else ""
+    connections = '["push.y -> bike.T_phi"]' if loop == "python-loop" else "[]"
+    system = tmp_path / "falls.toml"
+    system.write_text(f'connections = {connections}\n[system]\nstop = 5.0\nstep = 0.01\n'
+                      f'[components.bike]\nfmu = "{fmus[WHIPPLE]}"\nparameters = {{ u_R0 = -10.0, phi0 = 0.05 }}\n'
+                      f"{extra}")
+    result = run_cli("run", str(system), "-o", str(tmp_path / "falls.csv"))
+    partial = _check_incomplete(result, tmp_path, "falls")
+    assert "fmi2DoStep failed at t = 1.9 s" in result.stderr
+    assert "fmi2Terminate" not in result.stderr  # the clean-up made no call FMI forbids
+    data = np.genfromtxt(partial, delimiter=",", names=True)
+    assert data["time"][-1] == pytest.approx(1.9, abs=1e-9) and len(data) == 191
+
+
+class _FakeInstance:
+    """Records the FMI calls the clean-up makes."""
+
+    def __init__(self):
+        self.calls = []
+
+    def terminate(self):
+        self.calls.append("terminate")
+
+    def freeInstance(self):
+        self.calls.append("freeInstance")
+
+
+@pytest.mark.parametrize("status,calls", [(0, ["terminate", "freeInstance"]), (2, ["terminate", "freeInstance"]),
+                                          (3, ["freeInstance"]), (4, [])],
+                         ids=["ok", "discard", "error", "fatal"])
+def test_component_cleanup_after_failed_step_follows_fmi_state_machine(fmus, status, calls):
+    """FMI 2.0: fmi2Terminate is allowed after fmi2Discard, not after fmi2Error; after fmi2Fatal nothing."""
+    from cosim.cosimulation.component import FMUComponent
+
+    comp = FMUComponent("bike", fmus[WHIPPLE])
+    comp.instance = fake = _FakeInstance()
+    comp.status = status
+    comp.close()
+    assert fake.calls == calls and comp.instance is None
+
+
+def test_physical_cause_names_roll_steer_and_residual():
+    from cosim.simulation import physical_cause
+
+    assert physical_cause({"phi": 0.1, "delta": 0.2}) is None
+    text = physical_cause({"bike.phi": 1.55, "bike.delta": 0.3})
+    assert text.startswith("roll angle bike.phi = 1.55 rad") and "falls over" in text
+    text = physical_cause({"delta": -1.6, "phi": 1.0, "residual": 3e-5})
+    assert text.index("residual") < text.index("steer angle delta = -1.6 rad, past")
+
+
+@pytest.mark.parametrize("loop", ["fast-c-loop", "python-loop"])
+@pytest.mark.parametrize("status", [2, 3], ids=["discard", "error"])
+def test_run_keeps_rows_when_fmu_step_returns_discard_or_error(fmus, monkeypatch, status, loop):
+    """Both runtime behaviours (fmi2Error, and fmi2Discard with fmi2LastSuccessfulTime): the rows
+    up to the failed step are kept, the outcome says which component failed, and fmi2Terminate
+    is called after a Discard only."""
+    from ctypes import CFUNCTYPE, c_double, c_int, c_void_p
+
+    from cosim.cosimulation.component import FMUComponent
+    from cosim.cosimulation.factory import run_system
+    from cosim.cosimulation.master import RunFailed
+    from cosim.cosimulation.system import system_from_dict
+
+    fail_at = 1.0  # s
+    terminated = []
+    original_setup = FMUComponent.setup
+
+    def setup_with_failing_step(self, start_time):
+        original_setup(self, start_time)
+        real = self._do_step
+
+        @CFUNCTYPE(c_int, c_void_p, c_double, c_double, c_int)
+        def do_step(component, t, h, no_prior):
+            return status if t >= fail_at - 1e-9 else real(component, t, h, no_prior)
+
+        self._keep_alive, self._do_step = do_step, do_step
+        instance, terminate = self.instance, self.instance.terminate
+        instance.terminate = lambda: (terminated.append(self.name), terminate())[1]
+
+    monkeypatch.setattr(FMUComponent, "setup", setup_with_failing_step)
+    components = {"bike": {"fmu": str(fmus["Bicycle.Bicycles.SelfStabilizing"]), "parameters": {"V": 6.0}}}
+    connections = []
+    if loop == "python-loop":
+        components["push"] = {"python": "Step", "parameters": {"amplitude": 0.1}}
+        connections = ["push.y -> bike.T"]
+    spec = system_from_dict({"system": {"stop": 2.0, "step": 0.1}, "components": components,
+                             "connections": connections})
+    with pytest.raises(RunFailed) as info:
+        run_system(spec)
+    result = info.value.result
+    assert result.outcome.status == "failed" and not result.outcome.complete
+    assert f"fmi2DoStep failed at t = 1 s (status {'Discard' if status == 2 else 'Error'})" in result.outcome.message
+    assert result.data["time"][-1] == pytest.approx(fail_at, abs=1e-12) and result.steps == 10
+    assert terminated == (["bike"] if status == 2 else [])
