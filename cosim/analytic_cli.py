@@ -4,11 +4,6 @@ Prints the matrices M, C1, K0, K2 of Meijaard et al. (2007) for a parameter set,
 eigenvalues at the requested speed(s) and the weave and capsize speeds, all from
 :mod:`cosim.analytic.whipple` (independent of the Modelica model and its FMU, so it serves as
 the reference the FMU is checked against).
-
-The lead hooks the subcommand into ``cosim/cli.py`` with::
-
-    from . import analytic_cli
-    analytic_cli.add_parser(sub)
 """
 from __future__ import annotations
 

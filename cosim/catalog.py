@@ -10,6 +10,18 @@ from .compiler.library import Library, load_library
 from .errors import CosimError
 
 
+#: Longest parameter value `cosim list` prints in full; longer ones (expressions) are shortened.
+SHORT_VALUE = 40
+
+
+def shorten(value, limit: int = SHORT_VALUE) -> str:
+    """``value`` as text of at most ``limit`` characters: a longer one (typically a parameter
+    defined by a long expression) is cut to its first ``limit - 3`` characters and ``...``.
+    ``None`` (a value that is not known before the model is built) prints as ``?``."""
+    text = "?" if value is None else str(value)
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
 @dataclass
 class Signal:
     """A top-level input, output or parameter of a model."""
@@ -36,6 +48,7 @@ class ModelSummary:
     parameters: list[Signal] = field(default_factory=list)
 
     def to_dict(self) -> dict:
+        """JSON-ready: full values, ``None`` (JSON ``null``) where a value is unknown."""
         return asdict(self)
 
 
@@ -61,7 +74,8 @@ def summarize(name: str, library: Library | None = None) -> ModelSummary:
                         decl.max if isinstance(decl.max, (int, float)) else None, decl.type)
         if "parameter" in decl.prefixes:
             value = values.get(decl.name)
-            signal.value = value if isinstance(value, (int, float)) else str(value)
+            # a number, an expression of other parameters (its text), or unknown (None: JSON null)
+            signal.value = value if value is None or isinstance(value, (int, float)) else str(value)
             summary.parameters.append(signal)
         elif "input" in decl.prefixes:
             summary.inputs.append(signal)

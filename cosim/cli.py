@@ -17,6 +17,7 @@ Exit status of every command (also in ``cosim --help``):
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import os
@@ -46,7 +47,14 @@ exit status:
 FMU_FOLDER = """\
 where FMUs go: commands given a model name build it first (incrementally) into ./fmus of the
 working directory, or into the folder named by the environment variable COSIM_FMU_DIR; the
-Modelica library ships with the package (COSIM_MODELICA_PATH or --library name another)."""
+Modelica library ships with the package (--library DIR or COSIM_MODELICA_PATH name another)."""
+
+ENVIRONMENT = """\
+environment variables:
+  COSIM_FMU_DIR        folder where model names are built to FMUs (default: ./fmus)
+  COSIM_MODELICA_PATH  Modelica library folder used to resolve model names (default: the one
+                       shipped with the package); --library DIR of a command overrides it
+  COSIM_DEBUG          1: an internal error prints its traceback (default: one line)"""
 
 RESULTS = """\
 results: -o NAME.csv writes CSV (a header row, then one row per output time); -o NAME.npy a
@@ -86,6 +94,8 @@ Run `cosim VERB --help` for the options of a command.
 
 {FMU_FOLDER}
 
+{ENVIRONMENT}
+
 {EXIT_CODES}"""
 
 
@@ -119,8 +129,7 @@ def _cmd_build(args) -> int:
             print(f"{'built ' if r.rebuilt else 'up to date'} {r.fmu}  ({r.seconds:.1f} s)")
 
     try:
-        results = build(args.models or None, args.output, jobs=args.jobs, library_path=args.library,
-                        force=args.force)
+        results = build(args.models or None, args.output, jobs=args.jobs, force=args.force)
     except CosimError as exc:
         report(getattr(exc, "results", []))  # what did build is kept and shown before the error
         raise
@@ -129,10 +138,10 @@ def _cmd_build(args) -> int:
 
 
 def _cmd_list(args) -> int:
-    from .catalog import catalog
+    from .catalog import catalog, shorten
     from .compiler.library import load_library
 
-    summaries = catalog(load_library(args.library), exported_only=args.exported,
+    summaries = catalog(load_library(), exported_only=args.exported,
                         warn=lambda message: print(f"cosim list: warning: {message}", file=sys.stderr))
     if args.json:
         print(json.dumps([s.to_dict() for s in summaries], indent=2))
@@ -142,11 +151,21 @@ def _cmd_list(args) -> int:
         print(f"{mark} {s.name}: {s.description}")
         for label, signals in (("inputs", s.inputs), ("outputs", s.outputs)):
             if signals:
-                print(f"      {label}: " + ", ".join(f"{x.name} [{x.unit or '-'}]" for x in signals))
+                print(_wrapped(label, [f"{x.name} [{x.unit or '-'}]" for x in signals]))
         if s.parameters:
-            print("      parameters: " + ", ".join(f"{p.name}={p.value}" for p in s.parameters))
-    print("\n* exported by `cosim build`")
+            print(_wrapped("parameters", [f"{p.name}={shorten(p.value)}" for p in s.parameters]))
+    print("\n* exported by `cosim build`; values longer than 40 characters are shortened (--json has them in full)")
     return EXIT_OK
+
+
+def _wrapped(label: str, items: list[str]) -> str:
+    """``label: a, b, ...`` indented and wrapped to the terminal width (items are not split)."""
+    import shutil
+    import textwrap
+
+    width = max(60, shutil.get_terminal_size((100, 24)).columns)
+    return textwrap.fill(", ".join(items), width=width, initial_indent=f"      {label}: ",
+                         subsequent_indent=" " * 8, break_long_words=False, break_on_hyphens=False)
 
 
 def _cmd_info(args) -> int:
@@ -325,42 +344,95 @@ def _analytic(model: str, parameters: dict):
                              f"{exc.args[0] if exc.args else exc}") from None
 
 
-def _cmd_compare(args) -> int:
-    from .compare import compare_systems, format_table, parse_speeds
+def compare_model(model: str, speeds=None, parameters: dict | None = None, parameter_set: str | None = None,
+                  output=None) -> list:
+    """Linearize the FMU of ``model`` and compare it with the model's analytic twin.
+
+    For every input -> output pair the transfer functions of the FMU's linearization and of the
+    analytic model are reduced to minimal realizations and their poles, zeros and gains are
+    compared, and so are the eigenvalues of both A matrices (see :mod:`cosim.compare`).
+
+    Parameters
+    ----------
+    model : str
+        Full Modelica name of a model with an analytic twin, e.g.
+        ``"Bicycle.Bicycles.SelfStabilizing"`` (:data:`cosim.twins.TWINS` lists them).
+    speeds : sequence of float, optional
+        Forward speeds [m/s] to compare at, set as the model's speed parameter (``V`` or ``v``);
+        default: the model's own speed.
+    parameters : dict, optional
+        Parameter values by Modelica name (SI units), checked against the model's declarations.
+    parameter_set : str, optional
+        A Meijaard parameter set (bundled name or TOML file) for models with Meijaard names,
+        such as ``Bicycle.Bicycles.WhippleLinear``.
+    output : path, optional
+        Folder the model is built into (default: ``$COSIM_FMU_DIR``, else ``./fmus``).
+
+    Returns
+    -------
+    list of Comparison
+        One per speed; ``Comparison.error`` is the largest relative error (dimensionless) of
+        its eigenvalues, poles, zeros and gains.
+
+    Raises
+    ------
+    ParameterError
+        The model has no analytic twin or no speed parameter, a speed or parameter is refused
+        (naming it), or the analytic model refuses the values.
+    UnknownModelError, ModelicaError, BuildError
+        The model cannot be built.
+
+    Examples
+    --------
+    >>> worst = max(c.error for c in compare_model("Bicycle.Bicycles.SelfStabilizing", [2.0, 5.0]))
+    >>> worst < 1e-9
+    True
+    """
+    from .compare import compare_systems
     from .linearize import linearize
     from .parameters import check, declarations, from_command_line
     from .target import is_fmu_path, resolve_fmu
     from .twins import TWINS
 
-    if is_fmu_path(args.model):
+    if is_fmu_path(model):
         raise ParameterError("compare needs a model name (the analytic twin is chosen by model)")
-    if not args.tol > 0:
-        raise ParameterError(f"--tol must be > 0, got {args.tol:g}")
-    if args.model not in TWINS:
-        raise ParameterError(f"no analytic twin for '{args.model}'; twins exist for: {', '.join(TWINS)}")
-    speed = _speed_parameter(args.model)
-    speeds = parse_speeds(args.speeds) if args.speeds else [None]
-    base = from_command_line(args.model, args.param, parameter_set=args.params,
+    if model not in TWINS:
+        raise ParameterError(f"no analytic twin for '{model}'; twins exist for: {', '.join(TWINS)}")
+    speed = _speed_parameter(model)
+    speeds = [None] if speeds is None else [float(v) for v in speeds]
+    base = from_command_line(model, [], parameters, parameter_set=parameter_set,
                              input_hint="compare linearizes at the inputs' start values")
-    declared = declarations(args.model)
+    declared = declarations(model)
     for v in speeds:
         if v is not None:
             check({speed: v}, declared)
-    fmu = resolve_fmu(args.model)
+    fmu = resolve_fmu(model, output)
     defaults = _parameter_defaults(fmu)
     comparisons = []
     for v in speeds:
         params = {**base, **({speed: v} if v is not None else {})}
-        expected = _analytic(args.model, {**defaults, **params})  # refusals before the linearization
+        expected = _analytic(model, {**defaults, **params})  # refusals before the linearization
         found = linearize(fmu, params).to_statespace()
-        comparisons.append(compare_systems(args.model, {**defaults, **params}, found, expected))
+        comparisons.append(compare_systems(model, {**defaults, **params}, found, expected))
+    return comparisons
+
+
+def _cmd_compare(args) -> int:
+    from .compare import format_table, parse_speeds
+    from .parameters import split_assignment
+
+    if not args.tol > 0:
+        raise ParameterError(f"--tol must be > 0, got {args.tol:g}")
+    parameters = dict(split_assignment(a) for a in args.param)  # a repeated name: the last wins
+    comparisons = compare_model(args.model, parse_speeds(args.speeds) if args.speeds else None,
+                                parameters, args.params)
     worst = max(c.error for c in comparisons)
     if args.json:
         print(json.dumps({"model": args.model, "tolerance": args.tol, "largest_error": worst,
                           "comparisons": [c.to_dict() for c in comparisons]}, indent=2))
     else:
         print(f"{args.model}: FMU linearization vs analytic model (relative errors)")
-        print(format_table(comparisons, speed))
+        print(format_table(comparisons, _speed_parameter(args.model)))
     if not worst <= args.tol:
         print(f"cosim compare: largest relative error {worst:.2e} exceeds --tol {args.tol:g}", file=sys.stderr)
         return EXIT_CHECK_FAILED
@@ -431,6 +503,48 @@ def _cmd_demo(args) -> int:
     return EXIT_OK
 
 
+LIBRARY_VARIABLE = "COSIM_MODELICA_PATH"
+
+
+def library_option(p: argparse.ArgumentParser) -> None:
+    """``--library DIR`` of every verb that resolves model names (see :func:`use_library`)."""
+    p.add_argument("--library", default=None, metavar="DIR",
+                   help=f"Modelica library folder that model names are resolved in (default: ${LIBRARY_VARIABLE}, "
+                        "else the library shipped with the package)")
+
+
+@contextlib.contextmanager
+def use_library(path: str | None):
+    """Resolve model names in the library at ``path`` while the command runs.
+
+    The one place where ``--library`` takes effect: it becomes ``COSIM_MODELICA_PATH``, which
+    :func:`cosim.compiler.library.library_path` reads wherever a model is resolved (``build``,
+    ``resolve_fmu``, parameter declarations, system files, matrix builds and worker processes).
+    The variable is restored afterwards, so an in-process caller of :func:`main` sees no change.
+
+    Raises
+    ------
+    ModelicaError
+        If ``path`` is not a folder, before any work.
+    """
+    if path is None:
+        yield
+        return
+    from .compiler.library import library_path, load_library
+
+    previous = os.environ.get(LIBRARY_VARIABLE)
+    os.environ[LIBRARY_VARIABLE] = str(library_path(path))
+    load_library.cache_clear()  # a library parsed earlier in this process under the default key
+    try:
+        yield
+    finally:
+        if previous is None:
+            os.environ.pop(LIBRARY_VARIABLE, None)
+        else:
+            os.environ[LIBRARY_VARIABLE] = previous
+        load_library.cache_clear()
+
+
 def _parameter_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                    help="a parameter value (repeatable; the last of a repeated NAME wins)")
@@ -454,35 +568,42 @@ def parser() -> argparse.ArgumentParser:
     b.add_argument("-j", "--jobs", type=positive_int, default=os.cpu_count() or 1,
                    help="parallel builds (>= 1; default: number of CPUs)")
     b.add_argument("--force", action="store_true", help="rebuild even if up to date")
-    b.add_argument("--library", default=None, help="Modelica library folder (default: the one shipped)")
+    library_option(b)
     b.set_defaults(func=_cmd_build)
 
     ls = sub.add_parser("list", help="models of the library with inputs, outputs, parameters")
-    ls.add_argument("--json", action="store_true")
+    ls.add_argument("--json", action="store_true",
+                    help="print JSON (full parameter values; null where a value is unknown)")
     ls.add_argument("--exported", action="store_true", help="only models that `cosim build` exports")
-    ls.add_argument("--library", default=None)
+    library_option(ls)
     ls.set_defaults(func=_cmd_list)
 
     i = sub.add_parser("info", help="describe an FMU or a model", formatter_class=raw, epilog=EXIT_CODES)
     i.add_argument("target", help="FMU file or model name")
-    i.add_argument("--json", action="store_true")
+    i.add_argument("--json", action="store_true", help="print JSON instead of text")
+    library_option(i)
     i.set_defaults(func=_cmd_info)
 
     v = sub.add_parser("validate", help="check FMUs (FMPy validation + own checks)", formatter_class=raw,
                        epilog="Every target is checked; a file that cannot be read as an FMU gets an error line "
                               "(exit 2), an FMU with problems lists them (exit 1).\n\n" + EXIT_CODES)
     v.add_argument("targets", nargs="+", help="FMU files or model names")
+    library_option(v)
     v.set_defaults(func=_cmd_validate)
 
     s = sub.add_parser("simulate", help="simulate an FMU or model", formatter_class=raw, epilog=SIMULATE_EPILOG)
     s.add_argument("target", help="FMU file or model name (built first if needed)")
     s.add_argument("--stop-time", type=_finite, required=True, help="stop time [s]")
     s.add_argument("--step", type=_finite, default=None, help="output / communication interval [s], > 0")
-    s.add_argument("--fmi-type", choices=("cs", "me"), default="cs")
+    s.add_argument("--fmi-type", choices=("cs", "me"), default="cs",
+                   help="FMI interface: cs = Co-Simulation (the FMU's own solver, default), "
+                        "me = Model Exchange (FMPy's CVode)")
     _parameter_options(s)
-    s.add_argument("--input", action="append", default=[], metavar="NAME=FILE.csv|NAME=step:T0:VALUE")
+    s.add_argument("--input", action="append", default=[], metavar="NAME=FILE.csv|NAME=step:T0:VALUE",
+                   help="an input signal (repeatable): a CSV of time [s], value, or a step of VALUE at T0 [s]")
     s.add_argument("-o", "--output", default=None, help="result .csv or .npy (default: <model>.csv)")
     s.add_argument("--plot", default=None, help="save a plot of the result (PNG, PDF, SVG, ...)")
+    library_option(s)
     s.set_defaults(func=_cmd_simulate)
 
     lin = sub.add_parser("linearize", help="A, B, C, D of an FMU or model at its initial point",
@@ -492,16 +613,19 @@ def parser() -> argparse.ArgumentParser:
     lin.add_argument("--input", action="append", default=[], metavar="NAME=VALUE",
                      help="input value at the operating point (default: the input's start value)")
     lin.add_argument("--speed", type=_finite, default=None, help="forward speed [m/s] (sets V or v)")
-    lin.add_argument("--json", action="store_true")
+    lin.add_argument("--json", action="store_true", help="print A, B, C, D and the eigenvalues as JSON")
+    library_option(lin)
     lin.set_defaults(func=_cmd_linearize)
 
     cmp_ = sub.add_parser("compare", help="FMU linearization vs the analytic model", formatter_class=raw,
                           epilog=EXIT_CODES)
     cmp_.add_argument("model", help="model name (with an analytic twin)")
-    cmp_.add_argument("--speeds", default=None, help="A:B:STEP or V1,V2,... [m/s]")
+    cmp_.add_argument("--speeds", default=None, metavar="A:B:STEP|V1,V2,...",
+                      help="forward speeds [m/s] to compare at: a range or a list (default: the model's V)")
     _parameter_options(cmp_)
     cmp_.add_argument("--tol", type=_finite, default=1e-9, help="largest accepted relative error (> 0)")
-    cmp_.add_argument("--json", action="store_true")
+    cmp_.add_argument("--json", action="store_true", help="print the comparison as JSON")
+    library_option(cmp_)
     cmp_.set_defaults(func=_cmd_compare)
 
     run = sub.add_parser("run", help="co-simulate a system file (FMUs and Python components)",
@@ -510,6 +634,7 @@ def parser() -> argparse.ArgumentParser:
     run.add_argument("-o", "--output", default=None, help="result .csv or .npy (default: <system>.csv)")
     run.add_argument("--plot", default=None, help="save a plot of the recorded signals (PNG, PDF, SVG, ...)")
     run.add_argument("--allow-fall", action="store_true", help="exit 0 even if the bicycle falls")
+    library_option(run)
     run.set_defaults(func=_cmd_run)
 
     ssp = sub.add_parser("export-ssp", help="export a system as SSP 1.0 (FMUs in resources/)",
@@ -518,12 +643,14 @@ def parser() -> argparse.ArgumentParser:
                                 f"{FMU_FOLDER}\n\n{EXIT_CODES}")
     ssp.add_argument("system", help="system file (TOML); Python blocks must be replaced by Modelica twins")
     ssp.add_argument("-o", "--output", required=True, help="the .ssp file to write")
+    library_option(ssp)
     ssp.set_defaults(func=_cmd_export_ssp)
 
     fig = sub.add_parser("figures", help="the paper's figures from FMU simulation and linearization",
                          formatter_class=raw, epilog=f"{FMU_FOLDER}\n\n{EXIT_CODES}")
     fig.add_argument("names", nargs="*", help="figure names, e.g. fig5 fig8 (default: all)")
     fig.add_argument("-o", "--output", default="figures", help="output folder (default: figures/)")
+    library_option(fig)
     fig.set_defaults(func=_cmd_figures)
 
     from . import analytic_cli
@@ -535,6 +662,7 @@ def parser() -> argparse.ArgumentParser:
     d = sub.add_parser("demo", help="build, validate and simulate the bundled bicycle", formatter_class=raw,
                        epilog=f"{FMU_FOLDER}\n\n{EXIT_CODES}")
     d.add_argument("-o", "--output", default="demo", help="folder for results (default: demo/)")
+    library_option(d)
     d.set_defaults(func=_cmd_demo)
     return p
 
@@ -551,7 +679,8 @@ def main(argv: list[str] | None = None) -> int:
 
         args.output = DEFAULT_OUTPUT
     try:
-        return args.func(args)
+        with use_library(getattr(args, "library", None)):
+            return args.func(args)
     except CosimError as exc:
         print(f"cosim {args.command}: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT

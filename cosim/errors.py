@@ -50,3 +50,16 @@ class FMUError(CosimError, ValueError):
 
 class InputDataError(CosimError, ValueError):
     """Input data (a CSV, TOML or parameter file) is malformed; the message names file, row and column."""
+
+
+class MissingExtraError(CosimError, ImportError):
+    """A feature needs a package of an optional extra that is not installed; the message names
+    the feature, the package and the ``pip install`` command of the extra."""
+
+    def __init__(self, feature: str, package: str, extra: str):
+        super().__init__(f"{feature} needs {package}, from the optional extra '{extra}': "
+                         f"pip install 'bicycle-cosim[{extra}]'")
+        self.feature, self.package, self.extra = feature, package, extra
+
+    def __str__(self):  # ImportError would add nothing; keep the one line
+        return str(self.args[0]) if self.args else ""

@@ -186,15 +186,13 @@ def _extract_members(path: Path, folder: Path) -> None:
 
 
 def _extract(path: Path):
-    """Check and unzip an FMU once per process (and file version); the folders go at exit."""
-    import atexit
-
+    """Check and unzip an FMU once per process (and file version), into a subfolder of this
+    process's extraction folder (see :func:`_process_folder`)."""
     md = read_fmu(path)
     key = _key(path)
+    parent = _process_folder()  # first: forgets a forked parent's extractions
     if key not in _EXTRACTED:
-        if not _EXTRACTED:
-            atexit.register(_remove_extracted)
-        folder = tempfile.mkdtemp(prefix="cosim-fmu-")
+        folder = tempfile.mkdtemp(prefix="fmu-", dir=parent)
         try:
             _extract_members(path, Path(folder))
         except BaseException:
@@ -204,11 +202,49 @@ def _extract(path: Path):
     return _EXTRACTED[key], md
 
 
-def _remove_extracted() -> None:
-    for folder in _EXTRACTED.values():
-        if Path(folder).name.startswith("cosim-fmu-"):  # only the folders made by _extract
+_PROCESS_FOLDER: tuple[int, Path] | None = None  # (pid, folder) of this process's extractions
+
+
+def _process_folder() -> Path:
+    """The one ``cosim-fmu-<pid>-*`` folder holding every FMU this process unzipped, removed at
+    exit as a whole. A forked child (which inherits the module state) makes its own, so it never
+    removes its parent's; a process killed with SIGKILL leaves one folder, named after its pid."""
+    global _PROCESS_FOLDER
+    import atexit
+
+    if _PROCESS_FOLDER is None or _PROCESS_FOLDER[0] != os.getpid():
+        _EXTRACTED.clear()  # a forked child's inherited entries point into the parent's folder
+        _remove_folders_of_ended_processes()
+        folder = Path(tempfile.mkdtemp(prefix=f"cosim-fmu-{os.getpid()}-"))
+        _PROCESS_FOLDER = (os.getpid(), folder)
+        atexit.register(_remove_extracted, os.getpid(), folder)
+    return _PROCESS_FOLDER[1]
+
+
+def _remove_folders_of_ended_processes() -> None:
+    """Remove the extraction folders (``cosim-fmu-<pid>-*``, ours) that processes ended without
+    their atexit (SIGKILL, ``os._exit``) left behind; a folder whose process is alive stays."""
+    for folder in Path(tempfile.gettempdir()).glob("cosim-fmu-*-*"):
+        pid = folder.name.split("-")[2]
+        try:
+            if not pid.isdigit() or folder.stat().st_uid != os.getuid():
+                continue
+            os.kill(int(pid), 0)
+        except ProcessLookupError:  # that process has ended
             shutil.rmtree(folder, ignore_errors=True)
+        except OSError:  # gone meanwhile, or another user's process: not ours to remove
+            continue
+
+
+def _remove_extracted(owner: int, folder: Path) -> None:
+    """Remove this process's extraction folder (only in the process that made it)."""
+    global _PROCESS_FOLDER
+    if os.getpid() != owner:
+        return
+    shutil.rmtree(folder, ignore_errors=True)
     _EXTRACTED.clear()
+    if _PROCESS_FOLDER is not None and _PROCESS_FOLDER[1] == folder:
+        _PROCESS_FOLDER = None
 
 
 def get_continuous_states(instance, nx: int) -> np.ndarray:

@@ -58,6 +58,8 @@ def _format_fmu(info: dict) -> str:
 
 
 def _format_model(summary) -> str:
+    from .catalog import shorten
+
     lines = [f"{summary.name}: {summary.description}",
              f"  exported: {'yes' if summary.exported else 'no'}"]
     if summary.experiment:
@@ -66,7 +68,7 @@ def _format_model(summary) -> str:
         if signals:
             lines.append(f"  {label}:")
             for s in signals:
-                value = f" = {s.value}" if s.value is not None else ""
+                value = f" = {shorten(s.value)}" if s.value is not None else ""
                 lines.append(f"    {s.name}{value} [{s.unit or '-'}]  {s.description}")
     return "\n".join(lines)
 

@@ -114,9 +114,11 @@ def linearize(fmu_path: str | Path, parameters: dict | None = None, inputs: dict
     fmu_path : path
         FMI 2.0 FMU with Model Exchange.
     parameters : dict, optional
-        Start values of parameters (name -> value).
+        Start values of parameters (name -> value), in the SI units the FMU declares
+        (e.g. ``V`` [m/s], ``m`` [kg]).
     inputs : dict, optional
-        Operating-point input values (default: the inputs' start values).
+        Operating-point input values in SI units (e.g. ``T`` [N m]; default: the inputs' start
+        values).
     method : {'auto', 'directional', 'finite-differences'}
         'auto' uses directional derivatives where the FMU provides them.
 

@@ -1,4 +1,5 @@
-"""Shared fixtures: FMUs are built once per test session into a temporary folder."""
+"""Shared fixtures and helpers: FMUs are built once per test session into a temporary folder;
+every temporary and cache file of the session goes into one folder removed at exit."""
 from __future__ import annotations
 
 import atexit
@@ -9,16 +10,35 @@ import sys
 import tempfile
 from pathlib import Path
 
+# Everything the suite and the processes it starts write to temporary or cache folders goes into one
+# session folder, removed at exit: FMU extraction folders (also those of processes the kill tests end
+# with SIGKILL, which never run their atexit), pytest's tmp_path base, the compiled C stepping loop,
+# pymoca's parse cache and matplotlib's font cache. Nothing is left in /tmp or ~. Set before cosim is
+# imported; subprocesses inherit the environment. To keep the tmp_path folders of a failed run, give
+# pytest --basetemp=DIR.
+SESSION_TMP = Path(tempfile.mkdtemp(prefix="cosim-tests-"))
+atexit.register(shutil.rmtree, SESSION_TMP, True)
+for _variable, _folder in (("TMPDIR", "tmp"), ("XDG_CACHE_HOME", "cache"), ("MPLCONFIGDIR", "matplotlib")):
+    (SESSION_TMP / _folder).mkdir()
+    os.environ[_variable] = str(SESSION_TMP / _folder)
+tempfile.tempdir = None  # tempfile caches its folder: make it read TMPDIR again
+
 # FMUs built on demand (model names given to the CLI, figures, systems) go to a temporary folder,
-# never into the project's fmus/; set before cosim is imported. A developer may name a folder that
-# is kept between runs (COSIM_TEST_FMU_DIR): builds are incremental, so reusing it is safe.
+# never into the project's fmus/. A developer may name a folder that is kept between runs
+# (COSIM_TEST_FMU_DIR): builds are incremental, so reusing it is safe.
 if os.environ.get("COSIM_TEST_FMU_DIR"):
     os.environ["COSIM_FMU_DIR"] = os.environ["COSIM_TEST_FMU_DIR"]
 else:
-    os.environ["COSIM_FMU_DIR"] = tempfile.mkdtemp(prefix="cosim-test-fmus-")
-    atexit.register(shutil.rmtree, os.environ["COSIM_FMU_DIR"], True)
+    os.environ["COSIM_FMU_DIR"] = str(SESSION_TMP / "fmus")
 
 import pytest  # noqa: E402
+
+try:  # hypothesis' example database and caches (else .hypothesis/ in the working directory)
+    from hypothesis.configuration import set_hypothesis_home_dir
+
+    set_hypothesis_home_dir(SESSION_TMP / "hypothesis")
+except ImportError:
+    pass
 
 from cosim.compiler.build import build  # noqa: E402
 
@@ -51,3 +71,62 @@ def pytest_runtest_call(item):
         return (yield)
     except EngineUnavailable as exc:
         pytest.skip(str(exc))
+
+
+def png_pixels(path: Path) -> "np.ndarray":
+    """The RGB pixels (height x width x 3, floats 0..1) of a PNG file, refusing anything else."""
+    import matplotlib.image
+    import numpy as np
+
+    data = Path(path).read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", f"{path} is not a PNG"
+    return np.asarray(matplotlib.image.imread(path))[..., :3]
+
+
+def line_pixels(path: Path, color: str = "C0") -> int:
+    """How many pixels of the PNG at ``path`` have the colour of a matplotlib line (default: the
+    first line colour, C0): 0 means no such line was drawn."""
+    import matplotlib.colors
+    import numpy as np
+
+    rgb = np.asarray(matplotlib.colors.to_rgb(color))
+    return int((np.abs(png_pixels(path) - rgb).max(axis=-1) < 0.05).sum())
+
+
+@pytest.fixture()
+def drawn_figures(monkeypatch) -> list:
+    """Every matplotlib figure saved during the test, with what its axes show, recorded at save
+    time: a list of ``(path, [per axes: list of (x, y) arrays of its lines and point sets])``."""
+    import matplotlib.figure
+    import numpy as np
+
+    saved = []
+    original = matplotlib.figure.Figure.savefig
+
+    def record(fig, fname, *args, **kwargs):
+        axes = []
+        for ax in fig.axes:
+            if hasattr(ax, "_colorbar"):
+                continue  # a colour bar shows a scale, not data
+            data = [(np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float))
+                    for line in ax.get_lines()]
+            data += [(c.get_offsets()[:, 0], c.get_offsets()[:, 1]) for c in ax.collections
+                     if len(c.get_offsets()) > 1]
+            axes.append(data)
+        saved.append((fname, axes))
+        return original(fig, fname, *args, **kwargs)
+
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", record)
+    return saved
+
+
+def assert_plotted(axes_data: list, min_points: int = 10) -> None:
+    """Each axes shows at least one curve or point set of ``min_points`` finite points that is
+    not constant (an empty or all-NaN axes, or only reference lines, fails)."""
+    import numpy as np
+
+    assert axes_data, "the figure has no axes"
+    for i, data in enumerate(axes_data):
+        curves = [(x, y) for x, y in data if np.isfinite(x).sum() >= min_points and np.isfinite(y).sum() >= min_points
+                  and np.nanmax(y) > np.nanmin(y)]
+        assert curves, f"axes {i} shows no curve of {min_points} finite, varying points"

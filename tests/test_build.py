@@ -82,5 +82,10 @@ def test_manifest_and_sources(fmus):
     assert {"modelDescription.xml", "sources/model.c", "sources/fmi2_runtime.c", "sources/model_functions.c",
             "sources/cosim_model.h", "sources/fmi2Functions.h"} <= names
     assert any(n.startswith("binaries/") and n.endswith(".so") for n in names)
-    assert manifest["model"] == MODEL and manifest["tools"]["casadi"].startswith("3.7")
+    import casadi
+    import pymoca
+
+    # the manifest records the tools that built the FMU (whatever their versions are)
+    assert manifest["model"] == MODEL
+    assert (manifest["tools"]["casadi"], manifest["tools"]["pymoca"]) == (casadi.__version__, pymoca.__version__)
     assert set(manifest["sources"]) == {n.split("/", 1)[1] for n in names if n.startswith("sources/")}

@@ -1,5 +1,5 @@
-"""The co-simulation master against libcosim and Ecos on the bundled systems, Python blocks
-against their Modelica twins, and the coupling error of Jacobi and Gauss-Seidel."""
+"""The co-simulation master against libcosim and Ecos on the bundled systems, and the outcome of
+each bundled system (Python blocks against their Modelica twins: tests/test_block_registry.py)."""
 from __future__ import annotations
 
 import dataclasses
@@ -19,8 +19,9 @@ AGREEMENT = 1e-9  # same binaries, same algorithm: only round-off may differ (re
 
 
 @pytest.fixture(scope="module")
-def fmu_dir(tmp_path_factory):
-    return tmp_path_factory.mktemp("system-fmus")
+def fmu_dir(fmus):
+    """The session's FMU folder: the systems' models are built there already."""
+    return next(iter(fmus.values())).parent
 
 
 def _agree(ours: np.ndarray, other: np.ndarray, names: list[str]) -> float:
@@ -34,6 +35,8 @@ def _agree(ours: np.ndarray, other: np.ndarray, names: list[str]) -> float:
     return worst
 
 
+@pytest.mark.needs_libcosim
+@pytest.mark.needs_ecos
 @pytest.mark.parametrize("path", SYSTEMS, ids=[p.stem for p in SYSTEMS])
 def test_master_libcosim_ecos_agree(path, fmu_dir, tmp_path):
     """Python blocks replaced by their Modelica twins: our master, libcosim running the exported
@@ -74,35 +77,3 @@ def test_lane_change_counter_steers(fmu_dir):
     y, t = result.data["bike.y"], result.data["time"]
     assert y[(t > 1.0) & (t < 3.0)].min() < -0.02  # first to the left of the start ...
     assert abs(y[-1] - 1.0) < 0.02  # ... then 1 m to the right
-
-
-@pytest.mark.parametrize("block,twin,parameters,inputs", [
-    ("Proportional", "Bicycle.Control.Proportional", {"k": 3.0}, ["phi"]),
-    ("PD", "Bicycle.Control.PD", {"kp": 3.0, "kd": 0.5}, ["phi", "phi_dot"]),
-    ("SteerAngleFeedback", "Bicycle.Control.SteerAngleFeedback", {"k2": 1.5}, ["phi"]),
-    ("StateFeedback", "Bicycle.Control.StateFeedback", {"K1": 1, "K2": -2, "K3": 3, "K4": -4},
-     ["phi", "delta", "phi_dot", "delta_dot"]),
-    ("LaneChange", "Bicycle.Control.LaneChange", {"t_start": 0.5}, ["phi", "phi_dot", "psi", "y"]),
-    ("LeanSteer", "Bicycle.Control.LeanSteer", {"k": 5.0, "kd": 0.5, "k_lean": 0.3}, ["phi", "phi_dot"]),
-    ("PadeDelay", "Bicycle.Rider.PadeDelay", {"tau": 0.3}, ["u"]),
-], ids=["Proportional", "PD", "SteerAngleFeedback", "StateFeedback", "LaneChange", "LeanSteer", "PadeDelay"])
-def test_python_block_equals_modelica_twin(block, twin, parameters, inputs, fmu_dir):
-    """Each Python block and the FMU of its Modelica twin give the same outputs for the same
-    inputs (sine signals from Pulse-free sources): 1e-8 for the integrating Pade twin (its FMU
-    solves with tolerance 1e-8), round-off for the static ones."""
-    from cosim.cosimulation.system import system_from_dict
-
-    sources = {f"s{k}": {"python": "Pulse", "parameters": {"amplitude": 0.1 * (k + 1), "start": 0.2 * k,
-                                                          "duration": 0.5}}
-               for k in range(len(inputs))}
-    connections = [f"s{k}.y -> block.{name}" for k, name in enumerate(inputs)]
-    outputs = {}
-    for kind, source in (("python", block), ("model", twin)):
-        spec = system_from_dict({"system": {"stop": 2.0, "step": 0.01},
-                                 "components": {"block": {kind: source, "parameters": parameters}, **sources},
-                                 "connections": connections})
-        result = run_system(spec, fmu_dir)
-        outputs[kind] = {n: result.data[n] for n in result.data.dtype.names if n.startswith("block.")}
-    tol = 1e-8 if block == "PadeDelay" else 1e-12
-    for name, values in outputs["python"].items():
-        np.testing.assert_allclose(outputs["model"][name], values, rtol=0, atol=tol)

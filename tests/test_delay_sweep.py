@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cosim.compiler.build import build_model
 from cosim.cosimulation.delay_sweep import MODEL, largest_stabilizable_p_tau, sweep
 
 TAUS = [0.0, 0.04, 0.06, 0.08, 0.09, 0.1, 0.12, 0.3, 0.8]  # s; the boundary for k2 = 1 is near 0.088 s
@@ -15,9 +14,8 @@ GROWTH_ABS, GROWTH_REL = 0.01, 0.02
 
 
 @pytest.fixture(scope="module")
-def cases(tmp_path_factory):
-    fmu = build_model(MODEL, tmp_path_factory.mktemp("pendulum")).fmu
-    return sweep(fmu, TAUS, k2=1.0, V=5.0)
+def cases(fmus):
+    return sweep(fmus[MODEL], TAUS, k2=1.0, V=5.0)
 
 
 def test_every_delay_agrees(cases):

@@ -22,6 +22,7 @@ def _installed(distribution: str) -> bool:
 
 
 @pytest.mark.skipif(not _installed("tbb"), reason="the test extra (pip tbb) is not installed")
+@pytest.mark.needs_ecos
 def test_ecos_loads_with_the_tbb_wheel_alone():
     """Ecos needs libtbb.so.12; the pip tbb wheel's copy is found although the loader does not
     search <prefix>/lib. Run in a fresh interpreter so no earlier import hides the problem."""
@@ -30,6 +31,7 @@ def test_ecos_loads_with_the_tbb_wheel_alone():
     assert result.returncode == 0 and result.stdout.strip() == "ok", result.stderr
 
 
+@pytest.mark.needs_libcosim
 def test_libcosim_loads():
     assert engines.libcosimpy().__name__ == "libcosimpy"
 

@@ -51,6 +51,8 @@ def _excitation(fmu) -> dict:
     return {v.name: 0.1 for v in read_model_description(str(fmu)).modelVariables if v.causality == "input"}
 
 
+@pytest.mark.needs_libcosim
+@pytest.mark.needs_ecos
 @pytest.mark.parametrize("model", EXPORTED)
 def test_runs_in_fmpy_libcosim_and_ecos(fmus, model):
     """ME in FMPy (CVode) and CS in FMPy, libcosim and Ecos; the three CS results agree to 1e-9."""
@@ -98,6 +100,8 @@ def cs_results(fmus):
     }
 
 
+@pytest.mark.needs_libcosim  # the module fixture cs_results runs both engines
+@pytest.mark.needs_ecos
 @pytest.mark.parametrize("engine", ["libcosim", "ecos"])
 def test_cs_engines_agree(cs_results, engine):
     reference, other = cs_results["fmpy"], cs_results[engine]

@@ -29,7 +29,6 @@ from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
 from cosim.cli import main  # noqa: E402
-from cosim.compiler.build import build_model  # noqa: E402
 
 EXPECTED_STATUS = {0, 2, 3, 4}
 SETTINGS = settings(max_examples=40, deadline=None, derandomize=True,
@@ -37,12 +36,10 @@ SETTINGS = settings(max_examples=40, deadline=None, derandomize=True,
 
 
 @pytest.fixture(scope="module")
-def real_fmus(tmp_path_factory):
-    """Two small real FMUs: a simple bicycle with a torque input and the linear Whipple model
-    (Meijaard parameters), built once for this module."""
-    folder = tmp_path_factory.mktemp("hostile-fmus")
-    return {name: build_model(model, folder).fmu for name, model in
-            (("simple", "Bicycle.Bicycles.SelfStabilizing"), ("whipple", "Bicycle.Bicycles.WhippleLinear"))}
+def real_fmus(fmus):
+    """Two small real FMUs of the session's build: a simple bicycle with a torque input and the
+    linear Whipple model (Meijaard parameters)."""
+    return {"simple": fmus["Bicycle.Bicycles.SelfStabilizing"], "whipple": fmus["Bicycle.Bicycles.WhippleLinear"]}
 
 
 def run(argv: list[str], cwd: Path) -> tuple[int, str, str]:

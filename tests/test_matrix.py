@@ -370,9 +370,7 @@ def test_reused_fmus_give_identical_results(small_run, fmus):
 
 CRASH_PLUGIN = '''
 import os, signal, time
-from cosim.cosimulation import factory
 from cosim.cosimulation.controllers import Proportional
-from cosim.matrix import predict
 
 
 class Misbehaving(Proportional):
@@ -389,8 +387,6 @@ class Misbehaving(Proportional):
             time.sleep(3600)
 
 
-factory.PYTHON_BLOCKS["Misbehaving"] = Misbehaving
-predict.LINEAR_BLOCKS["Misbehaving"] = lambda p, s: predict.static([[-p["k"]]], ["phi"], ["T"])
 '''
 
 
@@ -439,6 +435,7 @@ def _matrix_cli(*args, **kw) -> subprocess.Popen:
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
 
 
+@pytest.mark.slow
 def test_killed_matrix_resumes_to_the_same_results(fmus, tmp_path):
     spec = _write_spec(tmp_path / "resume.toml", [_rider_study(speeds=(1.0, 2.0, 3.0, 4.0, 5.0),
                                                                taus=(0.05, 0.1, 0.15, 0.2, 0.3, 0.4, 0.6, 0.8))])

@@ -91,9 +91,7 @@ def test_run_into_folder_with_results_without_resume_or_force_is_refused(fmus, t
 
 CRASH_ONCE = '''
 import os, signal
-from cosim.cosimulation import factory
 from cosim.cosimulation.controllers import Proportional
-from cosim.matrix import predict
 
 
 class CrashWhileMarked(Proportional):
@@ -108,8 +106,6 @@ class CrashWhileMarked(Proportional):
             os.kill(os.getpid(), signal.SIGSEGV)
 
 
-factory.PYTHON_BLOCKS["CrashWhileMarked"] = CrashWhileMarked
-predict.LINEAR_BLOCKS["CrashWhileMarked"] = lambda p, s: predict.static([[-p["k"]]], ["phi"], ["T"])
 '''
 
 
@@ -365,9 +361,7 @@ def _wait_gone(procs, seconds: float = 60.0) -> list:
 HANG = '''
 import os, time
 from pathlib import Path
-from cosim.cosimulation import factory
 from cosim.cosimulation.controllers import Proportional
-from cosim.matrix import predict
 
 
 class Hang(Proportional):
@@ -383,8 +377,6 @@ class Hang(Proportional):
             time.sleep(3600)
 
 
-factory.PYTHON_BLOCKS["Hang"] = Hang
-predict.LINEAR_BLOCKS["Hang"] = lambda p, s: predict.static([[-p["k"]]], ["phi"], ["T"])
 '''
 
 

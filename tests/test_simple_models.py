@@ -18,6 +18,7 @@ statements).
 from __future__ import annotations
 
 import math
+import os
 
 import control
 import numpy as np
@@ -361,12 +362,12 @@ EXAMPLES = ["SelfStabilizingTorqueStep", "SelfStabilizingGyroRecovery", "Inverte
 
 
 @pytest.fixture(scope="module")
-def example_runs(tmp_path_factory):
-    """Each example built and run over its experiment (CS): name -> result."""
+def example_runs():
+    """Each example built (into the session's FMU folder, so a kept COSIM_TEST_FMU_DIR reuses
+    them) and run over its experiment (CS): name -> result."""
     from cosim.compiler.build import build
 
-    out = tmp_path_factory.mktemp("examples")
-    results = build([f"Bicycle.Examples.{n}" for n in EXAMPLES], output=out, jobs=2)
+    results = build([f"Bicycle.Examples.{n}" for n in EXAMPLES], output=os.environ["COSIM_FMU_DIR"], jobs=2)
     signals = ["bicycle.phi", "bicycle.psi", "bicycle.eta"]
     return {r.model.removeprefix("Bicycle.Examples."): simulate(r.fmu, fmi_type="cs", outputs=signals)
             for r in results}

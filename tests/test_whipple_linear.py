@@ -22,11 +22,11 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
+from conftest import assert_plotted, png_pixels
 from cosim import whipple_params as WP
 from cosim.analytic import parameters as P
 from cosim.analytic import whipple as W
 from cosim.compare import root_set_error
-from cosim.compiler.build import build
 from cosim.fmi import FMU
 
 MODEL = "Bicycle.Bicycles.WhippleLinear"
@@ -46,10 +46,9 @@ SPEEDS = [round(0.5 * k, 1) for k in range(21)]  # 0 ... 10 m/s
 
 
 @pytest.fixture(scope="module")
-def fmu(tmp_path_factory):
-    out = tmp_path_factory.mktemp("whipple")
-    (result,) = build([MODEL], out)
-    return result.fmu
+def fmu(fmus):
+    """The session's build (tests/conftest.py): the FMU is only read here."""
+    return fmus[MODEL]
 
 
 def _calculated(fmu_path, names, parameters=None):
@@ -273,13 +272,17 @@ FIGURES = ["fig8", "fig9", "fig13", "fig15"]
 
 
 @pytest.mark.parametrize("name", FIGURES, ids=FIGURES)
-def test_figure_is_written(fmu, name, tmp_path, monkeypatch):
-    """`cosim figures NAME` (cosim.figures.make_figures) writes NAME.png, using this module's FMU."""
+def test_figure_is_written(fmu, name, tmp_path, monkeypatch, drawn_figures):
+    """`cosim figures NAME` (cosim.figures.make_figures) writes NAME.png, using this module's FMU:
+    every axes of the figure shows finite, varying data, and the PNG is that drawing."""
     from cosim.figures import make_figures, registry
 
     monkeypatch.setattr(WP, "whipple_fmu", lambda *a, **k: fmu)
     assert name in registry()
     written = make_figures([name], tmp_path)
     assert written == [tmp_path / f"{name}.png"]
-    data = written[0].read_bytes()
-    assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000
+    assert len(drawn_figures) == 1
+    assert_plotted(drawn_figures[0][1])
+    pixels = png_pixels(written[0])
+    assert min(pixels.shape[:2]) >= 300, f"{pixels.shape[1]} x {pixels.shape[0]} pixels"
+    assert (pixels.min(axis=-1) < 0.5).mean() > 0.005, "the image is (almost) blank"

@@ -163,6 +163,22 @@ def build_model(model_name: str, output: str | Path = DEFAULT_OUTPUT, library: L
     A concurrent build of the same model into the same folder is waited for (then the FMU is
     usually up to date); the FMU appears under its name only when complete.
 
+    Parameters
+    ----------
+    model_name : str
+        Full Modelica name, e.g. ``"Bicycle.Bicycles.SelfStabilizing"``.
+    output : path, optional
+        Folder of the FMU (default: ``$COSIM_FMU_DIR``, else ``./fmus`` of the working directory).
+    library : Library, optional
+        Default: ``load_library()`` (``$COSIM_MODELICA_PATH``, else the shipped library).
+    force : bool
+        Rebuild even if up to date.
+
+    Returns
+    -------
+    BuildResult
+        ``fmu`` (path), ``rebuilt`` (False if it was up to date), ``seconds`` [s] spent.
+
     Raises
     ------
     UnknownModelError, ModelicaError, ModelStructureError, ParameterError, BuildError
@@ -246,9 +262,9 @@ def _stop_children(timeout: float = 2.0) -> None:
     """SIGTERM to every descendant (gcc removes its temporary files on it), SIGKILL after
     ``timeout`` seconds to any that is left."""
     try:
-        import psutil  # a dependency of dask.distributed
-    except ImportError:
-        return
+        import psutil  # a core dependency: without it gcc would silently go on
+    except ImportError as exc:  # a broken install: say so rather than leave compilers running
+        raise BuildError(f"cannot stop the compiler processes: {exc}") from None
     try:
         children = psutil.Process().children(recursive=True)
     except psutil.Error:
@@ -335,6 +351,10 @@ def _run_pool(tasks: list[tuple], jobs: int, scratch_root: str) -> list:
                                           "written for it"))
     except BaseException:
         _stop_pool(pool)
+        # A worker killed before its cleanup ran (e.g. SIGKILL after the grace period of a
+        # loaded machine) leaves its lock file: the workers are gone now, so remove the stale ones.
+        for task in tasks:
+            _remove_stale_lock(fmu_path(task[0], Path(task[1])))
         raise
     pool.shutdown(wait=True)
     return results
@@ -362,6 +382,24 @@ def build(models: list[str] | None = None, output: str | Path = DEFAULT_OUTPUT, 
     (their FMUs are complete, the failed one leaves nothing behind; the error's ``results``
     attribute holds what was built). A model of a Modelica file that did not parse fails with
     that file's error; without a list of models, every such file counts as a failure.
+
+    Parameters
+    ----------
+    models : list of str, optional
+        Full Modelica names (default: every model with ``annotation(__Cosim(export = true))``).
+    output : path, optional
+        Folder of the FMUs (default: ``$COSIM_FMU_DIR``, else ``./fmus`` of the working directory).
+    jobs : int
+        Parallel builds (>= 1); worker processes die with the calling process.
+    library_path : path, optional
+        Modelica library folder (default: ``$COSIM_MODELICA_PATH``, else the shipped library).
+    force : bool
+        Rebuild even if up to date.
+
+    Returns
+    -------
+    list of BuildResult
+        One per model, in the order given; ``seconds`` [s] each.
 
     Raises
     ------

@@ -1,9 +1,9 @@
-"""Python components: signal sources, linear systems, transport and Padé delays.
+"""Python blocks: the shared kinds (affine without memory, linear with states), signal sources and delays.
 
-Every block follows :class:`~cosim.cosimulation.component.Component`. Continuous-time linear
-blocks are discretized exactly (zero-order hold on their inputs, as a Co-Simulation master
-holds inputs over a step), so a Python block and the FMU of its Modelica twin agree to the
-integration tolerance of the FMU.
+Every block is a :class:`~cosim.cosimulation.registry.Block` and registers itself by class name.
+Continuous-time linear blocks are discretized exactly (zero-order hold on their inputs, as a
+Co-Simulation master holds inputs over a step), so a Python block and the FMU of its Modelica
+twin agree to the integration tolerance of the FMU.
 """
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ import numpy as np
 from scipy.linalg import expm
 
 from ..errors import ParameterError
-from .component import Component
+from .registry import Block, LinearModel
 
 
 def _positive(name: str, value: float) -> float:
@@ -23,44 +23,58 @@ def _positive(name: str, value: float) -> float:
     return value
 
 
-class Static(Component):
-    """y = f(u) without memory: subclasses define ``evaluate``."""
+class Affine(Block, register=False):
+    """``y = D u + r(t)`` without memory: subclasses define :meth:`gain` (D) and, for sources and
+    references, :meth:`~cosim.cosimulation.registry.Block.exogenous` (r). The same two methods
+    give the Python stepping and the linear model, so the block's equations are written once."""
 
     def __init__(self, name: str):
         super().__init__(name)
         self._u = np.zeros(len(self.inputs))
         self._y = np.zeros(len(self.outputs))
+        self._D = None
+
+    def gain(self) -> np.ndarray:
+        """The matrix D (outputs x inputs) from the block's parameters."""
+        raise NotImplementedError
+
+    def _refresh(self) -> None:
+        if self._D is None:  # parameters are fixed once the block exists
+            self._D = np.asarray(self.gain(), float).reshape(len(self.outputs), len(self.inputs))
+        self._y[:] = self._D @ self._u + self.exogenous(self._t)
+
+    def setup(self, start_time):
+        super().setup(start_time)
+        self._refresh()
 
     def set_inputs(self, values):
         self._u[:] = values
-        self._y[:] = self.evaluate(self._u)
+        self._refresh()
 
     def get_outputs(self):
         return self._y
 
     def step(self, t, h):
-        pass
+        self._t = t + h
+        self._refresh()
 
-    def get_state(self):
-        return self._u.copy()
-
-    def set_state(self, state):
-        self.set_inputs(state)
-
-    def evaluate(self, u: np.ndarray) -> np.ndarray:
-        raise NotImplementedError
+    def linear(self, settings):
+        D = self.gain()
+        return LinearModel(np.zeros((0, 0)), np.zeros((0, len(self.inputs))), np.zeros((len(self.outputs), 0)),
+                           D, list(self.inputs), list(self.outputs))
 
 
-class Linear(Component):
-    """x' = A x + B u, y = C x + D u, stepped exactly under a zero-order hold of u."""
+class Linear(Block, register=False):
+    """``x' = A x + B u``, ``y = C x + D u``, stepped exactly under a zero-order hold of u;
+    subclasses pass their matrices to ``__init__``, which are also their linear model."""
 
-    def __init__(self, name: str, A, B, C, D, inputs: list[str], outputs: list[str], x0=None):
-        self.inputs, self.outputs = list(inputs), list(outputs)
+    def __init__(self, name: str, A, B, C, D, x0=None):
         super().__init__(name)
         self.A, self.B = np.atleast_2d(A).astype(float), np.atleast_2d(B).astype(float)
         self.C, self.D = np.atleast_2d(C).astype(float), np.atleast_2d(D).astype(float)
         n = self.A.shape[0] if self.A.size else 0
-        self.x = np.zeros(n) if x0 is None else np.asarray(x0, float).copy()
+        self.x0 = np.zeros(n) if x0 is None else np.asarray(x0, float).copy()
+        self.x = self.x0.copy()
         self._u = np.zeros(len(self.inputs))
         self._y = np.zeros(len(self.outputs))
         self._discrete = {}
@@ -72,6 +86,11 @@ class Linear(Component):
     def _update_outputs(self):
         self._y[:] = (self.C @ self.x if self.x.size else 0.0) + self.D @ self._u
 
+    def setup(self, start_time):
+        super().setup(start_time)
+        self.x = self.x0.copy()
+        self._update_outputs()
+
     def set_inputs(self, values):
         self._u[:] = values
         self._update_outputs()
@@ -80,6 +99,7 @@ class Linear(Component):
         return self._y
 
     def step(self, t, h):
+        self._t = t + h
         if not self.x.size:
             return
         key = round(h, 15)
@@ -93,22 +113,57 @@ class Linear(Component):
         self.x = Ad @ self.x + Bd @ self._u
         self._update_outputs()
 
-    def get_state(self):
-        return self.x.copy(), self._u.copy()
+    def linear(self, settings):
+        n = self.x.size
+        return LinearModel(self.A if n else np.zeros((0, 0)), self.B if n else np.zeros((0, len(self.inputs))),
+                           self.C if n else np.zeros((len(self.outputs), 0)), self.D,
+                           list(self.inputs), list(self.outputs))
 
-    def set_state(self, state):
-        self.x, u = state[0].copy(), state[1]
-        self.set_inputs(u)
+
+def _pade_matrices(tau: float, n: int):
+    """A, B, C, D of the [n/n] Pade approximation of exp(-s tau) (python-control's ``pade``)."""
+    import control
+
+    if tau == 0:
+        return np.zeros((0, 0)), np.zeros((0, 1)), np.zeros((1, 0)), np.ones((1, 1))
+    num, den = control.pade(tau, int(n))
+    sys = control.ss(control.tf(num, den))
+    return sys.A, sys.B, sys.C, sys.D
 
 
-class TransportDelay(Component):
-    """y(t) = u(t - tau), exact: the input history is buffered and interpolated linearly.
-
-    Before ``t0 + tau`` the output is the initial input value. With ``tau`` at least one
-    communication step the output does not depend on the current input (no feedthrough)."""
+class PadeDelay(Linear):
+    """The rider's delay exp(-s tau) as its [n/n] Pade approximation (tau in s, n the order)."""
 
     inputs = ["u"]
     outputs = ["y"]
+    twin = "Bicycle.Rider.PadeDelay"
+
+    def __init__(self, name: str, tau: float = 0.1, n: int = 2):
+        _positive("tau", tau)
+        if int(n) != n or not 1 <= n <= 10:
+            raise ParameterError(f"parameter 'n' (order) must be an integer from 1 to 10, got {n}")
+        self.tau, self.n = float(tau), int(n)
+        super().__init__(name, *_pade_matrices(self.tau, self.n))
+
+    def twin_parameters(self):
+        if self.n != 2:  # n sets the number of states: it is fixed when the FMU is built
+            raise ParameterError(f"the Modelica twin {self.twin} is built with n = 2")
+        return {"tau": self.tau}
+
+
+class TransportDelay(Block):
+    """The exact delay y(t) = u(t - tau) (tau in s), the input history buffered and interpolated linearly.
+
+    Before ``t0 + tau`` the output is the initial input value. With ``tau`` at least one
+    communication step the output does not depend on the current input (no feedthrough). The
+    exact delay has no Modelica form the compiler accepts (no ``delay()``): its twin and its
+    linear model are Pade approximations."""
+
+    inputs = ["u"]
+    outputs = ["y"]
+    twin = "Bicycle.Rider.PadeDelay"
+    twin_same_parameters = False
+    twin_approximation = "exact delay -> Pade approximation, n = 2"
 
     def __init__(self, name: str, tau: float = 0.1):
         super().__init__(name)
@@ -117,7 +172,6 @@ class TransportDelay(Component):
             raise ParameterError(f"parameter 'tau' must not be negative, got {tau:g}")
         self._times: deque = deque()
         self._values: deque = deque()
-        self._t = 0.0
         self._u = 0.0
         self._y = np.zeros(1)
         self._min_step = np.inf
@@ -126,11 +180,10 @@ class TransportDelay(Component):
         return set() if self.tau >= self._min_step else {"u"}
 
     def configure_step(self, h: float) -> None:
-        """The master tells the smallest step it will take (for the feedthrough decision)."""
         self._min_step = h
 
     def setup(self, start_time):
-        self._t = start_time
+        super().setup(start_time)
         self._times.clear()
         self._values.clear()
 
@@ -171,64 +224,38 @@ class TransportDelay(Component):
             self._values.popleft()
         self._y[0] = self._delayed(self._t)
 
-    def get_state(self):
-        return self._t, self._u, list(self._times), list(self._values)
+    def twin_parameters(self):
+        return {"tau": self.tau}
 
-    def set_state(self, state):
-        self._t, self._u = state[0], state[1]
-        self._times, self._values = deque(state[2]), deque(state[3])
-        self._y[0] = self._delayed(self._t)
-
-
-def pade_delay(name: str, tau: float = 0.1, n: int = 2) -> Linear:
-    """The [n/n] Padé approximation of ``exp(-s tau)`` as a linear block (python-control's ``pade``);
-    the Python twin of ``Bicycle.Rider.PadeDelay``."""
-    import control
-
-    _positive("tau", tau)
-    if int(n) != n or not 1 <= n <= 10:
-        raise ParameterError(f"parameter 'n' (order) must be an integer from 1 to 10, got {n}")
-    num, den = control.pade(tau, int(n))
-    sys = control.ss(control.tf(num, den))
-    return Linear(name, sys.A, sys.B, sys.C, sys.D, ["u"], ["y"])
+    def linear(self, settings):
+        order = int(settings.get("pade_order", 2))
+        return LinearModel(*_pade_matrices(self.tau, order), ["u"], ["y"], interpolates=True)
 
 
-class Pulse(Static):
-    """A rectangular pulse ``amplitude`` on [start, start + duration), else 0 (a lateral push)."""
+class Pulse(Affine):
+    """A rectangular pulse: amplitude on [start, start + duration), else 0 (start, duration in s; a lateral push)."""
 
     inputs: list[str] = []
     outputs = ["y"]
+    twin = "Bicycle.Sources.TorquePulse"
 
     def __init__(self, name: str, amplitude: float = 1.0, start: float = 1.0, duration: float = 0.1):
         super().__init__(name)
         self.amplitude, self.start, self.duration = float(amplitude), float(start), _positive("duration", duration)
-        self._t = 0.0
 
-    def setup(self, start_time):
-        self._t = start_time
-        self._refresh()
+    def gain(self):
+        return np.zeros((1, 0))
 
-    def _refresh(self):
-        on = self.start <= self._t + 1e-12 and self._t + 1e-12 < self.start + self.duration
-        self._y[0] = self.amplitude if on else 0.0
-
-    def step(self, t, h):
-        self._t = t + h
-        self._refresh()
-
-    def evaluate(self, u):
-        return self._y
-
-    def get_state(self):
-        return self._t
-
-    def set_state(self, state):
-        self._t = state
-        self._refresh()
+    def exogenous(self, t):
+        # 1e-12 s: a jump on a communication point counts as reached despite round-off in t.
+        on = self.start <= t + 1e-12 and t + 1e-12 < self.start + self.duration
+        return np.array([self.amplitude if on else 0.0])
 
 
 class Step(Pulse):
-    """``amplitude`` from ``start`` on."""
+    """A step: amplitude from start on, else 0 (start in s; a steady push)."""
+
+    twin = "Bicycle.Sources.TorqueStep"
 
     def __init__(self, name: str, amplitude: float = 1.0, start: float = 0.0):
         super().__init__(name, amplitude, start, np.inf)

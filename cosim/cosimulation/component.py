@@ -1,8 +1,23 @@
 """The one protocol every co-simulation component follows, and its FMU implementation.
 
 A component has named Real inputs and outputs (fixed order: the master addresses them by index,
-never by name, while stepping), may pass inputs straight through to outputs (``feedthrough``),
-and can save and restore its state.
+never by name, while stepping) and may pass inputs straight through to outputs (``feedthrough``).
+
+The master drives every component the same way (:class:`cosim.cosimulation.master.System`)::
+
+    configure_step(h)                     # once, the base communication step
+    setup(t0)                             # parameters set; initialization mode
+    initial_inputs()                      # values of the inputs nothing is connected to
+    set_inputs(u); get_outputs()          # repeated while initializing (feedthrough chains)
+    end_initialization()
+    for each communication point t_k, h_k = t_(k+1) - t_k:
+        set_inputs(u(t_k))                # outputs now valid at t_k for these inputs
+        step(t_k, h_k)                    # inputs held over [t_k, t_k + h_k]
+        get_outputs()                     # valid at t_k + h_k, inputs still u(t_k)
+    close()
+
+Times are in seconds of simulation time. No state is ever saved or restored by the master (a
+rejected step is not retried), so the protocol has no get/set-state methods.
 """
 from __future__ import annotations
 
@@ -16,7 +31,16 @@ from ..errors import SimulationError
 
 
 class Component:
-    """Base class: subclasses set ``inputs``, ``outputs`` and implement the methods."""
+    """Base class: subclasses set ``inputs``, ``outputs`` and implement the protocol (module docstring).
+
+    Attributes
+    ----------
+    name : str
+        The component's name in the system (prefix of its recorded signals).
+    inputs, outputs : list of str
+        Names of the Real inputs and outputs; the order is that of the vectors passed to
+        :meth:`set_inputs` and returned by :meth:`get_outputs`.
+    """
 
     inputs: list[str] = []
     outputs: list[str] = []
@@ -25,36 +49,53 @@ class Component:
         self.name = name
 
     def feedthrough(self, output: str) -> set[str]:
-        """Inputs that ``output`` depends on without delay (default: all)."""
+        """Inputs that ``output`` depends on without delay (default: all); Gauss-Seidel orders
+        components by it and refuses a loop of feedthrough."""
         return set(self.inputs)
 
+    def configure_step(self, h: float) -> None:
+        """The base communication step [s] of the master, told once before :meth:`setup` (a
+        transport delay at least that long has no feedthrough). Default: ignored."""
+
     def setup(self, start_time: float) -> None:
-        """Instantiate and enter initialization (parameters are already set)."""
+        """Instantiate and enter initialization at ``start_time`` [s] (parameters are already set)."""
 
     def end_initialization(self) -> None:
-        """Leave initialization; the first step follows."""
+        """Leave initialization; the first :meth:`step` follows."""
 
     def initial_inputs(self) -> np.ndarray:
-        """Input values after setup (unconnected inputs keep them)."""
+        """Input values after :meth:`setup` (inputs nothing is connected to keep them)."""
         return np.zeros(len(self.inputs))
 
     def set_inputs(self, values: np.ndarray) -> None:
+        """Set every input (order of ``inputs``) at the current communication point.
+
+        Afterwards :meth:`get_outputs` returns the outputs at the same time with these inputs
+        (outputs with feedthrough change, the others do not). Setting the same values again
+        changes nothing.
+        """
         raise NotImplementedError
 
     def get_outputs(self) -> np.ndarray:
+        """The outputs (order of ``outputs``) at the current communication point: after
+        :meth:`setup`, :meth:`set_inputs` or :meth:`step`. The array may be the component's own
+        buffer: copy it to keep it past the next call."""
         raise NotImplementedError
 
     def step(self, t: float, h: float) -> None:
-        raise NotImplementedError
+        """Advance from the communication point ``t`` [s] to ``t + h`` [s] (``h`` > 0), the
+        inputs held at the values last set (zero-order hold). Afterwards the current time is
+        ``t + h`` and :meth:`get_outputs` returns the outputs there, still for the old inputs.
 
-    def get_state(self):
-        raise NotImplementedError
-
-    def set_state(self, state) -> None:
+        Raises
+        ------
+        StepFailed
+            If the component cannot complete the step (FMUs: fmi2Discard or worse).
+        """
         raise NotImplementedError
 
     def close(self) -> None:
-        """Release resources."""
+        """Release resources (called once, also after a failure)."""
 
 
 class StepFailed(SimulationError):
@@ -219,12 +260,6 @@ class FMUComponent(Component):
         status = self._do_step(self._component, t, h, 1)
         if status > 1:  # fmi2Discard or worse
             raise self.failed("fmi2DoStep", t, status)
-
-    def get_state(self):
-        return self.instance.getFMUstate()
-
-    def set_state(self, state) -> None:
-        self.instance.setFMUstate(state)
 
     def close(self) -> None:
         """Terminate (where FMI allows it) and free the instance; raises only if fmi2Terminate

@@ -1,73 +1,94 @@
-"""Rider and autopilot controllers as Python components.
+"""Rider and autopilot controllers as Python blocks.
 
 Each has a Modelica twin in ``Bicycle.Control`` with the same parameter, input and output
 names, so a system can swap the Python block for the FMU of its twin (e.g. for SSP export).
+Each is one class (see :mod:`cosim.cosimulation.registry`): its gain matrix (or state-space
+matrices) is at once its Python stepping and its linear model.
 """
 from __future__ import annotations
 
 import numpy as np
 
 from ..errors import ParameterError
-from .blocks import Static
+from .blocks import Affine, Linear
 
 
-class Proportional(Static):
-    """The paper's rider: steer torque proportional to roll, ``T = -k * phi`` (k in N.m/rad)."""
+class Proportional(Affine):
+    """The paper's rider: steer torque proportional to roll, T = -k phi (k in N.m/rad)."""
 
     inputs = ["phi"]
     outputs = ["T"]
+    twin = "Bicycle.Control.Proportional"
 
     def __init__(self, name: str, k: float = 10.0):
         super().__init__(name)
         self.k = float(k)
 
-    def evaluate(self, u):
-        return np.array([-self.k * u[0]])
+    def gain(self):
+        return [[-self.k]]
 
 
-class PD(Static):
-    """``T = -kp * phi - kd * phi_dot`` (kp in N.m/rad, kd in N.m.s/rad)."""
+class PD(Affine):
+    """Proportional-derivative rider: T = -kp phi - kd phi_dot (kp in N.m/rad, kd in N.m.s/rad)."""
 
     inputs = ["phi", "phi_dot"]
     outputs = ["T"]
+    twin = "Bicycle.Control.PD"
 
     def __init__(self, name: str, kp: float = 10.0, kd: float = 1.0):
         super().__init__(name)
         self.kp, self.kd = float(kp), float(kd)
 
-    def evaluate(self, u):
-        return np.array([-self.kp * u[0] - self.kd * u[1]])
+    def gain(self):
+        return [[-self.kp, -self.kd]]
 
 
-class SteerAngleFeedback(Static):
-    """Steer-angle feedback for steer-angle-input models, ``delta = -k2 * phi`` (eq (5))."""
+class PID(Linear):
+    """PID rider: T = -kp phi - ki (integral of phi) - kd phi_dot (kp in N.m/rad, ki in N.m/(rad.s), kd in N.m.s/rad).
+
+    The derivative term reads the roll rate the bicycle outputs (no filtered derivative needed);
+    the integral starts at 0."""
+
+    inputs = ["phi", "phi_dot"]
+    outputs = ["T"]
+    twin = "Bicycle.Control.PID"
+
+    def __init__(self, name: str, kp: float = 10.0, ki: float = 1.0, kd: float = 1.0):
+        self.kp, self.ki, self.kd = float(kp), float(ki), float(kd)
+        # state: the integral of phi
+        super().__init__(name, A=[[0.0]], B=[[1.0, 0.0]], C=[[-self.ki]], D=[[-self.kp, -self.kd]])
+
+
+class SteerAngleFeedback(Affine):
+    """Steer-angle feedback for steer-angle-input models, delta = -k2 phi (eq (5), k2 dimensionless)."""
 
     inputs = ["phi"]
     outputs = ["delta"]
+    twin = "Bicycle.Control.SteerAngleFeedback"
 
     def __init__(self, name: str, k2: float = 1.0):
         super().__init__(name)
         self.k2 = float(k2)
 
-    def evaluate(self, u):
-        return np.array([-self.k2 * u[0]])
+    def gain(self):
+        return [[-self.k2]]
 
 
-class StateFeedback(Static):
-    """``T = -(K1 phi + K2 delta + K3 phi_dot + K4 delta_dot)``: the LQR autopilot's control law.
+class StateFeedback(Affine):
+    """State feedback on steer torque: T = -(K1 phi + K2 delta + K3 phi_dot + K4 delta_dot).
 
-    Use :func:`lqr_gains` to design ``K`` with python-control on the analytic linear Whipple
-    model at the run speed."""
+    K1, K2 in N.m/rad, K3, K4 in N.m.s/rad; :class:`LQR` designs them."""
 
     inputs = ["phi", "delta", "phi_dot", "delta_dot"]
     outputs = ["T"]
+    twin = "Bicycle.Control.StateFeedback"
 
     def __init__(self, name: str, K1: float = 0.0, K2: float = 0.0, K3: float = 0.0, K4: float = 0.0):
         super().__init__(name)
         self.K = np.array([K1, K2, K3, K4], dtype=float)
 
-    def evaluate(self, u):
-        return np.array([-self.K @ u])
+    def gain(self):
+        return -self.K.reshape(1, 4)
 
 
 def lqr_gains(params: str | dict, v: float, q_roll: float = 10.0, q_steer: float = 1.0,
@@ -87,6 +108,11 @@ def lqr_gains(params: str | dict, v: float, q_roll: float = 10.0, q_steer: float
     -------
     dict
         ``{"K1": ..., "K2": ..., "K3": ..., "K4": ...}`` for :class:`StateFeedback`.
+
+    Raises
+    ------
+    ParameterError
+        For an unknown or invalid parameter set, negative weights, or no stabilizing design.
     """
     import control
 
@@ -110,64 +136,65 @@ def lqr_gains(params: str | dict, v: float, q_roll: float = 10.0, q_steer: float
     return {f"K{k + 1}": float(K[0, k]) for k in range(4)}
 
 
-class LaneChange(Static):
+class LQR(StateFeedback):
+    """The LQR autopilot: state feedback with gains designed by python-control on the analytic
+    linear Whipple model of ``params`` at speed v (m/s), weights as in :func:`lqr_gains`."""
+
+    twin_same_parameters = False  # the twin (StateFeedback) takes the designed gains
+
+    def __init__(self, name: str, params: str = "benchmark", v: float = 5.0, q_roll: float = 10.0,
+                 q_steer: float = 1.0, q_rates: float = 0.1, r: float = 0.1):
+        self.gains = lqr_gains(params, v, q_roll, q_steer, q_rates, r)
+        super().__init__(name, **self.gains)
+
+    def twin_parameters(self):
+        return dict(self.gains)
+
+
+class LaneChange(Affine):
     """Lane change by counter-steering (Meijaard conventions: y, psi, phi positive to the right).
 
     A cascade on steer torque: lateral error -> heading demand -> roll demand -> torque,
     ``T = kp (phi - phi_ref) + kd phi_dot`` with ``phi_ref = k_psi (k_y (y_cmd - y) - psi)`` and
-    ``y_cmd`` stepping to ``y_ref`` at ``t_start``. To lean into the new lane the loop first steers
-    away from it, so the path shows the inverse response of the right-half-plane zero. The default
-    gains stabilize the benchmark bicycle at 5 m/s (slowest closed-loop pole -0.57 1/s)."""
+    ``y_cmd`` stepping to ``y_ref`` [m] at ``t_start`` [s] (k_y in rad/m, k_psi dimensionless,
+    kp in N.m/rad, kd in N.m.s/rad). To lean into the new lane the loop first steers away from it,
+    so the path shows the inverse response of the right-half-plane zero. The default gains
+    stabilize the benchmark bicycle at 5 m/s (slowest closed-loop pole -0.57 1/s)."""
 
     inputs = ["phi", "phi_dot", "psi", "y"]
     outputs = ["T"]
+    twin = "Bicycle.Control.LaneChange"
 
     def __init__(self, name: str, y_ref: float = 1.0, t_start: float = 1.0, k_y: float = 0.1,
                  k_psi: float = 1.0, kp: float = 20.0, kd: float = 10.0):
         super().__init__(name)
         self.y_ref, self.t_start = float(y_ref), float(t_start)
         self.k_y, self.k_psi, self.kp, self.kd = float(k_y), float(k_psi), float(kp), float(kd)
-        self._t = 0.0
 
-    def setup(self, start_time):
-        self._t = start_time
+    def gain(self):
+        kp, kpsi = self.kp, self.kp * self.k_psi
+        return [[kp, self.kd, kpsi, kpsi * self.k_y]]
 
-    def evaluate(self, u):
-        phi, phi_dot, psi, y = u
-        y_cmd = self.y_ref if self._t >= self.t_start - 1e-12 else 0.0
-        phi_ref = self.k_psi * (self.k_y * (y_cmd - y) - psi)
-        return np.array([self.kp * (phi - phi_ref) + self.kd * phi_dot])
-
-    def step(self, t, h):
-        self._t = t + h
-        self._y[:] = self.evaluate(self._u)
-
-    def get_state(self):
-        return self._t, self._u.copy()
-
-    def set_state(self, state):
-        self._t = state[0]
-        self.set_inputs(state[1])
+    def exogenous(self, t):
+        # The command enters as -kp k_psi k_y y_cmd; 1e-12 s as in Bicycle.Control.LaneChange.
+        y_cmd = self.y_ref if t >= self.t_start - 1e-12 else 0.0
+        return np.array([-self.kp * self.k_psi * self.k_y * y_cmd])
 
 
-def lqr(name: str, params: str = "benchmark", v: float = 5.0, q_roll: float = 10.0, q_steer: float = 1.0,
-        q_rates: float = 0.1, r: float = 0.1) -> StateFeedback:
-    """The LQR autopilot: :class:`StateFeedback` with gains from :func:`lqr_gains`."""
-    return StateFeedback(name, **lqr_gains(params, v, q_roll, q_steer, q_rates, r))
+class LeanSteer(Affine):
+    """Rider using steer torque and upper-body lean: T = -k phi - kd phi_dot, theta = -k_lean phi.
 
-
-class LeanSteer(Static):
-    """A rider who uses upper-body lean as a second input: ``T = -k phi - kd phi_dot`` on the
-    handlebars and a lean angle ``theta = -k_lean phi`` of the upper body (paper conventions:
-    lean to the left to right a bicycle that rolls to the right). For models with both inputs,
-    e.g. ``Bicycle.Bicycles.LeaningRider`` (22)+(11)."""
+    k in N.m/rad, kd in N.m.s/rad, k_lean dimensionless (paper conventions: lean to the left to
+    right a bicycle that rolls to the right). For models with both inputs, e.g.
+    ``Bicycle.Bicycles.LeaningRider`` (22)+(11)."""
 
     inputs = ["phi", "phi_dot"]
     outputs = ["T", "theta"]
+    twin = "Bicycle.Control.LeanSteer"
 
     def __init__(self, name: str, k: float = 10.0, kd: float = 1.0, k_lean: float = 0.5):
         super().__init__(name)
         self.k, self.kd, self.k_lean = float(k), float(kd), float(k_lean)
 
-    def evaluate(self, u):
-        return np.array([-self.k * u[0] - self.kd * u[1], -self.k_lean * u[0]])
+    def gain(self):
+        return [[-self.k, -self.kd], [-self.k_lean, 0.0]]

@@ -1,65 +1,24 @@
 """Create the components of a system file: FMUs (built from models when needed) and Python blocks."""
 from __future__ import annotations
 
-import inspect
 from pathlib import Path
 
 from ..errors import FMUError, ParameterError
-from . import blocks, controllers
+from . import registry
 from .component import Component, FMUComponent
 from .system import SystemError_, SystemSpec, load_system
 
-PYTHON_BLOCKS = {
-    "Proportional": controllers.Proportional,
-    "PD": controllers.PD,
-    "SteerAngleFeedback": controllers.SteerAngleFeedback,
-    "StateFeedback": controllers.StateFeedback,
-    "LQR": controllers.lqr,
-    "LaneChange": controllers.LaneChange,
-    "LeanSteer": controllers.LeanSteer,
-    "TransportDelay": blocks.TransportDelay,
-    "PadeDelay": blocks.pade_delay,
-    "Pulse": blocks.Pulse,
-    "Step": blocks.Step,
-}
-
-
-def _block_argument(block: str, key: str, value, annotation: str):
-    """A system-file value for a block argument, checked against the argument's annotation."""
-    import math
-
-    kind = str(annotation).split("|")[0].strip()
-    if kind == "float":
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise ParameterError(f"parameter '{key}': expected a number, got {value!r}")
-        if not math.isfinite(value):
-            raise ParameterError(f"parameter '{key}': must be finite, got {value!r}")
-        return float(value)
-    if kind == "int":
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or value != int(value):
-            raise ParameterError(f"parameter '{key}': expected a whole number, got {value!r}")
-        return int(value)
-    if kind == "str" and not isinstance(value, str):
-        raise ParameterError(f"parameter '{key}': expected a string, got {value!r}")
-    return value
-
 
 def python_block(name: str, block: str, parameters: dict, where: str = "system") -> Component:
-    """Instantiate a built-in Python block; unknown blocks and parameters, and values of the
-    wrong type (checked against the block's signature), are named in the error."""
-    factory = PYTHON_BLOCKS.get(block)
-    if factory is None:
-        raise SystemError_(f"{where}: component '{name}': unknown Python block '{block}' "
-                           f"(available: {', '.join(PYTHON_BLOCKS)})")
-    signature = inspect.signature(factory).parameters
-    accepted = set(signature) - {"name"}
-    unknown = set(parameters) - accepted
-    if unknown:
-        raise SystemError_(f"{where}: component '{name}' ({block}): unknown parameter(s) "
-                           f"{', '.join(sorted(unknown))}; accepted: {', '.join(sorted(accepted))}")
+    """Instantiate a registered Python block (:mod:`cosim.cosimulation.registry`); unknown blocks
+    and parameters, and values of the wrong type (checked against the block's signature), are
+    named in the error."""
     try:
-        arguments = {k: _block_argument(block, k, v, signature[k].annotation) for k, v in parameters.items()}
-        return factory(name, **arguments)
+        cls = registry.lookup(block)
+    except ParameterError as exc:
+        raise SystemError_(f"{where}: component '{name}': {exc}") from None
+    try:
+        return cls.create(name, parameters)
     except ParameterError as exc:
         raise SystemError_(f"{where}: component '{name}' ({block}): {exc}") from None
 
@@ -99,7 +58,29 @@ def create_components(spec: SystemSpec, fmu_dir: str | Path | None = None) -> di
 
 
 def run_system(path_or_spec, fmu_dir: str | Path | None = None):
-    """Load a system file, create its components and run it; returns a RunResult."""
+    """Co-simulate a system: load the file, create its components (models built as needed) and run.
+
+    Parameters
+    ----------
+    path_or_spec : str, Path or SystemSpec
+        A system file (TOML) or a system already loaded (:func:`load_system`).
+    fmu_dir : str or Path, optional
+        Where models are built to FMUs (default: ``COSIM_FMU_DIR`` or ``./fmus``).
+
+    Returns
+    -------
+    RunResult
+        ``data``: the recorded signals, ``time`` [s] first, then each ``component.output`` in
+        SI units [rad, m, N m, ...]; ``outcome``: completed, fell or diverged, with the time
+        the run ended [s]; ``steps``: communication steps taken.
+
+    Raises
+    ------
+    SystemError_
+        For a bad system file, component, parameter or connection (nothing is run).
+    RunFailed
+        If an FMU failed a step; ``exc.result`` holds the rows up to the failure.
+    """
     from .master import run_components
 
     spec = path_or_spec if isinstance(path_or_spec, SystemSpec) else load_system(path_or_spec)

@@ -94,7 +94,7 @@ class System:
     spec : SystemSpec
         Settings and connections.
     components : dict
-        Component objects by name (created by :func:`cosim.cosimulation.build.create_components`).
+        Component objects by name (created by :func:`cosim.cosimulation.factory.create_components`).
     """
 
     def __init__(self, spec: SystemSpec, components: dict[str, Component]):
@@ -126,8 +126,7 @@ class System:
             self.sources[name] = np.array([p[1] for p in pairs], dtype=int)
         self.connections = list(connected.values())
         for comp in components.values():  # a delay longer than the step has no feedthrough
-            if hasattr(comp, "configure_step"):
-                comp.configure_step(spec.step)
+            comp.configure_step(spec.step)
         self.order = self._gauss_seidel_order(where) if spec.algorithm == "gauss-seidel" else self.names
         self.fall_index = None
         if spec.fall_signal:

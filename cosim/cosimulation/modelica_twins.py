@@ -1,73 +1,41 @@
 """Python blocks and their Modelica twins: a system with Python blocks becomes an all-FMU system
-(for SSP export and for other FMI tools) by swapping each block for the FMU of its twin."""
+(for SSP export and for other FMI tools) by swapping each block for the FMU of its twin. Each
+block declares its twin and the twin's parameter values itself (:mod:`cosim.cosimulation.registry`)."""
 from __future__ import annotations
 
 import dataclasses
 
 from ..errors import ParameterError
-from .controllers import lqr_gains
+from . import registry
 from .system import ComponentSpec, SystemError_, SystemSpec
 
 
-def _same(parameters: dict) -> dict:
-    return dict(parameters)
-
-
-def _lqr(parameters: dict) -> dict:
-    """The gains the Python LQR block would design (its defaults for what is not given)."""
-    import inspect
-
-    from .controllers import lqr
-
-    defaults = {k: p.default for k, p in inspect.signature(lqr).parameters.items() if k != "name"}
-    unknown = sorted(set(parameters) - set(defaults))
-    if unknown:
-        raise ParameterError(f"unknown parameter(s) {', '.join(unknown)}; accepted: {', '.join(sorted(defaults))}")
-    return lqr_gains(**{**defaults, **parameters})
-
-
-def _delay(parameters: dict) -> dict:
-    # The exact transport delay has no Modelica form the compiler accepts (no delay()); its twin is
-    # the Pade approximation whose order is fixed when the FMU is built (n = 2).
-    return {"tau": parameters.get("tau", 0.1)}
-
-
-def _pade(parameters: dict) -> dict:
-    if parameters.get("n", 2) != 2:
-        raise ParameterError("the Modelica twin Bicycle.Rider.PadeDelay is built with n = 2")
-    return {"tau": parameters.get("tau", 0.1)}
-
-
-TWINS = {
-    "Proportional": ("Bicycle.Control.Proportional", _same),
-    "PD": ("Bicycle.Control.PD", _same),
-    "SteerAngleFeedback": ("Bicycle.Control.SteerAngleFeedback", _same),
-    "StateFeedback": ("Bicycle.Control.StateFeedback", _same),
-    "LQR": ("Bicycle.Control.StateFeedback", _lqr),
-    "LaneChange": ("Bicycle.Control.LaneChange", _same),
-    "LeanSteer": ("Bicycle.Control.LeanSteer", _same),
-    "Pulse": ("Bicycle.Sources.TorquePulse", _same),
-    "TransportDelay": ("Bicycle.Rider.PadeDelay", _delay),
-    "PadeDelay": ("Bicycle.Rider.PadeDelay", _pade),
-}
-
-
 def with_twins(spec: SystemSpec) -> tuple[SystemSpec, list[str]]:
-    """The system with every Python block replaced by its Modelica twin, and a note per swap."""
+    """The system with every Python block replaced by its Modelica twin, and a note per swap.
+
+    Raises
+    ------
+    SystemError_
+        If a block is unknown, has no twin, or its parameters are refused (by the block, or
+        because the twin cannot represent them).
+    """
+    where = spec.path or spec.name
     components, notes = {}, []
     for name, entry in spec.components.items():
         if entry.kind != "python":
             components[name] = entry
             continue
-        if entry.source not in TWINS:
-            raise SystemError_(f"{spec.path or spec.name}: component '{name}': the Python block "
-                               f"'{entry.source}' has no Modelica twin")
-        model, convert = TWINS[entry.source]
         try:
-            parameters = convert(entry.parameters)
+            cls = registry.lookup(entry.source)
         except ParameterError as exc:
-            raise SystemError_(f"{spec.path or spec.name}: component '{name}' ({entry.source}): {exc}") from None
-        components[name] = ComponentSpec(name, "model", model, parameters, entry.step_multiple)
-        exact = " (exact delay -> Pade approximation, n = 2)" if entry.source == "TransportDelay" else ""
-        notes.append(f"{name}: Python {entry.source} -> {model}{exact}")
+            raise SystemError_(f"{where}: component '{name}': {exc}") from None
+        if cls.twin is None:
+            raise SystemError_(f"{where}: component '{name}': the Python block '{entry.source}' has no Modelica twin")
+        try:
+            parameters = cls.create(name, entry.parameters).twin_parameters()
+        except ParameterError as exc:
+            raise SystemError_(f"{where}: component '{name}' ({entry.source}): {exc}") from None
+        components[name] = ComponentSpec(name, "model", cls.twin, parameters, entry.step_multiple)
+        approximation = f" ({cls.twin_approximation})" if cls.twin_approximation else ""
+        notes.append(f"{name}: Python {entry.source} -> {cls.twin}{approximation}")
     return dataclasses.replace(spec, components=components), notes

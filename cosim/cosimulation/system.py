@@ -104,6 +104,18 @@ def load_system(path: str | Path) -> SystemSpec:
     checked against the components when the system is assembled (see
     :func:`cosim.cosimulation.master.assemble`).
 
+    Parameters
+    ----------
+    path : str or Path
+        The system file (TOML): ``[system]`` settings (``start``, ``stop``, ``step`` in s),
+        ``[components.NAME]`` (a model, an FMU or a registered Python block, with parameters in
+        SI units) and ``connections``.
+
+    Returns
+    -------
+    SystemSpec
+        The checked system.
+
     Raises
     ------
     SystemError_

@@ -1,26 +1,23 @@
 """`cosim matrix SPEC.toml`: run a co-simulation test matrix and report.
 
-The lead hooks the subcommand into ``cosim/cli.py`` with::
-
-    from .matrix import cli as matrix_cli
-    matrix_cli.add_parser(sub)
-
-(``python -m cosim.matrix ...`` runs the same command on its own.)
+``python -m cosim.matrix ...`` is the same command (same options, messages and exit status).
 """
 from __future__ import annotations
 
 import argparse
 import sys
 
-from ..cli import positive_int
+from ..cli import library_option, positive_int
 
-__all__ = ["add_parser", "run", "parser", "main"]
+__all__ = ["add_parser", "run", "main"]
 
 EPILOG = """\
 an output folder that already holds results is refused unless --resume (keep them: run only the
 missing cases, and the failed ones again unless --keep-failed) or --force (discard them) is given.
+--scheduler needs the optional extra `cluster` (pip install 'bicycle-cosim[cluster]').
 exit status: 0 when every case agrees with its prediction (marginal cases excluded), no case failed
-and every check of the spec passes; 1 otherwise; 2 for a spec or usage error.
+and every check of the spec passes; 1 otherwise; 2 for a spec or usage error (one line
+`cosim matrix: error: ...`); 130 when interrupted (the finished cases are kept).
 Bundled specs (give the name instead of a file): {bundled}
 """
 
@@ -53,7 +50,7 @@ def _arguments(p: argparse.ArgumentParser) -> None:
                    help="local worker processes, >= 1 (default: number of CPUs)")
     p.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
                    help="run the cases on this Dask scheduler instead of local processes (contacted first; "
-                        "an unreachable one is an error within a few seconds)")
+                        "an unreachable one is an error within a few seconds; needs the extra `cluster`)")
     p.add_argument("-o", "--output", default=None, metavar="DIR",
                    help="output folder (default: matrix-<spec name>)")
     again = p.add_mutually_exclusive_group()
@@ -66,27 +63,29 @@ def _arguments(p: argparse.ArgumentParser) -> None:
                    help="with --resume: keep failed cases as they are instead of running them again")
     p.add_argument("--max-cases", type=positive_int, default=MAX_CASES, metavar="N",
                    help=f"refuse specs with more than N cases, checked before they are expanded (default: {MAX_CASES})")
-    p.add_argument("--fmu-dir", default=None, metavar="DIR", help="where models are built (default: fmus/)")
+    p.add_argument("--fmu-dir", default=None, metavar="DIR",
+                   help="where models are built (default: $COSIM_FMU_DIR, else ./fmus)")
+    library_option(p)
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
 
 
 def run(args) -> int:
+    """Run ``cosim matrix`` with parsed ``args``; returns the exit status.
+
+    Raises
+    ------
+    CosimError
+        For a spec, output-folder or usage error (printed by :func:`cosim.cli.main`).
+    """
     import json
 
-    from ..errors import CosimError
     from .runner import run_matrix
 
-    if args.keep_failed and not args.resume:
-        print("cosim matrix: error: --keep-failed applies only with --resume", file=sys.stderr)
-        return 2
     try:
         result = run_matrix(args.spec, args.output, workers=args.workers, scheduler=args.scheduler,
                             resume=args.resume, force=args.force, keep_failed=args.keep_failed,
                             max_cases=args.max_cases, fmu_dir=args.fmu_dir, progress=not args.no_progress)
-    except CosimError as exc:
-        print(f"cosim matrix: error: {exc}", file=sys.stderr)
-        return 2
     except KeyboardInterrupt:
         print("cosim matrix: interrupted (the finished cases are kept: --resume runs the rest)", file=sys.stderr)
         return 130
@@ -106,13 +105,8 @@ def run(args) -> int:
     return result.exit_code
 
 
-def parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="cosim matrix", description="Run a co-simulation test matrix.",
-                                epilog=EPILOG.format(bundled=", ".join(_bundled()) or "none"),
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
-    _arguments(p)
-    return p
-
-
 def main(argv: list[str] | None = None) -> int:
-    return run(parser().parse_args(argv))
+    """``python -m cosim.matrix ARGS``: ``cosim matrix ARGS`` (one error handling for both)."""
+    from ..cli import main as cosim_main
+
+    return cosim_main(["matrix", *(sys.argv[1:] if argv is None else argv)])

@@ -325,15 +325,19 @@ def connect(address: str, timeout: float = SCHEDULER_TIMEOUT):
     Raises
     ------
     SchedulerError
-        If dask.distributed is missing, the address is malformed, or the scheduler does not
+        If the address is malformed, or the scheduler does not
         answer within ``timeout`` seconds (closed port, unknown host, firewall).
+    MissingExtraError
+        If dask.distributed (the optional extra ``cluster``) is not installed.
     """
     import logging
 
     try:
         from distributed import Client
-    except ImportError:
-        raise SchedulerError("--scheduler needs dask.distributed (pip install distributed)") from None
+    except ImportError:  # the optional extra `cluster`
+        from ..errors import MissingExtraError
+
+        raise MissingExtraError("--scheduler", "dask.distributed", "cluster") from None
     _check_address(address)  # a malformed one would leave a half-made Client that hangs at exit
     # distributed logs every failed connection attempt; the one message below says it all
     quiet = [logging.getLogger(n) for n in ("distributed", "distributed.client", "distributed.comm",

@@ -5,9 +5,9 @@ Every component gets a linear model (:class:`LTI`):
 * bicycles: the analytic twins of :mod:`cosim.twins` (the paper's equations) and, for
   ``Bicycle.Bicycles.WhippleLinear``, :func:`cosim.analytic.whipple.state_matrices` (Meijaard et al.
   2007) with the heading and lateral position added;
-* Python blocks and their Modelica twins (``Bicycle.Control.*``, ``Bicycle.Rider.PadeDelay``,
-  ``Bicycle.Sources.TorquePulse``): their transfer matrices; an exact ``TransportDelay`` becomes
-  python-control's Pade approximation of order ``pade_order``;
+* Python blocks and the FMUs of their Modelica twins: the linear model each block declares
+  (:meth:`cosim.cosimulation.registry.Block.linear`, read from the block registry); an exact
+  ``TransportDelay`` declares python-control's Pade approximation of order ``pade_order``;
 * any other FMU: its numerical linearization (:func:`cosim.linearize.linearize`).
 
 The components are connected as in the system. With ``master_lag`` the co-simulation master's own
@@ -22,7 +22,6 @@ stable below ``-margin``, unstable above ``+margin``, marginal in between.
 """
 from __future__ import annotations
 
-import inspect
 import math
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -107,49 +106,20 @@ def delay_lti(tau: float, order: int, inputs=("u",), outputs=("y",), kind="delay
 
 # --------------------------------------------------------------------------- models of blocks
 
-def _lqr(p):
-    from ..cosimulation.controllers import lqr_gains
+def block_lti(name: str, block: str, parameters: dict, settings: dict) -> LTI:
+    """The linear model a registered Python block declares, for the parameters given (its
+    defaults for the others); a block that interpolates its inputs is of kind ``delay``."""
+    from ..cosimulation import registry
 
-    K = lqr_gains(p["params"], p["v"], p["q_roll"], p["q_steer"], p["q_rates"], p["r"])
-    return static([[-K[f"K{k}"] for k in (1, 2, 3, 4)]], ["phi", "delta", "phi_dot", "delta_dot"], ["T"],
-                  "LQR: T = -K x")
+    try:
+        instance = registry.lookup(block).create(name, parameters)
+        model = instance.linear(settings)
+    except (CosimError, NotImplementedError) as exc:  # unknown block or parameter, no linear model
+        raise PredictionError(f"component '{name}': {exc}") from None
+    kind = "delay" if model.interpolates else None
+    return _lti(model.A, model.B, model.C, model.D, model.inputs, model.outputs, kind,
+                f"{block}: {type(instance).summary()}")
 
-
-def _lane_change(p):
-    kp, kd, kpsi, ky = p["kp"], p["kd"], p["k_psi"], p["k_y"]
-    return static([[kp, kd, kp * kpsi, kp * kpsi * ky]], ["phi", "phi_dot", "psi", "y"], ["T"],
-                  "LaneChange: T = kp (phi - phi_ref) + kd phi_dot (reference excluded)")
-
-
-#: Linear models of Python blocks: name -> f(parameters with defaults, settings) -> LTI.
-LINEAR_BLOCKS = {
-    "Proportional": lambda p, s: static([[-p["k"]]], ["phi"], ["T"], "T = -k phi"),
-    "PD": lambda p, s: static([[-p["kp"], -p["kd"]]], ["phi", "phi_dot"], ["T"], "T = -kp phi - kd phi_dot"),
-    "SteerAngleFeedback": lambda p, s: static([[-p["k2"]]], ["phi"], ["delta"], "delta = -k2 phi (5)"),
-    "StateFeedback": lambda p, s: static([[-p[f"K{k}"] for k in (1, 2, 3, 4)]],
-                                         ["phi", "delta", "phi_dot", "delta_dot"], ["T"], "T = -K x"),
-    "LQR": lambda p, s: _lqr(p),
-    "LaneChange": lambda p, s: _lane_change(p),
-    "LeanSteer": lambda p, s: static([[-p["k"], -p["kd"]], [-p["k_lean"], 0.0]], ["phi", "phi_dot"], ["T", "theta"],
-                                     "T = -k phi - kd phi_dot, theta = -k_lean phi"),
-    "TransportDelay": lambda p, s: delay_lti(p["tau"], s["pade_order"],
-                                             source=f"exp(-s tau), Pade order {s['pade_order']}"),
-    "PadeDelay": lambda p, s: delay_lti(p["tau"], int(p["n"]), kind="dynamic", source=f"Pade order {int(p['n'])}"),
-    "Pulse": lambda p, s: static(np.zeros((1, 0)), [], ["y"], "source (no feedback)"),
-    "Step": lambda p, s: static(np.zeros((1, 0)), [], ["y"], "source (no feedback)"),
-}
-
-#: Modelica blocks that are twins of Python blocks (same parameter, input and output names).
-MODELICA_BLOCKS = {
-    "Bicycle.Control.Proportional": "Proportional",
-    "Bicycle.Control.PD": "PD",
-    "Bicycle.Control.SteerAngleFeedback": "SteerAngleFeedback",
-    "Bicycle.Control.StateFeedback": "StateFeedback",
-    "Bicycle.Control.LaneChange": "LaneChange",
-    "Bicycle.Control.LeanSteer": "LeanSteer",
-    "Bicycle.Rider.PadeDelay": "PadeDelay",
-    "Bicycle.Sources.TorquePulse": "Pulse",
-}
 
 WHIPPLE = "Bicycle.Bicycles.WhippleLinear"
 
@@ -211,27 +181,13 @@ def _fmu_info(path: str):
     return md.modelName, starts
 
 
-@lru_cache(maxsize=256)
-def _block_defaults(block: str) -> dict:
-    from ..cosimulation.factory import PYTHON_BLOCKS
-
-    factory = PYTHON_BLOCKS.get(block)
-    if factory is None:
-        return {}
-    return {n: p.default for n, p in inspect.signature(factory).parameters.items()
-            if p.default is not inspect.Parameter.empty}
-
-
 def component_lti(name: str, entry: dict, fmu_paths: dict, settings: dict) -> LTI:
     """The linear model of one component of a system dict."""
+    from ..cosimulation import registry
+
     params = dict(entry.get("parameters", {}))
     if "python" in entry:
-        block = entry["python"]
-        model = LINEAR_BLOCKS.get(block)
-        if model is None:
-            raise PredictionError(f"component '{name}': no linear model of the Python block '{block}' "
-                                  "(register one in cosim.matrix.predict.LINEAR_BLOCKS)")
-        return model({**_block_defaults(block), **params}, settings)
+        return block_lti(name, entry["python"], params, settings)
     path = entry.get("fmu") or fmu_paths.get(entry.get("model"))
     model_name = entry.get("model")
     starts = {}
@@ -243,9 +199,11 @@ def component_lti(name: str, entry: dict, fmu_paths: dict, settings: dict) -> LT
     twin = _twin(model_name, params)
     if twin is not None:
         return twin
-    if model_name in MODELICA_BLOCKS:
-        block = MODELICA_BLOCKS[model_name]
-        return LINEAR_BLOCKS[block]({**_block_defaults(block), **starts, **params}, settings)
+    block = registry.for_twin(model_name)
+    if block is not None:  # the FMU of a block's twin: the block's linear model, the FMU's defaults
+        accepted = block.parameters()
+        return block_lti(name, block.__name__, {k: v for k, v in {**starts, **params}.items() if k in accepted},
+                         settings)
     if path:
         from ..linearize import linearize
 

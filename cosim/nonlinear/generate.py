@@ -24,10 +24,20 @@ import sys
 import time
 from pathlib import Path
 
-import sympy as sm
+from ..errors import MissingExtraError
 
-from .derivation import CROWN, MEIJAARD, RIDER, Derivation, derive
-from .modelica import modelica, number
+try:  # sympy is the optional extra `generate`: without it, main() refuses in one line
+    import sympy as sm
+
+    from .derivation import CROWN, MEIJAARD, RIDER, Derivation, derive
+    from .modelica import modelica, number
+except ImportError as exc:
+    if exc.name is None or exc.name.split(".")[0] != "sympy":
+        raise
+    MISSING: MissingExtraError | None = MissingExtraError("regenerating the nonlinear Whipple models", "sympy",
+                                                        "generate")
+else:
+    MISSING = None
 
 ROOT = Path(__file__).resolve().parents[2]
 TARGET_DIR = ROOT / "modelica" / "Bicycle" / "Bicycles"
@@ -400,6 +410,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("-o", "--output", default=str(TARGET_DIR), help="output folder (default: the library)")
     parser.add_argument("--check", action="store_true", help="do not write; exit 1 if a file on disk differs")
     args = parser.parse_args(argv)
+    if MISSING is not None:
+        print(f"{parser.prog}: error: {MISSING}", file=sys.stderr)
+        return 2
     unknown = sorted(set(args.models) - set(targets()))
     if unknown:
         parser.error(f"unknown model(s) {', '.join(unknown)}; choose from {', '.join(targets())}")
