@@ -53,7 +53,7 @@ _API = {
     "resolve_fmu": ("cosim.target", "resolve_fmu"),
     "simulate": ("cosim.simulation", "simulate"),
     "linearize": ("cosim.linearize", "linearize"),
-    "compare": ("cosim.cli", "compare_model"),
+    "compare": ("cosim.compare", "compare_model"),
     "load_system": ("cosim.cosimulation.system", "load_system"),
     "run_system": ("cosim.cosimulation.factory", "run_system"),
     "load_parameters": ("cosim.analytic.parameters", "load_parameters"),

@@ -12,6 +12,8 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
+from .errors import CosimError, ParameterError
+
 ORIGIN = 1e-6  # roots with |r| <= ORIGIN * max(1, max |roots|) are roots at the origin (integrators)
 REDUCTION_TOL = 1e-10  # relative tolerance of the Krylov reduction to a minimal realization
 MAX_SPEEDS = 10_000  # operating points one `cosim compare` linearizes
@@ -224,3 +226,97 @@ def format_table(comparisons: list[Comparison], speed_name: str) -> str:
     worst = max((c.error for c in comparisons), default=0.0)
     lines.append(f"largest relative error: {worst:.2e}")
     return "\n".join(lines)
+
+
+def _parameter_defaults(fmu) -> dict:
+    """Start values of the FMU's top-level Real parameters."""
+    from .fmi import read_fmu
+
+    md = read_fmu(fmu)
+    return {v.name: float(v.start) for v in md.modelVariables
+            if v.causality == "parameter" and "." not in v.name and v.type == "Real" and v.start is not None}
+
+
+def _analytic(model: str, parameters: dict):
+    """The analytic twin's system; its refusals (ValueError, KeyError) as ParameterError."""
+    from .twins import analytic_system
+
+    try:
+        return analytic_system(model, parameters)
+    except CosimError:
+        raise
+    except (KeyError, ValueError) as exc:
+        raise ParameterError(f"{model}: the analytic model refuses these parameters: "
+                             f"{exc.args[0] if exc.args else exc}") from None
+
+
+def compare_model(model: str, speeds=None, parameters: dict | None = None, parameter_set: str | None = None,
+                  output=None) -> list:
+    """Linearize the FMU of ``model`` and compare it with the model's analytic twin.
+
+    For every input -> output pair the transfer functions of the FMU's linearization and of the
+    analytic model are reduced to minimal realizations and their poles, zeros and gains are
+    compared, and so are the eigenvalues of both A matrices (see :mod:`cosim.compare`).
+
+    Parameters
+    ----------
+    model : str
+        Full Modelica name of a model with an analytic twin, e.g.
+        ``"Bicycle.Bicycles.SelfStabilizing"`` (:data:`cosim.twins.TWINS` lists them).
+    speeds : sequence of float, optional
+        Forward speeds [m/s] to compare at, set as the model's speed parameter (``V`` or ``v``);
+        default: the model's own speed.
+    parameters : dict, optional
+        Parameter values by Modelica name (SI units), checked against the model's declarations.
+    parameter_set : str, optional
+        A Meijaard parameter set (bundled name or TOML file) for models with Meijaard names,
+        such as ``Bicycle.Bicycles.WhippleLinear``.
+    output : path, optional
+        Folder the model is built into (default: ``$COSIM_FMU_DIR``, else ``./fmus``).
+
+    Returns
+    -------
+    list of Comparison
+        One per speed; ``Comparison.error`` is the largest relative error (dimensionless) of
+        its eigenvalues, poles, zeros and gains.
+
+    Raises
+    ------
+    ParameterError
+        The model has no analytic twin or no speed parameter, a speed or parameter is refused
+        (naming it), or the analytic model refuses the values.
+    UnknownModelError, ModelicaError, BuildError
+        The model cannot be built.
+
+    Examples
+    --------
+    >>> worst = max(c.error for c in compare_model("Bicycle.Bicycles.SelfStabilizing", [2.0, 5.0]))
+    >>> worst < 1e-9
+    True
+    """
+    from .linearize import linearize
+    from .parameters import check, declarations, from_command_line, speed_parameter
+    from .target import is_fmu_path, resolve_fmu
+    from .twins import TWINS
+
+    if is_fmu_path(model):
+        raise ParameterError("compare needs a model name (the analytic twin is chosen by model)")
+    if model not in TWINS:
+        raise ParameterError(f"no analytic twin for '{model}'; twins exist for: {', '.join(TWINS)}")
+    speed = speed_parameter(model)
+    speeds = [None] if speeds is None else [float(v) for v in speeds]
+    base = from_command_line(model, [], parameters, parameter_set=parameter_set,
+                             input_hint="compare linearizes at the inputs' start values")
+    declared = declarations(model)
+    for v in speeds:
+        if v is not None:
+            check({speed: v}, declared)
+    fmu = resolve_fmu(model, output)
+    defaults = _parameter_defaults(fmu)
+    comparisons = []
+    for v in speeds:
+        params = {**base, **({speed: v} if v is not None else {})}
+        expected = _analytic(model, {**defaults, **params})  # refusals before the linearization
+        found = linearize(fmu, params).to_statespace()
+        comparisons.append(compare_systems(model, {**defaults, **params}, found, expected))
+    return comparisons

@@ -180,3 +180,16 @@ def from_command_line(target: str, assignments: list[str], extra: dict | None = 
     values.update(dict(split_assignment(a) for a in assignments))  # a repeated name: the last wins
     values.update(extra or {})
     return check(values, declarations(target), input_hint) if values else {}
+
+
+SPEED_NAMES = ("V", "v")
+
+
+def speed_parameter(target: str) -> str:
+    """The forward-speed parameter of a model or FMU (``V`` in the simple models, ``v`` in the
+    Whipple family); :class:`ParameterError` if it has none."""
+    declared = declarations(target)
+    for name in SPEED_NAMES:
+        if name in declared and declared[name].causality == "parameter":
+            return name
+    raise ParameterError(f"{target} has no speed parameter ({' or '.join(SPEED_NAMES)})")

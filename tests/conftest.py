@@ -31,6 +31,7 @@ if os.environ.get("COSIM_TEST_FMU_DIR"):
 else:
     os.environ["COSIM_FMU_DIR"] = str(SESSION_TMP / "fmus")
 
+import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 try:  # hypothesis' example database and caches (else .hypothesis/ in the working directory)
@@ -73,7 +74,7 @@ def pytest_runtest_call(item):
         pytest.skip(str(exc))
 
 
-def png_pixels(path: Path) -> "np.ndarray":
+def png_pixels(path: Path) -> np.ndarray:
     """The RGB pixels (height x width x 3, floats 0..1) of a PNG file, refusing anything else."""
     import matplotlib.image
     import numpy as np

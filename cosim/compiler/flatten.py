@@ -465,7 +465,7 @@ def _unsupported(library: Library, flat_tree, model_name: str) -> ModelicaError 
             return refuse(rf"\bString\b[^;]*\b{re.escape(name.rsplit('.', 1)[-1])}\b",
                           f"String variable '{name}' is not supported (only String parameters and constants)")
         if "discrete" in symbol.prefixes:
-            return refuse(rf"\bdiscrete\b", f"discrete variable '{name}' is not supported: {continuous}")
+            return refuse(r"\bdiscrete\b", f"discrete variable '{name}' is not supported: {continuous}")
     return None
 
 
