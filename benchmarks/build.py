@@ -1,13 +1,11 @@
 """Time to build every exported model from clean, and for a no-op rebuild (side by side, one run)."""
 from __future__ import annotations
 
-import sys
 import tempfile
 import time
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # benchmarks/cosim.py would shadow the package
-from cosim.compiler.build import build  # noqa: E402
+from cosim.compiler.build import build
 
 
 def main() -> None:

@@ -22,7 +22,6 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))  # this script's own name would otherwise shadow the cosim package
 
 
 def workload(name: str, n: int) -> dict:

@@ -41,8 +41,6 @@ The command line ``cosim`` (``cosim --help``) offers the same operations.
 from __future__ import annotations
 
 import importlib
-import sys
-import types
 
 __version__ = "0.1.0"
 
@@ -50,14 +48,14 @@ __version__ = "0.1.0"
 _API = {
     "build": ("cosim.compiler.build", "build"),
     "build_model": ("cosim.compiler.build", "build_model"),
-    "resolve_fmu": ("cosim.target", "resolve_fmu"),
-    "simulate": ("cosim.simulation", "simulate"),
-    "linearize": ("cosim.linearize", "linearize"),
-    "compare": ("cosim.compare", "compare_model"),
+    "resolve_fmu": ("cosim.fmu.target", "resolve_fmu"),
+    "simulate": ("cosim.fmu.simulate", "simulate"),
+    "linearize": ("cosim.fmu.linearize", "linearize"),
+    "compare": ("cosim.analytic.compare", "compare_model"),
     "load_system": ("cosim.cosimulation.system", "load_system"),
     "run_system": ("cosim.cosimulation.factory", "run_system"),
     "load_parameters": ("cosim.analytic.parameters", "load_parameters"),
-    "analytic_system": ("cosim.twins", "analytic_system"),
+    "analytic_system": ("cosim.analytic.twins", "analytic_system"),
     "whipple": ("cosim.analytic.whipple", None),
     "eigenvalues": ("cosim.analytic.whipple", "eigenvalues"),
     "weave_speed": ("cosim.analytic.whipple", "weave_speed"),
@@ -87,17 +85,3 @@ def __getattr__(name: str):
 def __dir__() -> list[str]:
     return sorted(set(globals()) | set(__all__))
 
-
-class _Package(types.ModuleType):
-    """The ``cosim`` package. Two public functions share their names with submodules
-    (``cosim.linearize``, ``cosim.compare``); importing such a submodule would make the import
-    system set the package attribute to the module and hide the function. The function stays;
-    the submodule is still imported and reachable with ``from cosim.linearize import ...``."""
-
-    def __setattr__(self, name: str, value) -> None:
-        if name in _API and isinstance(value, types.ModuleType) and _API[name][1] is not None:
-            return
-        super().__setattr__(name, value)
-
-
-sys.modules[__name__].__class__ = _Package

@@ -25,8 +25,8 @@ import sys
 import traceback
 from pathlib import Path
 
-from . import __version__
-from .errors import CosimError, ParameterError
+from cosim import __version__
+from cosim.errors import CosimError, ParameterError
 
 EXIT_OK, EXIT_CHECK_FAILED, EXIT_BAD_INPUT, EXIT_FELL, EXIT_INCOMPLETE = 0, 1, 2, 3, 4
 EXIT_INTERNAL, EXIT_INTERRUPTED = 70, 130
@@ -122,7 +122,7 @@ def _finite(text: str) -> float:
 
 
 def _cmd_build(args) -> int:
-    from .compiler.build import build
+    from cosim.compiler.build import build
 
     def report(results):
         for r in results:
@@ -138,8 +138,8 @@ def _cmd_build(args) -> int:
 
 
 def _cmd_list(args) -> int:
-    from .catalog import catalog, shorten
-    from .compiler.library import load_library
+    from cosim.compiler.catalog import catalog, shorten
+    from cosim.compiler.library import load_library
 
     summaries = catalog(load_library(), exported_only=args.exported,
                         warn=lambda message: print(f"cosim list: warning: {message}", file=sys.stderr))
@@ -169,7 +169,7 @@ def _wrapped(label: str, items: list[str]) -> str:
 
 
 def _cmd_info(args) -> int:
-    from .info import describe_target
+    from cosim.fmu.info import describe_target
 
     print(describe_target(args.target, as_json=args.json))
     return EXIT_OK
@@ -178,8 +178,8 @@ def _cmd_info(args) -> int:
 def _cmd_validate(args) -> int:
     """Each target is validated; one that cannot be read as an FMU (or built) gets its error
     line and the others are still checked."""
-    from .target import resolve_fmu
-    from .validation import validate
+    from cosim.fmu.target import resolve_fmu
+    from cosim.fmu.validate import validate
 
     failed = unreadable = 0
     for target in args.targets:
@@ -202,18 +202,18 @@ def _cmd_validate(args) -> int:
 
 def _default_result(target: str, suffix: str = ".csv") -> Path:
     """``<FMU stem>.csv`` in the working directory, known before the model is built."""
-    from .target import is_fmu_path
+    from cosim.fmu.target import is_fmu_path
 
     if is_fmu_path(target):
         return Path(Path(target).stem + suffix)
-    from .compiler.description import model_identifier
+    from cosim.compiler.description import model_identifier
 
     return Path(model_identifier(target) + suffix)
 
 
 def _check_outputs(output: Path, plot_path: str | None) -> None:
     """Refuse unwritable or unknown-format outputs before any work."""
-    from .simulation import check_plot_output, check_result_output
+    from cosim.fmu.simulate import check_plot_output, check_result_output
 
     check_result_output(output)
     if plot_path:
@@ -222,7 +222,7 @@ def _check_outputs(output: Path, plot_path: str | None) -> None:
 
 def _write_incomplete(exc, output: Path, plot_path: str | None, title: str, verb: str) -> int:
     """Keep what was computed before a solver failure: write it beside the final name."""
-    from .simulation import incomplete_path, plot, write_result
+    from cosim.fmu.simulate import incomplete_path, plot, write_result
 
     result = exc.result
     if result is None or len(result) == 0:
@@ -239,10 +239,10 @@ def _write_incomplete(exc, output: Path, plot_path: str | None, title: str, verb
 
 
 def _cmd_simulate(args) -> int:
-    from .fmi import read_fmu
-    from .parameters import from_command_line
-    from .simulation import IncompleteResult, check_run, input_signals, plot, simulate, write_result
-    from .target import resolve_fmu
+    from cosim.fmu.access import read_fmu
+    from cosim.fmu.parameters import from_command_line
+    from cosim.fmu.simulate import IncompleteResult, check_run, input_signals, plot, simulate, write_result
+    from cosim.fmu.target import resolve_fmu
 
     output = Path(args.output) if args.output else _default_result(args.target)
     _check_outputs(output, args.plot)  # before any build or run
@@ -268,7 +268,7 @@ def _cmd_simulate(args) -> int:
 
 def _operating_point(target: str, assignments: list[str]) -> dict:
     """``--input NAME=VALUE`` of linearize: input values of the operating point."""
-    from .parameters import declarations, split_assignment
+    from cosim.fmu.parameters import declarations, split_assignment
 
     declared = declarations(target)
     inputs = {}
@@ -293,9 +293,9 @@ def _finite_value(raw: str, what: str) -> float:
 
 
 def _cmd_linearize(args) -> int:
-    from .linearize import linearize
-    from .parameters import from_command_line, speed_parameter
-    from .target import resolve_fmu
+    from cosim.fmu.linearize import linearize
+    from cosim.fmu.parameters import from_command_line, speed_parameter
+    from cosim.fmu.target import resolve_fmu
 
     extra = {speed_parameter(args.target): args.speed} if args.speed is not None else {}
     params = from_command_line(args.target, args.param, extra, parameter_set=args.params,
@@ -319,8 +319,8 @@ def _cmd_linearize(args) -> int:
 
 
 def _cmd_compare(args) -> int:
-    from .compare import compare_model, format_table, parse_speeds
-    from .parameters import speed_parameter, split_assignment
+    from cosim.analytic.compare import compare_model, format_table, parse_speeds
+    from cosim.fmu.parameters import speed_parameter, split_assignment
 
     if not args.tol > 0:
         raise ParameterError(f"--tol must be > 0, got {args.tol:g}")
@@ -341,10 +341,10 @@ def _cmd_compare(args) -> int:
 
 
 def _cmd_run(args) -> int:
-    from .cosimulation.factory import run_system
-    from .cosimulation.master import RunFailed
-    from .cosimulation.system import load_system
-    from .simulation import IncompleteResult, plot, write_result
+    from cosim.cosimulation.factory import run_system
+    from cosim.cosimulation.master import RunFailed
+    from cosim.cosimulation.system import load_system
+    from cosim.fmu.simulate import IncompleteResult, plot, write_result
 
     output = Path(args.output) if args.output else Path(f"{Path(args.system).stem}.csv")
     _check_outputs(output, args.plot)  # before any build or run
@@ -368,9 +368,9 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_export_ssp(args) -> int:
-    from .cosimulation.ssp import export_ssp
-    from .cosimulation.system import load_system
-    from .outputs import check_output
+    from cosim.cosimulation.ssp import export_ssp
+    from cosim.cosimulation.system import load_system
+    from cosim.outputs import check_output
 
     check_output(args.output, "SSP file")  # before anything is built
     path, notes = export_ssp(load_system(args.system), args.output)
@@ -381,7 +381,7 @@ def _cmd_export_ssp(args) -> int:
 
 
 def _cmd_figures(args) -> int:
-    from .figures import make_figures
+    from cosim.figures import make_figures
 
     for path in make_figures(args.names, args.output):
         print(f"wrote {path}")
@@ -389,7 +389,7 @@ def _cmd_figures(args) -> int:
 
 
 def _cmd_demo(args) -> int:
-    from .demo import run_demo
+    from cosim.studies.demo import run_demo
 
     run_demo(Path(args.output))
     return EXIT_OK
@@ -422,7 +422,7 @@ def use_library(path: str | None):
     if path is None:
         yield
         return
-    from .compiler.library import library_path, load_library
+    from cosim.compiler.library import library_path, load_library
 
     previous = os.environ.get(LIBRARY_VARIABLE)
     os.environ[LIBRARY_VARIABLE] = str(library_path(path))
@@ -545,8 +545,8 @@ def parser() -> argparse.ArgumentParser:
     library_option(fig)
     fig.set_defaults(func=_cmd_figures)
 
-    from . import analytic_cli
-    from .matrix import cli as matrix_cli
+    from cosim.analytic import cli as analytic_cli
+    from cosim.matrix import cli as matrix_cli
 
     analytic_cli.add_parser(sub)
     matrix_cli.add_parser(sub)
@@ -567,7 +567,7 @@ def main(argv: list[str] | None = None) -> int:
     """Run one command; see the module docstring for the exit status."""
     args = parser().parse_args(argv)
     if getattr(args, "output", None) is None and args.command == "build":
-        from .compiler.build import DEFAULT_OUTPUT
+        from cosim.compiler.build import DEFAULT_OUTPUT
 
         args.output = DEFAULT_OUTPUT
     try:

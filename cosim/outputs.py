@@ -15,7 +15,7 @@ import os
 import tempfile
 from pathlib import Path
 
-from .errors import OutputError
+from cosim.errors import OutputError
 
 
 def _existing_ancestor(path: Path) -> Path:

@@ -78,18 +78,42 @@ def _alive(pid: int) -> bool:
 
 
 def _cleaning(cleanup: Callable[[], None], signum: int) -> Callable[[int], None]:
-    """An end of the process that runs ``cleanup`` first (once, whoever calls it)."""
+    """An end of the process that runs ``cleanup`` first (once, whoever calls it).
+
+    A second signal that arrives while the cleanup runs re-enters the handler in the same
+    thread: it returns at once, so that the cleanup below it goes on (waiting there would wait
+    for itself)."""
     once = threading.Lock()
+    cleaner: list[int] = []  # ident of the thread that runs the cleanup
 
     def end(received: int) -> None:
+        if threading.current_thread() is threading.main_thread():
+            signal.signal(signal.SIGTERM, signal.SIG_IGN)  # no second handler on top of this one
         if once.acquire(blocking=False):
+            cleaner.append(threading.get_ident())
             try:
                 cleanup()
             finally:
                 os._exit(128 + int(received))
+        if cleaner and cleaner[0] == threading.get_ident():
+            return  # re-entered by a signal during our own cleanup
         threading.Event().wait()  # another thread is cleaning up and will exit
 
     return end
+
+
+def _through_main_thread(end: Callable[[int], None], grace: float = 5.0) -> Callable[[int], None]:
+    """The watchdog's end when a SIGTERM handler runs the cleanup: signal the main thread, so
+    that the cleanup runs *there* and the main thread cannot go on starting new work (a new
+    compiler) while the watchdog cleans up; after ``grace`` seconds (a main thread stuck in C)
+    clean up from the watchdog."""
+
+    def via_signal(received: int) -> None:
+        os.kill(os.getpid(), signal.SIGTERM)
+        threading.Event().wait(grace)
+        end(received)
+
+    return via_signal
 
 
 def _watch(parent: int, direct: bool, poll: float, signum: int, end: Callable[[int], None] = _die) -> None:
@@ -145,11 +169,13 @@ def die_with_parent(parent_pid: int | None = None, *, pdeathsig: bool = True, po
     ppid = os.getppid()
     parent = ppid if parent_pid is None else int(parent_pid)
     direct = parent == ppid
+    watchdog_end = None
     if cleanup is not None:
         end = _cleaning(cleanup, signum)
         if threading.current_thread() is threading.main_thread():
             signal.signal(signal.SIGTERM, lambda *_: end(signal.SIGTERM))
             kernel_signal = signal.SIGTERM
+            watchdog_end = _through_main_thread(end)
         else:
             kernel_signal = signum
     else:
@@ -162,5 +188,5 @@ def die_with_parent(parent_pid: int | None = None, *, pdeathsig: bool = True, po
         if (os.getpid(), parent) in _watching:
             return
         _watching.add((os.getpid(), parent))
-    threading.Thread(target=_watch, args=(parent, direct, max(0.05, float(poll)), signum, end),
+    threading.Thread(target=_watch, args=(parent, direct, max(0.05, float(poll)), signum, watchdog_end or end),
                      name=f"die-with-{parent}", daemon=True).start()

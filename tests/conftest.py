@@ -66,7 +66,7 @@ def pytest_runtest_call(item):
     the reason (e.g. Ecos without libtbb.so.12), not failed: one clear line in the summary.
     tests/test_engines.py fails instead when the test extra is installed and an engine still
     does not load."""
-    from cosim.engines import EngineUnavailable
+    from cosim.fmu.engines import EngineUnavailable
 
     try:
         return (yield)
@@ -131,3 +131,22 @@ def assert_plotted(axes_data: list, min_points: int = 10) -> None:
         curves = [(x, y) for x, y in data if np.isfinite(x).sum() >= min_points and np.isfinite(y).sum() >= min_points
                   and np.nanmax(y) > np.nanmin(y)]
         assert curves, f"axes {i} shows no curve of {min_points} finite, varying points"
+
+
+def toml_value(value) -> str:
+    """A Python value (bool, int, float incl. nan/inf, str, list, dict) as a TOML value, for tests
+    that write system files and specs."""
+    import json
+    import math
+
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float) and not math.isfinite(value):
+        return "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
+    if isinstance(value, (int, float, str)):
+        return json.dumps(value)  # JSON numbers and strings are TOML ones
+    if isinstance(value, list):
+        return "[" + ", ".join(toml_value(v) for v in value) + "]"
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{json.dumps(str(k))} = {toml_value(v)}" for k, v in value.items()) + "}"
+    raise TypeError(value)

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from conftest import run_cli
-from cosim.catalog import catalog, summarize
+from cosim.compiler.catalog import catalog, summarize
 from cosim.compiler import build as build_module
 from cosim.compiler.build import build, build_model
 from cosim.compiler.library import Library

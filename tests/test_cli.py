@@ -59,7 +59,7 @@ def test_simulate_with_csv_input_and_plot(fmus, tmp_path):
     assert data["time"][-1] == pytest.approx(5.0)
     assert np.all(data["phi"][data["time"] <= 1.0] == 0.0)  # no torque before t = 1 s
     assert data["phi"][-1] > 0.01
-    # cosim.simulation.plot: one 7 in x 1.8 in subplot per signal at 120 dpi, each with its curve
+    # cosim.fmu.simulate.plot: one 7 in x 1.8 in subplot per signal at 120 dpi, each with its curve
     signals = len(data.dtype.names) - 1
     assert png_pixels(png).shape[:2] == (round(1.8 * 120) * signals, 7 * 120)
     assert line_pixels(png) >= 200 * signals, "the curves were not drawn"
@@ -100,7 +100,7 @@ def test_unknown_figure(tmp_path):
 
 @pytest.mark.needs_libcosim
 def test_run_and_export_ssp(tmp_path):
-    from cosim.engines import run_ssp_libcosim
+    from cosim.fmu.engines import run_ssp_libcosim
 
     system = ROOT / "cosim" / "systems" / "rider-p-control.toml"
     npy, ssp = tmp_path / "r.npy", tmp_path / "r.ssp"
@@ -255,7 +255,7 @@ def test_python_m_cosim_matrix_reports_errors_like_cosim_matrix(tmp_path):
     assert direct.stderr == verb.stderr and direct.stderr.startswith("cosim matrix: error: ")
 
 
-@pytest.mark.parametrize("module", ["cosim.analytic_cli", "cosim.matrix.cli"])
+@pytest.mark.parametrize("module", ["cosim.analytic.cli", "cosim.matrix.cli"])
 def test_cli_module_docstrings_describe_the_command_not_its_wiring(module):
     import importlib
 
@@ -264,7 +264,7 @@ def test_cli_module_docstrings_describe_the_command_not_its_wiring(module):
 
 
 def test_list_shortens_long_parameter_values_and_keeps_them_in_json():
-    from cosim.catalog import SHORT_VALUE
+    from cosim.compiler.catalog import SHORT_VALUE
 
     text = run_cli("list")
     assert text.returncode == 0, text.stderr
@@ -297,7 +297,7 @@ def test_list_json_gives_null_not_the_string_none():
 
 
 def test_shorten_cuts_to_the_limit_with_an_ellipsis():
-    from cosim.catalog import shorten
+    from cosim.compiler.catalog import shorten
 
     assert shorten("x" * 40) == "x" * 40
     assert shorten("y" * 41) == "y" * 37 + "..." and len(shorten("y" * 41)) == 40

@@ -136,9 +136,9 @@ def test_fmu_that_is_a_directory_is_named(tmp_path):
 
 
 def test_version_check_is_one_place():
-    """FMI 3 support will change one function: cosim.fmi.check_fmi_version."""
+    """FMI 3 support will change one function: cosim.fmu.access.check_fmi_version."""
     from cosim.errors import FMUError
-    from cosim.fmi import SUPPORTED_FMI_VERSIONS, check_fmi_version
+    from cosim.fmu.access import SUPPORTED_FMI_VERSIONS, check_fmi_version
 
     assert SUPPORTED_FMI_VERSIONS == ("2.0",)
     check_fmi_version(Path("x.fmu"), "2.0")

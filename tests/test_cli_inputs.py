@@ -144,7 +144,8 @@ def test_solver_fixed_step_size_is_applied(fmus, tmp_path):
 
 
 def test_unexpected_exception_is_one_line_internal_error_exit_70(monkeypatch, capsys):
-    from cosim import cli, info
+    from cosim import cli
+    from cosim.fmu import info
 
     def broken(*args, **kwargs):
         raise ZeroDivisionError("a bug\nover two lines")

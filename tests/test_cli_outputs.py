@@ -98,7 +98,7 @@ def test_unknown_plot_format_is_refused(fmus, tmp_path):
 def test_simulate_csv_is_not_left_half_written_under_final_name(fmus, tmp_path, monkeypatch):
     """The CSV is written to a hidden temporary name and renamed: a failure (or a kill) part-way
     leaves neither a partial file under the final name nor the temporary file."""
-    from cosim import simulation
+    from cosim.fmu import simulate as simulation
 
     result = simulation.simulate(fmus[MODEL], 1.0, 0.1)
     out = tmp_path / "r.csv"
@@ -116,7 +116,8 @@ def test_simulate_csv_is_not_left_half_written_under_final_name(fmus, tmp_path, 
 
 def test_plot_and_figure_json_are_written_atomically(fmus, tmp_path, monkeypatch):
     """Plots and the figures' JSON go through cosim.outputs.atomic_output as well."""
-    from cosim import outputs, simulation
+    from cosim import outputs
+    from cosim.fmu import simulate as simulation
 
     used = []
     original = outputs.atomic_output

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from cosim.compiler.build import build_model
-from cosim.cosimulation.convergence import BIKE, REFERENCE, convergence, format_rows
+from cosim.studies.convergence import BIKE, REFERENCE, convergence, format_rows
 
 ORDER_RANGE = (0.9, 1.1)  # observed order on the finest halving
 

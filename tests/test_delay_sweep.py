@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cosim.cosimulation.delay_sweep import MODEL, largest_stabilizable_p_tau, sweep
+from cosim.studies.delay_sweep import MODEL, largest_stabilizable_p_tau, sweep
 
 TAUS = [0.0, 0.04, 0.06, 0.08, 0.09, 0.1, 0.12, 0.3, 0.8]  # s; the boundary for k2 = 1 is near 0.088 s
 # Co-simulated growth rate vs largest real part of the Padé closed loop: 0.01 1/s plus 2 % (the

@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 
 from cosim.compiler.library import DEFAULT_LIBRARY, Library
-from cosim.engines import run_ecos, run_libcosim
-from cosim.twins import TWINS
-from cosim.fmi import FMU, set_continuous_states
-from cosim.simulation import simulate
-from cosim.validation import validate
+from cosim.fmu.engines import run_ecos, run_libcosim
+from cosim.analytic.twins import TWINS
+from cosim.fmu.access import FMU, set_continuous_states
+from cosim.fmu.simulate import simulate
+from cosim.fmu.validate import validate
 from reference import SELF_STABILIZING_DEFAULTS, simulate_self_stabilizing
 
 SELF = "Bicycle.Bicycles.SelfStabilizing"

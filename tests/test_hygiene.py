@@ -38,7 +38,7 @@ def _finished(process: subprocess.Popen) -> str:
 def test_fmu_extraction_folders_are_removed_at_exit(fmus, tmp_path):
     tmp = tmp_path / "tmp"
     out = _finished(_python(f"""
-        from cosim.fmi import FMU
+        from cosim.fmu.access import FMU
         a, b = FMU({str(fmus[MODEL])!r}), FMU({str(fmus["Bicycle.Rider.PadeDelay"])!r})
         print(a.unzipdir); print(b.unzipdir)
     """, tmp))
@@ -54,7 +54,7 @@ def test_killed_process_leaves_one_extraction_folder_that_the_next_one_removes(f
     tmp = tmp_path / "tmp"
     process = _python(f"""
         import sys, time
-        from cosim.fmi import FMU
+        from cosim.fmu.access import FMU
         FMU({str(fmus[MODEL])!r}); FMU({str(fmus["Bicycle.Rider.PadeDelay"])!r})
         print("extracted", flush=True)
         time.sleep(600)
@@ -71,7 +71,7 @@ def test_killed_process_leaves_one_extraction_folder_that_the_next_one_removes(f
     # the next process that extracts an FMU removes what the ended one left; a live one's stays
     alive = tmp / "cosim-fmu-1-alive"  # pid 1 (init) is always running
     alive.mkdir()
-    _finished(_python(f"from cosim.fmi import FMU; FMU({str(fmus[MODEL])!r})", tmp))
+    _finished(_python(f"from cosim.fmu.access import FMU; FMU({str(fmus[MODEL])!r})", tmp))
     assert list(tmp.iterdir()) == [alive]
 
 
@@ -81,7 +81,7 @@ def test_forked_child_does_not_remove_its_parents_extraction_folder(fmus, tmp_pa
     tmp = tmp_path / "tmp"
     out = _finished(_python(f"""
         import os, sys
-        from cosim.fmi import FMU
+        from cosim.fmu.access import FMU
         mine = FMU({str(fmus[MODEL])!r}).unzipdir
         child = os.fork()
         if child == 0:

@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import toml_value
 from cosim.matrix import classify, expr
 from cosim.matrix.spec import SpecError, load_spec, spec_from_dict
 from cosim.matrix.store import ResultStore, read_records
@@ -62,25 +63,13 @@ def _write_spec(path: Path, studies: list[dict], matrix: dict | None = None) -> 
     """A spec file (TOML written from dicts through json-compatible inline tables)."""
     lines = ["[matrix]"]
     for k, v in {"name": path.stem, **(matrix or {})}.items():
-        lines.append(f"{k} = {_toml(v)}")
+        lines.append(f"{k} = {toml_value(v)}")
     for study in studies:
         lines.append("[[study]]")
         for k, v in study.items():
-            lines.append(f"{json.dumps(k)} = {_toml(v)}")
+            lines.append(f"{json.dumps(k)} = {toml_value(v)}")
     path.write_text("\n".join(lines) + "\n")
     return path
-
-
-def _toml(v) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, (int, float, str)):
-        return json.dumps(v)
-    if isinstance(v, list):
-        return "[" + ", ".join(_toml(x) for x in v) + "]"
-    if isinstance(v, dict):
-        return "{" + ", ".join(f"{json.dumps(k)} = {_toml(x)}" for k, x in v.items()) + "}"
-    raise TypeError(v)
 
 
 # --------------------------------------------------------------------------- expressions

@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import ROOT, run_cli
+from conftest import ROOT, run_cli, toml_value
 from cosim.matrix import classify, expr
 from cosim.matrix.spec import MAX_CASES, SpecError, load_spec, spec_from_dict
 from cosim.matrix.store import read_records
@@ -29,23 +29,11 @@ from cosim.matrix.store import read_records
 FAST = {"stop": 2.0}
 
 
-def _toml(v) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, (int, float, str)):
-        return json.dumps(v)
-    if isinstance(v, list):
-        return "[" + ", ".join(_toml(x) for x in v) + "]"
-    if isinstance(v, dict):
-        return "{" + ", ".join(f"{json.dumps(k)} = {_toml(x)}" for k, x in v.items()) + "}"
-    raise TypeError(v)
-
-
 def _write_spec(path: Path, studies: list[dict], matrix: dict | None = None) -> Path:
-    lines = ["[matrix]"] + [f"{k} = {_toml(v)}" for k, v in {"name": path.stem, **(matrix or {})}.items()]
+    lines = ["[matrix]"] + [f"{k} = {toml_value(v)}" for k, v in {"name": path.stem, **(matrix or {})}.items()]
     for study in studies:
         lines.append("[[study]]")
-        lines += [f"{json.dumps(k)} = {_toml(v)}" for k, v in study.items()]
+        lines += [f"{json.dumps(k)} = {toml_value(v)}" for k, v in study.items()]
     path.write_text("\n".join(lines) + "\n")
     return path
 
@@ -613,7 +601,7 @@ def test_bad_spec_is_one_message_naming_file_and_key(tmp_path, document, message
     assert text.startswith(str(path)) and message in text and "\n" not in text, text
 
 
-def _write_toml(path: Path, document: dict) -> Path:
+def _writetoml_value(path: Path, document: dict) -> Path:
     """A TOML document from nested dicts (inline tables; inf/nan as TOML floats)."""
     def value(v):
         if isinstance(v, float) and not math.isfinite(v):
@@ -622,7 +610,7 @@ def _write_toml(path: Path, document: dict) -> Path:
             return "{" + ", ".join(f"{json.dumps(k)} = {value(x)}" for k, x in v.items()) + "}"
         if isinstance(v, list):
             return "[" + ", ".join(value(x) for x in v) + "]"
-        return _toml(v)
+        return toml_value(v)
     lines = []
     for key, v in document.items():
         lines.append(f"{json.dumps(key)} = {value(v)}")
@@ -634,7 +622,7 @@ def _write_toml(path: Path, document: dict) -> Path:
                                   "study-name-path"])
 def test_bad_spec_file_is_one_message_on_the_command_line(tmp_path, name):
     document, message = BAD_SPECS[name]
-    path = _write_toml(tmp_path / "bad.toml", document)
+    path = _writetoml_value(tmp_path / "bad.toml", document)
     result = _matrix(str(path), "-o", str(tmp_path / "out"))
     assert result.returncode == 2
     lines = result.stderr.strip().splitlines()

@@ -53,7 +53,7 @@ def test_one_class_per_file_with_within():
 
 def test_every_parameter_has_unit_and_description():
     """MSL style: every top-level parameter of every model carries an SI unit and a description."""
-    from cosim.catalog import summarize
+    from cosim.compiler.catalog import summarize
 
     for entry in LIBRARY.models():
         for p in summarize(entry.name, LIBRARY).parameters:

@@ -1,5 +1,5 @@
 """The simple bicycle models of Åström, Klein & Lennartsson (2005) as FMUs, against their analytic
-twins (:mod:`cosim.twins`, built on :mod:`cosim.analytic.simple`).
+twins (:mod:`cosim.analytic.twins`, built on :mod:`cosim.analytic.simple`).
 
 * each simple bicycle is exported and has a twin whose parameters, inputs and outputs are the FMU's;
 * short simulations in Co-Simulation and Model Exchange equal the exact (matrix exponential)
@@ -27,10 +27,10 @@ from scipy.linalg import expm
 
 from conftest import run_cli
 from cosim.analytic import simple
-from cosim.compare import minimal_zpk, root_set_error as root_error
-from cosim.linearize import linearize
-from cosim.simulation import simulate
-from cosim.twins import TWINS, analytic_system
+from cosim.analytic.compare import minimal_zpk, root_set_error as root_error
+from cosim.fmu.linearize import linearize
+from cosim.fmu.simulate import simulate
+from cosim.analytic.twins import TWINS, analytic_system
 
 PKG = "Bicycle.Bicycles."
 

@@ -97,7 +97,7 @@ def test_component_cleanup_after_failed_step_follows_fmi_state_machine(fmus, sta
 
 
 def test_physical_cause_names_roll_steer_and_residual():
-    from cosim.simulation import physical_cause
+    from cosim.fmu.simulate import physical_cause
 
     assert physical_cause({"phi": 0.1, "delta": 0.2}) is None
     text = physical_cause({"bike.phi": 1.55, "bike.delta": 0.3})

@@ -8,7 +8,7 @@ Tolerances (stated per test):
 * calculated parameters M, C1, K0, K2 of the benchmark vs the published 14-decimal values:
   rtol 1e-12, atol 1e-13;
 * FMU state matrices vs the analytic ones: rtol 1e-12, atol 1e-12 (scaled by the matrix norm);
-* FMU eigenvalues vs analytic (``cosim.compare.root_set_error``, relative per root): 1e-10 for
+* FMU eigenvalues vs analytic (``cosim.analytic.compare.root_set_error``, relative per root): 1e-10 for
   the benchmark, 1e-9 for the Astrom sets and for random bicycles;
 * weave and capsize speeds by root finding on FMU linearizations vs published 13-decimal
   values: relative 1e-11 (>= 11 significant digits), vs the analytic model 1e-11.
@@ -23,11 +23,11 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from conftest import assert_plotted, png_pixels
-from cosim import whipple_params as WP
+from cosim.fmu import stability as WP
 from cosim.analytic import parameters as P
 from cosim.analytic import whipple as W
-from cosim.compare import root_set_error
-from cosim.fmi import FMU
+from cosim.analytic.compare import root_set_error
+from cosim.fmu.access import FMU
 
 MODEL = "Bicycle.Bicycles.WhippleLinear"
 

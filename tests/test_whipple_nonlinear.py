@@ -33,11 +33,11 @@ import pytest
 from conftest import assert_plotted, png_pixels
 from cosim.analytic import whipple as W
 from cosim.analytic.parameters import load_parameters
-from cosim.compare import root_set_error
-from cosim.fmi import FMU
-from cosim.linearize import linearize
+from cosim.analytic.compare import root_set_error
+from cosim.fmu.access import FMU
+from cosim.fmu.linearize import linearize
 from cosim.nonlinear.model import MODEL, RIDER_MODEL, Bicycle, speed_parameters
-from cosim.simulation import simulate
+from cosim.fmu.simulate import simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 SETS = ("benchmark", "astrom2005", "astrom2005-riderless")

@@ -1,6 +1,9 @@
-"""Closed-form models from Åström, Klein & Lennartsson, "Bicycle Dynamics and Control" (2005).
+"""Closed-form models, independent of the Modelica: the simple second-order models of Åström,
+Klein & Lennartsson, "Bicycle Dynamics and Control" (2005), eqs (1)-(23), (27)
+(:mod:`.simple`); the linearized Whipple bicycle of Meijaard et al. (2007) (:mod:`.whipple`) and
+its parameter sets (:mod:`.parameters`); the analytic twins of the exported models
+(:mod:`.twins`) and their comparison with FMU linearizations (:mod:`.compare`); the
+``cosim analytic`` command (:mod:`.cli`).
 
-See :mod:`cosim.analytic.simple` for the simple second-order models (eqs (1)-(23), (27)).
+Nothing is imported here, so that ``cosim`` commands load python-control only when they use it.
 """
-from cosim.analytic.simple import *  # noqa: F401,F403
-from cosim.analytic.simple import __all__  # noqa: F401

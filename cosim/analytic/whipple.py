@@ -30,7 +30,7 @@ from collections.abc import Mapping
 import numpy as np
 from scipy.optimize import brentq
 
-from .parameters import validate_parameters
+from cosim.analytic.parameters import validate_parameters
 
 __all__ = [
     "STATES",

@@ -27,18 +27,18 @@ from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
-from .. import __version__
-from ..errors import BuildError, CosimError, ModelicaError, OutputError, ParameterError
-from ..outputs import check_output_folder
-from ..processes import die_with_parent
-from . import fmu as fmu_files
-from .codegen import RUNTIME_DIR, casadi_functions, write_sources
-from .description import describe
-from .flatten import flatten
-from .fmu import MANIFEST, compile_binary, pack, platform_folder, read_manifest
-from .library import Library, load_library
-from .model_description import model_description_xml
-from .ode import make_explicit
+from cosim import __version__
+from cosim.errors import BuildError, CosimError, ModelicaError, OutputError, ParameterError
+from cosim.outputs import check_output_folder
+from cosim.processes import die_with_parent
+from cosim.compiler import fmu as fmu_files
+from cosim.compiler.codegen import RUNTIME_DIR, casadi_functions, write_sources
+from cosim.compiler.description import describe
+from cosim.compiler.flatten import flatten
+from cosim.compiler.fmu import MANIFEST, compile_binary, pack, platform_folder, read_manifest
+from cosim.compiler.library import Library, load_library
+from cosim.compiler.model_description import model_description_xml
+from cosim.compiler.ode import make_explicit
 
 # Where `cosim build` and every command that builds on demand put FMUs: fmus/ of the working
 # directory (never the installed package), or the folder named by COSIM_FMU_DIR (the tests point
@@ -323,8 +323,9 @@ def _stop_pool(pool: ProcessPoolExecutor) -> None:
             process.terminate()
     for process in processes:
         process.join(timeout=5)
-        if process.is_alive():
+        if process.is_alive():  # its cleanup did not finish in time (a loaded machine)
             process.kill()
+            process.join()  # SIGKILL cannot be blocked: after this no worker holds a lock
 
 
 def _run_parallel(tasks: list[tuple], jobs: int) -> list:

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import casadi as ca
 
-from .description import ModelInfo
-from .ode import ExplicitModel
+from cosim.compiler.description import ModelInfo
+from cosim.compiler.ode import ExplicitModel
 
 RUNTIME_DIR = Path(__file__).resolve().parents[1] / "runtime"
 RUNTIME_SOURCES = ("fmi2_runtime.c", "cosim_model.h")

@@ -10,9 +10,9 @@ from dataclasses import dataclass, field
 
 import casadi as ca
 
-from .flatten import Declaration, FlatModel
-from .library import ModelEntry
-from .ode import ExplicitModel
+from cosim.compiler.flatten import Declaration, FlatModel
+from cosim.compiler.library import ModelEntry
+from cosim.compiler.ode import ExplicitModel
 
 FIXED_STEP_PARAMETER = "solver.fixedStepSize"
 DEFAULT_TOLERANCE = 1e-6

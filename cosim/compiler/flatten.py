@@ -14,8 +14,8 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
-from ..errors import ModelicaError
-from .library import Library
+from cosim.errors import ModelicaError
+from cosim.compiler.library import Library
 
 BUILTIN = ("Real", "Integer", "Boolean", "String")
 
@@ -510,7 +510,7 @@ def flatten(library: Library, model_name: str) -> FlatModel:
     from pymoca.backends.casadi._options import _merge_default_options
     from pymoca.backends.casadi.generator import Generator, GeneratorWalker
 
-    from . import pymoca_patches
+    from cosim.compiler import pymoca_patches
 
     pymoca_patches.apply()
     library.entry(model_name)

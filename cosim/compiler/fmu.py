@@ -9,7 +9,7 @@ import tempfile
 import zipfile
 from pathlib import Path
 
-from ..errors import BuildError, OutputError
+from cosim.errors import BuildError, OutputError
 
 CFLAGS = ["-std=c99", "-fPIC", "-shared", "-fvisibility=hidden", "-Wall"]
 # gcc -O2 on the straight-line code CasADi generates for large models (the nonlinear Whipple

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
 
-from ..errors import ModelicaError, UnknownModelError
+from cosim.errors import ModelicaError, UnknownModelError
 
 
 def _bundled_library() -> Path:

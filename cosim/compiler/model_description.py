@@ -3,9 +3,9 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 
-from .codegen import SOURCE_FILES
-from .description import ModelInfo
-from .units import base_units
+from cosim.compiler.codegen import SOURCE_FILES
+from cosim.compiler.description import ModelInfo
+from cosim.compiler.units import base_units
 
 LOG_CATEGORIES = {
     "logStatusError": "Errors",

@@ -15,8 +15,8 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from ..errors import ModelStructureError, ParameterError
-from .flatten import FlatModel
+from cosim.errors import ModelStructureError, ParameterError
+from cosim.compiler.flatten import FlatModel
 
 
 @dataclass

@@ -12,8 +12,8 @@ from collections import deque
 import numpy as np
 from scipy.linalg import expm
 
-from ..errors import ParameterError
-from .registry import Block, LinearModel
+from cosim.errors import ParameterError
+from cosim.cosimulation.registry import Block, LinearModel
 
 
 def _positive(name: str, value: float) -> float:

@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 from fmpy.fmi1 import FMICallException
 
-from ..errors import SimulationError
+from cosim.errors import SimulationError
 
 
 class Component:
@@ -137,7 +137,7 @@ class FMUComponent(Component):
     """
 
     def __init__(self, name: str, path: str | Path, parameters: dict | None = None, tolerance: float | None = None):
-        from ..fmi import FMU
+        from cosim.fmu.access import FMU
 
         super().__init__(name)
         self.fmu = FMU(path)

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import ParameterError
-from .blocks import Affine, Linear
+from cosim.errors import ParameterError
+from cosim.cosimulation.blocks import Affine, Linear
 
 
 class Proportional(Affine):
@@ -116,8 +116,8 @@ def lqr_gains(params: str | dict, v: float, q_roll: float = 10.0, q_steer: float
     """
     import control
 
-    from ..analytic.parameters import load_parameters
-    from ..analytic.whipple import state_matrices
+    from cosim.analytic.parameters import load_parameters
+    from cosim.analytic.whipple import state_matrices
 
     try:
         p = load_parameters(params) if isinstance(params, str) else params

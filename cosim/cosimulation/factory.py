@@ -3,10 +3,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..errors import FMUError, ParameterError
-from . import registry
-from .component import Component, FMUComponent
-from .system import SystemError_, SystemSpec, load_system
+from cosim.errors import FMUError, ParameterError
+from cosim.cosimulation import registry
+from cosim.cosimulation.component import Component, FMUComponent
+from cosim.cosimulation.system import SystemError_, SystemSpec, load_system
 
 
 def python_block(name: str, block: str, parameters: dict, where: str = "system") -> Component:
@@ -25,9 +25,9 @@ def python_block(name: str, block: str, parameters: dict, where: str = "system")
 
 def create_components(spec: SystemSpec, fmu_dir: str | Path | None = None) -> dict[str, Component]:
     """Component objects for every entry of the system (models are built into ``fmu_dir``)."""
-    from ..compiler.build import DEFAULT_OUTPUT, build_model
-    from ..compiler.library import load_library
-    from ..parameters import check, declarations
+    from cosim.compiler.build import DEFAULT_OUTPUT, build_model
+    from cosim.compiler.library import load_library
+    from cosim.fmu.parameters import check, declarations
 
     where = str(spec.path or spec.name)
     created: dict[str, Component] = {}
@@ -81,7 +81,7 @@ def run_system(path_or_spec, fmu_dir: str | Path | None = None):
     RunFailed
         If an FMU failed a step; ``exc.result`` holds the rows up to the failure.
     """
-    from .master import run_components
+    from cosim.cosimulation.master import run_components
 
     spec = path_or_spec if isinstance(path_or_spec, SystemSpec) else load_system(path_or_spec)
     return run_components(spec, create_components(spec, fmu_dir))

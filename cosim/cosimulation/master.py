@@ -10,9 +10,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import SimulationError
-from .component import Component, StepFailed
-from .system import MAX_STEPS, Connection, SystemError_, SystemSpec
+from cosim.errors import SimulationError
+from cosim.cosimulation.component import Component, StepFailed
+from cosim.cosimulation.system import MAX_STEPS, Connection, SystemError_, SystemSpec
 
 
 @dataclass
@@ -328,8 +328,8 @@ class System:
 
     def _failed_outcome(self, component: str, t: float, text: str) -> Outcome:
         """The outcome of a run an FMU could not continue, naming the physical cause if the last
-        communicated outputs show one (see :func:`cosim.simulation.physical_cause`)."""
-        from ..simulation import physical_cause
+        communicated outputs show one (see :func:`cosim.fmu.simulate.physical_cause`)."""
+        from cosim.fmu.simulate import physical_cause
 
         values = self._last_values()
         values.update(getattr(self.components[component], "last_outputs", {}) or {})  # nearer the failure
@@ -343,8 +343,8 @@ class System:
         """Step in C when every component is an FMU; None where the Python loop must do it."""
         from ctypes import POINTER, byref, c_double, c_int, c_long, c_uint
 
-        from .component import FMUComponent
-        from .fastloop import FastComponent, address, library
+        from cosim.cosimulation.component import FMUComponent
+        from cosim.cosimulation.fastloop import FastComponent, address, library
 
         lib = library()
         if lib is None or not all(isinstance(c, FMUComponent) for c in self.components.values()):

@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import dataclasses
 
-from ..errors import ParameterError
-from . import registry
-from .system import ComponentSpec, SystemError_, SystemSpec
+from cosim.errors import ParameterError
+from cosim.cosimulation import registry
+from cosim.cosimulation.system import ComponentSpec, SystemError_, SystemSpec
 
 
 def with_twins(spec: SystemSpec) -> tuple[SystemSpec, list[str]]:

@@ -35,8 +35,8 @@ from typing import ClassVar
 
 import numpy as np
 
-from ..errors import ParameterError
-from .component import Component
+from cosim.errors import ParameterError
+from cosim.cosimulation.component import Component
 
 #: Registered blocks by name (the ``python = "NAME"`` of a system file).
 BLOCKS: dict[str, type[Block]] = {}
@@ -185,7 +185,7 @@ def _argument(key: str, value, annotation: str):
 
 def _load() -> dict[str, type[Block]]:
     """The registry with the built-in blocks imported (they register when their module loads)."""
-    from . import blocks, controllers  # noqa: F401
+    from cosim.cosimulation import blocks, controllers  # noqa: F401
 
     return BLOCKS
 

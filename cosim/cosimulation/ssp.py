@@ -10,8 +10,8 @@ import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
 
-from .component import FMUComponent
-from .system import SystemError_, SystemSpec
+from cosim.cosimulation.component import FMUComponent
+from cosim.cosimulation.system import SystemError_, SystemSpec
 
 NS = {
     "ssd": "http://ssp-standard.org/SSP1/SystemStructureDescription",
@@ -39,7 +39,7 @@ def _literal(value, kind: str) -> str:
 
 def system_structure(spec: SystemSpec, fmus: dict[str, Path]) -> bytes:
     """The SystemStructure.ssd text; ``fmus`` maps component names to their FMU files."""
-    from ..fmi import read_fmu
+    from cosim.fmu.access import read_fmu
 
     # libcosim's parser wants the literal prefixes ssd: ssc: ssv: osp: declared on the root.
     root = ET.Element("ssd:SystemStructureDescription", {
@@ -99,10 +99,10 @@ def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | 
     SystemError_
         If a Python block has no Modelica twin, or the system is not fixed-step Jacobi.
     """
-    from ..outputs import atomic_output, check_output
-    from .factory import create_components
-    from .master import step_grid
-    from .modelica_twins import with_twins
+    from cosim.outputs import atomic_output, check_output
+    from cosim.cosimulation.factory import create_components
+    from cosim.cosimulation.master import step_grid
+    from cosim.cosimulation.modelica_twins import with_twins
 
     destination = check_output(destination, "SSP file")  # before anything is built
     spec, notes = with_twins(spec)
@@ -116,7 +116,7 @@ def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | 
                            "but the OSP FixedStepAlgorithm of an SSP cannot: choose a step that divides it")
     components = create_components(spec, fmu_dir)  # builds models, checks parameters
     try:
-        from .master import assemble
+        from cosim.cosimulation.master import assemble
 
         assemble(spec, components)  # checks the wiring before anything is written
         fmus = {name: Path(comp.fmu.path) for name, comp in components.items() if isinstance(comp, FMUComponent)}

@@ -31,7 +31,7 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import ParameterError
+from cosim.errors import ParameterError
 
 ALGORITHMS = ("jacobi", "gauss-seidel")
 # When outputs are recorded: right after the step (libcosim's observers) or after the connected
@@ -334,7 +334,7 @@ def _component(problems: _Problems, name: str, entry, path: Path | None) -> Comp
     if kind == "fmu" and path is not None and not Path(source).is_absolute():
         source = str((path.parent / source).resolve())
     if parameter_set is not None:
-        from ..whipple_params import parameters_for_model
+        from cosim.fmu.stability import parameters_for_model
 
         if path is not None and (parameter_set.endswith(".toml") or "/" in parameter_set):
             parameter_set = str((path.parent / parameter_set).resolve())

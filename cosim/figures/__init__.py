@@ -9,7 +9,7 @@ import importlib
 import pkgutil
 from pathlib import Path
 
-from ..errors import ParameterError
+from cosim.errors import ParameterError
 
 
 def registry() -> dict:
@@ -30,13 +30,13 @@ def make_figures(names: list[str], output: str | Path) -> list[Path]:
     unknown = [n for n in names if n not in figures]
     if unknown:
         raise ParameterError(f"unknown figure(s) {', '.join(unknown)}; available: {', '.join(figures)}")
-    from ..outputs import check_output_folder
+    from cosim.outputs import check_output_folder
 
     output = check_output_folder(output, "figures folder")  # before any figure is computed
     try:
         output.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        from ..errors import OutputError
+        from cosim.errors import OutputError
 
         raise OutputError(f"figures folder '{output}': {exc.strerror or exc}") from None
     written = []
@@ -49,7 +49,7 @@ def save(fig, path: Path) -> Path:
     """Save a matplotlib figure (format by suffix) atomically and close it."""
     import matplotlib.pyplot as plt
 
-    from ..outputs import atomic_output
+    from cosim.outputs import atomic_output
 
     try:
         with atomic_output(path, "figure") as tmp:

@@ -19,8 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..outputs import write_text
-from . import pyplot, save
+from cosim.outputs import write_text
+from cosim.figures import pyplot, save
 
 NAME = "fig10"
 TITLE = "Limit cycle of the nonlinear riderless bicycle below the weave speed (Whipple FMU, astrom2005-riderless)"
@@ -35,10 +35,10 @@ SETTLE = 60.0  # s of integration before the Newton iteration for the orbit
 
 def compute(fmu=None) -> dict:
     """Both simulations, the weave speed and the periodic orbit, all from the FMU."""
-    from ..nonlinear.continuation import SteadyTurns
-    from ..nonlinear.model import MODEL, Bicycle, build, parameters, speed_parameters
-    from ..nonlinear.periodic import periodic_orbit, settle
-    from ..simulation import simulate
+    from cosim.nonlinear.continuation import SteadyTurns
+    from cosim.nonlinear.model import MODEL, Bicycle, build, parameters, speed_parameters
+    from cosim.nonlinear.periodic import periodic_orbit, settle
+    from cosim.fmu.simulate import simulate
 
     fmu = fmu or build(MODEL)
     p = parameters(PARAMS)

@@ -18,7 +18,7 @@ moment -N_R*R*phi. In the linear model this is exactly a roll-torque feedback
     T_phi = -k*phi,   k = g*mT*(1 - xT/w)*R,   i.e.  K0[0,0] -> mT*zT + mT*(1 - xT/w)*R,
 
 applied through the FMU's roll-torque input ``T_phi`` (``A_cl = A - k*B[:, T_phi]*e_phi'``,
-:func:`cosim.whipple_params.closed_loop`). It is the paper's eq (27) argument (the gravity term
+:func:`cosim.fmu.stability.closed_loop`). It is the paper's eq (27) argument (the gravity term
 m*g*h of the inverted pendulum becomes m*g*(h - R)) for a roller on the rear wheel only:
 with rollers on both wheels, N_R + N_F = m*g and the correction is exactly eq (27)'s.
 Neglected (all of higher order in R/w or absent from (27)): the change of the roll axis (it runs
@@ -40,7 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import pyplot, save
+from cosim.figures import pyplot, save
 
 NAME = "fig15"
 TITLE = ("Adapted bicycle with crowned rear roller R = 0.3 / 0.4 m: real parts of the poles vs speed; roller "
@@ -56,8 +56,8 @@ SPEEDS = np.linspace(-10.0, 15.0, 201)
 
 def adapted_parameters() -> dict:
     """The adapted bicycle (Meijaard symbols, validated)."""
-    from ..analytic.parameters import BUNDLED_WAIVERS, validate_parameters
-    from ..whipple_params import parameters_for_model
+    from cosim.analytic.parameters import BUNDLED_WAIVERS, validate_parameters
+    from cosim.fmu.stability import parameters_for_model
 
     p = parameters_for_model(BASE)
     p["mF"] = FRONT_WHEEL_MASS
@@ -79,7 +79,7 @@ def roller_stiffness(params: dict, radius: float) -> float:
 
 def compute(fmu=None):
     """Per roller radius: eigenvalues over SPEEDS, weave speed, capsize speed (None: none below 200 m/s)."""
-    from .. import whipple_params as WP
+    from cosim.fmu import stability as WP
 
     fmu = fmu or WP.whipple_fmu()
     params = adapted_parameters()
@@ -95,7 +95,7 @@ def compute(fmu=None):
 
 
 def make(output: Path) -> list[Path]:
-    from .fig9 import plot_real_parts
+    from cosim.figures.fig9 import plot_real_parts
 
     plt = pyplot()
     params, results = compute()

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import pyplot, save
+from cosim.figures import pyplot, save
 
 NAME = "fig5"
 TITLE = "Constant positive steer torque: path deviation, roll and steer angle"
@@ -19,8 +19,8 @@ SPEED, TORQUE, STOP = 4.0, 1.0, 6.0  # m/s, N.m, s
 
 def simulate_fig5(fmu: Path | None = None) -> np.ndarray:
     """eta, phi and delta [rad, m] of the FMU for the constant torque, sampled every 10 ms."""
-    from ..compiler.build import DEFAULT_OUTPUT, build_model
-    from ..simulation import simulate
+    from cosim.compiler.build import DEFAULT_OUTPUT, build_model
+    from cosim.fmu.simulate import simulate
 
     fmu = fmu or build_model(MODEL, DEFAULT_OUTPUT).fmu
     return simulate(fmu, STOP, 0.01, "cs", {"V": SPEED, "T": TORQUE}, outputs=["eta", "phi", "delta"])

@@ -19,8 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..outputs import write_text
-from . import pyplot, save
+from cosim.outputs import write_text
+from cosim.figures import pyplot, save
 
 NAME = "fig7"
 TITLE = "Steady turns of the nonlinear bicycle with rider over speed, with stability (Whipple FMU, astrom2005)"
@@ -48,9 +48,9 @@ def _on_curve(point, curve, tol: float = 5e-3) -> bool:
 
 
 def compute(fmu=None) -> dict:
-    from ..analytic import whipple as W
-    from ..nonlinear.continuation import Branch, SteadyTurns
-    from ..nonlinear.model import MODEL, Bicycle, build, parameters
+    from cosim.analytic import whipple as W
+    from cosim.nonlinear.continuation import Branch, SteadyTurns
+    from cosim.nonlinear.model import MODEL, Bicycle, build, parameters
 
     fmu = fmu or build(MODEL)
     p = parameters(PARAMS)

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import pyplot, save
+from cosim.figures import pyplot, save
 
 NAME = "fig8"
 TITLE = "Root locus over speed 0-15 m/s, bicycle with rider (astrom2005), FMU linearizations of WhippleLinear"
@@ -26,7 +26,7 @@ SPEEDS = np.linspace(0.0, 15.0, 151)
 
 def compute(fmu=None):
     """Speeds, eigenvalues (len(SPEEDS) x 4), weave and capsize speeds, all from the FMU."""
-    from .. import whipple_params as WP
+    from cosim.fmu import stability as WP
 
     fmu, params, ev, vw, vc = WP.speed_sweep(fmu, PARAMS, SPEEDS)
     marks = {v: WP.eigenvalues(fmu, params, v) for v in (vw, vc) if v is not None}

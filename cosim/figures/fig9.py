@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import pyplot, save
+from cosim.figures import pyplot, save
 
 NAME = "fig9"
 TITLE = "Real parts of the poles vs speed -10..15 m/s (negative: rear-steered), bicycle with rider, FMU linearizations"
@@ -25,7 +25,7 @@ SPEEDS = np.linspace(-10.0, 15.0, 201)
 
 def plot_real_parts(ax, speeds, ev, vw=None, vc=None, shade=True, no_capsize_note: str | None = None) -> None:
     """The paper's style: dot = real pole, o = complex pole; red = unstable, blue = stable."""
-    from ..whipple_params import oscillatory
+    from cosim.fmu.stability import oscillatory
 
     vv = np.repeat(speeds, ev.shape[1])
     e = ev.ravel()
@@ -55,7 +55,7 @@ def plot_real_parts(ax, speeds, ev, vw=None, vc=None, shade=True, no_capsize_not
 
 
 def compute(fmu=None):
-    from .. import whipple_params as WP
+    from cosim.fmu import stability as WP
 
     _, _, ev, vw, vc = WP.speed_sweep(fmu, PARAMS, SPEEDS)
     return SPEEDS, ev, vw, vc

@@ -97,12 +97,12 @@ __all__ = ["load_spec", "run_matrix"]
 
 
 def load_spec(path_or_name):
-    from .spec import load_spec as _load
+    from cosim.matrix.spec import load_spec as _load
 
     return _load(path_or_name)
 
 
 def run_matrix(*args, **kwargs):
-    from .runner import run_matrix as _run
+    from cosim.matrix.runner import run_matrix as _run
 
     return _run(*args, **kwargs)

@@ -1,6 +1,6 @@
 """``python -m cosim.matrix SPEC [options]``: the ``cosim matrix`` command on its own."""
 import sys
 
-from .cli import main
+from cosim.matrix.cli import main
 
 sys.exit(main())

@@ -23,8 +23,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from . import expr
-from .classify import UNSTABLE
+from cosim.matrix import expr
+from cosim.matrix.classify import UNSTABLE
 
 
 @dataclass
@@ -75,7 +75,7 @@ def _agreement(study, pairs) -> CheckResult:
 def _stable_interval(study, pairs, check, fmu_paths) -> CheckResult:
     from scipy.optimize import brentq
 
-    from .predict import max_re_at
+    from cosim.matrix.predict import max_re_at
 
     axis = check["axis"]
     lo, hi = (float(v) for v in check["expected"])

@@ -7,7 +7,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..cli import library_option, positive_int
+from cosim.cli import library_option, positive_int
 
 __all__ = ["add_parser", "run", "main"]
 
@@ -23,7 +23,7 @@ Bundled specs (give the name instead of a file): {bundled}
 
 
 def _bundled() -> list[str]:
-    from .spec import bundled_specs
+    from cosim.matrix.spec import bundled_specs
 
     return bundled_specs()
 
@@ -43,7 +43,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 
 def _arguments(p: argparse.ArgumentParser) -> None:
-    from .spec import MAX_CASES
+    from cosim.matrix.spec import MAX_CASES
 
     p.add_argument("spec", help="matrix spec (TOML file) or the name of a bundled spec")
     p.add_argument("--workers", type=positive_int, default=None, metavar="N",
@@ -80,7 +80,7 @@ def run(args) -> int:
     """
     import json
 
-    from .runner import run_matrix
+    from cosim.matrix.runner import run_matrix
 
     try:
         result = run_matrix(args.spec, args.output, workers=args.workers, scheduler=args.scheduler,
@@ -107,6 +107,6 @@ def run(args) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     """``python -m cosim.matrix ARGS``: ``cosim matrix ARGS`` (one error handling for both)."""
-    from ..cli import main as cosim_main
+    from cosim.cli import main as cosim_main
 
     return cosim_main(["matrix", *(sys.argv[1:] if argv is None else argv)])

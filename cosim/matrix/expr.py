@@ -17,7 +17,7 @@ import math
 import operator
 from functools import lru_cache
 
-from ..errors import ParameterError
+from cosim.errors import ParameterError
 
 
 class ExpressionError(ParameterError):
@@ -25,15 +25,15 @@ class ExpressionError(ParameterError):
 
 
 def _weave_speed(parameter_set: str) -> float:
-    from ..analytic.parameters import load_parameters
-    from ..analytic.whipple import weave_speed
+    from cosim.analytic.parameters import load_parameters
+    from cosim.analytic.whipple import weave_speed
 
     return float(weave_speed(load_parameters(parameter_set)))
 
 
 def _capsize_speed(parameter_set: str) -> float:
-    from ..analytic.parameters import load_parameters
-    from ..analytic.whipple import capsize_speed
+    from cosim.analytic.parameters import load_parameters
+    from cosim.analytic.whipple import capsize_speed
 
     return float(capsize_speed(load_parameters(parameter_set)))
 

@@ -29,8 +29,8 @@ import uuid
 from collections import deque
 from pathlib import Path
 
-from ..errors import CosimError
-from .worker import failed_record, read_message, write_message
+from cosim.errors import CosimError
+from cosim.matrix.worker import failed_record, read_message, write_message
 
 _PACKAGE_ROOT = str(Path(__file__).resolve().parents[2])
 
@@ -335,7 +335,7 @@ def connect(address: str, timeout: float = SCHEDULER_TIMEOUT):
     try:
         from distributed import Client
     except ImportError:  # the optional extra `cluster`
-        from ..errors import MissingExtraError
+        from cosim.errors import MissingExtraError
 
         raise MissingExtraError("--scheduler", "dask.distributed", "cluster") from None
     _check_address(address)  # a malformed one would leave a half-made Client that hangs at exit

@@ -2,13 +2,13 @@
 
 Every component gets a linear model (:class:`LTI`):
 
-* bicycles: the analytic twins of :mod:`cosim.twins` (the paper's equations) and, for
+* bicycles: the analytic twins of :mod:`cosim.analytic.twins` (the paper's equations) and, for
   ``Bicycle.Bicycles.WhippleLinear``, :func:`cosim.analytic.whipple.state_matrices` (Meijaard et al.
   2007) with the heading and lateral position added;
 * Python blocks and the FMUs of their Modelica twins: the linear model each block declares
   (:meth:`cosim.cosimulation.registry.Block.linear`, read from the block registry); an exact
   ``TransportDelay`` declares python-control's Pade approximation of order ``pade_order``;
-* any other FMU: its numerical linearization (:func:`cosim.linearize.linearize`).
+* any other FMU: its numerical linearization (:func:`cosim.fmu.linearize.linearize`).
 
 The components are connected as in the system. With ``master_lag`` the co-simulation master's own
 delays are modelled too (Jacobi, outputs sampled after the step): an input held over a
@@ -28,7 +28,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..errors import CosimError
+from cosim.errors import CosimError
 
 
 class PredictionError(CosimError, ValueError):
@@ -109,7 +109,7 @@ def delay_lti(tau: float, order: int, inputs=("u",), outputs=("y",), kind="delay
 def block_lti(name: str, block: str, parameters: dict, settings: dict) -> LTI:
     """The linear model a registered Python block declares, for the parameters given (its
     defaults for the others); a block that interpolates its inputs is of kind ``delay``."""
-    from ..cosimulation import registry
+    from cosim.cosimulation import registry
 
     try:
         instance = registry.lookup(block).create(name, parameters)
@@ -126,14 +126,14 @@ WHIPPLE = "Bicycle.Bicycles.WhippleLinear"
 
 @lru_cache(maxsize=1)
 def _benchmark() -> dict:
-    from ..analytic.parameters import load_parameters
+    from cosim.analytic.parameters import load_parameters
 
     return load_parameters("benchmark")
 
 
 def _whipple(params: dict) -> LTI:
-    from ..analytic.parameters import PARAMETER_NAMES
-    from ..analytic.whipple import state_matrices
+    from cosim.analytic.parameters import PARAMETER_NAMES
+    from cosim.analytic.whipple import state_matrices
 
     base = _benchmark()
     p = {k: float(params.get(k, base[k])) for k in PARAMETER_NAMES}
@@ -152,7 +152,7 @@ def _whipple(params: dict) -> LTI:
 
 
 def _twin(model: str, params: dict) -> LTI | None:
-    from ..twins import TWINS
+    from cosim.analytic.twins import TWINS
 
     twin = TWINS.get(model)
     if twin is None:
@@ -183,7 +183,7 @@ def _fmu_info(path: str):
 
 def component_lti(name: str, entry: dict, fmu_paths: dict, settings: dict) -> LTI:
     """The linear model of one component of a system dict."""
-    from ..cosimulation import registry
+    from cosim.cosimulation import registry
 
     params = dict(entry.get("parameters", {}))
     if "python" in entry:
@@ -205,7 +205,7 @@ def component_lti(name: str, entry: dict, fmu_paths: dict, settings: dict) -> LT
         return block_lti(name, block.__name__, {k: v for k, v in {**starts, **params}.items() if k in accepted},
                          settings)
     if path:
-        from ..linearize import linearize
+        from cosim.fmu.linearize import linearize
 
         lin = linearize(path, dict(params))
         return _lti(lin.A, lin.B, lin.C, lin.D, lin.inputs, lin.outputs, None, "FMU linearization")
@@ -240,7 +240,7 @@ class Loop:
     (tuning) before :meth:`prediction` is evaluated again."""
 
     def __init__(self, system: dict, observe: str, fmu_paths: dict, settings: dict, models: dict | None = None):
-        from ..cosimulation.system import parse_connection
+        from cosim.cosimulation.system import parse_connection
 
         comps = system["components"]
         self.models = models or {n: component_lti(n, e, fmu_paths, settings) for n, e in comps.items()}

@@ -11,8 +11,8 @@ import math
 import sys
 from pathlib import Path
 
-from ..errors import OutputError
-from ..outputs import atomic_output, write_text
+from cosim.errors import OutputError
+from cosim.outputs import atomic_output, write_text
 
 ORDER = {"failed": 0, "disagree": 1, "marginal": 2, "agree": 3, "observed": 3}
 COLORS = {"stable": "#3a9d5d", "unstable": "#d9534f", "fell": "#a02622", "diverged": "#6b1010",

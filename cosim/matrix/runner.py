@@ -12,9 +12,9 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import OutputError
-from .spec import MAX_CASES, Case, MatrixSpec, SpecError, load_spec
-from .store import RESULTS, ResultStore, has_results
+from cosim.errors import OutputError
+from cosim.matrix.spec import MAX_CASES, Case, MatrixSpec, SpecError, load_spec
+from cosim.matrix.store import RESULTS, ResultStore, has_results
 
 
 @dataclass
@@ -50,7 +50,7 @@ class MatrixResult:
 
 def build_fmus(cases: list[Case], fmu_dir: str | Path | None, jobs: int = 1) -> dict:
     """Every model the cases use, built (incrementally) once: model name -> FMU path."""
-    from ..compiler.build import DEFAULT_OUTPUT, build
+    from cosim.compiler.build import DEFAULT_OUTPUT, build
 
     models = sorted({e["model"] for c in cases for e in c.system["components"].values() if "model" in e})
     if not models:
@@ -71,7 +71,7 @@ def prepare_directory(directory: Path, resume: bool = False, force: bool = False
         If ``directory`` is a file, lies under a file or in a folder that is not writable, or
         already holds results of an earlier run and neither ``resume`` nor ``force`` is given.
     """
-    from ..outputs import check_output_folder
+    from cosim.outputs import check_output_folder
 
     if resume and force:
         raise OutputError("give either --resume (keep the results) or --force (discard them), not both")
@@ -85,7 +85,7 @@ def prepare_directory(directory: Path, resume: bool = False, force: bool = False
 
 
 def _write_json(path: Path, data: dict) -> None:
-    from ..outputs import write_text
+    from cosim.outputs import write_text
 
     write_text(path, json.dumps(data, indent=2) + "\n")
 
@@ -115,9 +115,9 @@ def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = Non
     SpecError, OutputError, SchedulerError, BuildError
         Before any case is run, each with one message (see the module docstring).
     """
-    from . import checks as checks_mod
-    from .pool import connect
-    from .progress import Progress
+    from cosim.matrix import checks as checks_mod
+    from cosim.matrix.pool import connect
+    from cosim.matrix.progress import Progress
 
     started = time.perf_counter()
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
@@ -130,7 +130,7 @@ def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = Non
     spec.check_count(max_cases)
     directory = prepare_directory(Path(directory or f"matrix-{spec.name}"), resume, force)
     if fmu_dir is not None:
-        from ..outputs import check_output_folder
+        from cosim.outputs import check_output_folder
 
         check_output_folder(fmu_dir, "FMU folder")
     workers = workers or os.cpu_count() or 1
@@ -162,7 +162,7 @@ def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = Non
     result.checks = checks_mod.evaluate(spec, cases, records, fmu_paths)
     result.seconds = time.perf_counter() - started
     if report:
-        from .report import write_report
+        from cosim.matrix.report import write_report
 
         result.report = write_report(result)
     return result
@@ -170,7 +170,7 @@ def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = Non
 
 def _import_plugins(spec: MatrixSpec) -> None:
     """The spec's imports (blocks and their linear models), a failing one named in one message."""
-    from .worker import import_plugins
+    from cosim.matrix.worker import import_plugins
 
     for item in spec.imports:
         try:
@@ -183,7 +183,7 @@ def _import_plugins(spec: MatrixSpec) -> None:
 def _dispatch(todo: list[Case], spec: MatrixSpec, fmu_paths: dict, directory: Path, client, workers: int,
               store: ResultStore, bar) -> dict:
     """Run ``todo`` on the Dask ``client`` or local workers, each record stored as it arrives."""
-    from .pool import run_dask, run_local
+    from cosim.matrix.pool import run_dask, run_local
 
     init = {"imports": spec.imports, "fmu_paths": fmu_paths}
     timeout = max((float(c.settings["timeout"]) for c in todo), default=1.0)

@@ -47,9 +47,9 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
 
-from ..cosimulation.system import type_name
-from ..errors import CosimError, ParameterError
-from . import expr
+from cosim.cosimulation.system import type_name
+from cosim.errors import CosimError, ParameterError
+from cosim.matrix import expr
 
 SPECS_DIR = Path(__file__).resolve().parent / "specs"
 
@@ -238,7 +238,7 @@ class MatrixSpec:
 
     def cases(self) -> list[Case]:
         """Every case, each system checked against the system-file schema (before any work)."""
-        from ..cosimulation.system import SystemError_, system_from_dict
+        from cosim.cosimulation.system import SystemError_, system_from_dict
 
         found, seen = [], {}
         for study in self.studies:
@@ -268,7 +268,7 @@ class MatrixSpec:
 
 @lru_cache(maxsize=32)
 def _parameter_set_cached(name: str) -> tuple:
-    from ..whipple_params import parameters_for_model
+    from cosim.fmu.stability import parameters_for_model
 
     return tuple(parameters_for_model(name).items())
 
@@ -643,7 +643,7 @@ def spec_from_dict(data: dict, path: Path | None = None, max_cases: int = MAX_CA
         If a key is unknown or of the wrong type or range, an expression is invalid or too costly,
         or the spec has more than ``max_cases`` cases.
     """
-    from ..cosimulation.system import SystemError_, system_from_dict
+    from cosim.cosimulation.system import SystemError_, system_from_dict
 
     where = str(path) if path else "spec"
     _table(data, where, "a TOML document")

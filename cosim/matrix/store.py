@@ -90,7 +90,7 @@ class ResultStore:
     """
 
     def __init__(self, directory: Path, resume: bool, retry_failed: bool = False):
-        from ..errors import OutputError
+        from cosim.errors import OutputError
 
         self.directory = Path(directory)
         self.path = self.directory / RESULTS
@@ -129,7 +129,7 @@ class ResultStore:
 
     def _rewrite(self) -> None:
         """Replace the file by one line per kept record, atomically (a kill leaves the old file)."""
-        from ..outputs import atomic_output
+        from cosim.outputs import atomic_output
 
         with atomic_output(self.path, "results file") as tmp:
             with open(tmp, "wb") as f:

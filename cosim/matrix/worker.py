@@ -23,8 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..cosimulation.component import FMUComponent
-from ..errors import SimulationError
+from cosim.cosimulation.component import FMUComponent
+from cosim.errors import SimulationError
 
 _HEADER = struct.Struct(">Q")
 
@@ -103,12 +103,12 @@ class ReusableFMUComponent(FMUComponent):
         self._settable = {v.name for v in md.modelVariables
                           if v.causality in ("parameter", "input")
                           or (v.variability not in ("constant", "fixed") and v.initial in ("exact", "approx"))}
-        from ..parameters import declarations
+        from cosim.fmu.parameters import declarations
 
         self._declared = declarations(str(path))
 
     def configure(self, parameters: dict, initial: dict) -> None:
-        from ..parameters import check
+        from cosim.fmu.parameters import check
 
         values = check(parameters, self._declared)
         for var in initial:
@@ -205,9 +205,9 @@ def _with_fmus(system: dict, fmu_paths: dict) -> dict:
 
 def simulate(system: dict, initial: dict, observe: str, cache: FMUCache, fmu_paths: dict, stop: float | None = None):
     """Co-simulate a system dict; returns (time, observed signal, outcome dict)."""
-    from ..cosimulation.factory import python_block
-    from ..cosimulation.master import run_components
-    from ..cosimulation.system import system_from_dict
+    from cosim.cosimulation.factory import python_block
+    from cosim.cosimulation.master import run_components
+    from cosim.cosimulation.system import system_from_dict
 
     system = _with_fmus(system, fmu_paths)
     settings = dict(system.get("system", {}))
@@ -236,9 +236,9 @@ def simulate(system: dict, initial: dict, observe: str, cache: FMUCache, fmu_pat
 
 def run_case(case: dict, cache: FMUCache, fmu_paths: dict) -> dict:
     """Prediction, co-simulation, classification and agreement of one case (never raises)."""
-    from . import classify
-    from .predict import predict_case
-    from .spec import Case
+    from cosim.matrix import classify
+    from cosim.matrix.predict import predict_case
+    from cosim.matrix.spec import Case
 
     started = time.perf_counter()
     rec = base_record(case)
@@ -279,9 +279,9 @@ def warm_up() -> None:
     """Import what every case needs (python-control alone takes seconds) before reporting ready."""
     import control  # noqa: F401
 
-    from ..cosimulation import factory, master  # noqa: F401
-    from ..cosimulation.fastloop import library
-    from . import classify, predict  # noqa: F401
+    from cosim.cosimulation import factory, master  # noqa: F401
+    from cosim.cosimulation.fastloop import library
+    from cosim.matrix import classify, predict  # noqa: F401
 
     library()
 
@@ -297,7 +297,7 @@ def _parent_pid(argv: list[str]) -> int | None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from ..processes import die_with_parent
+    from cosim.processes import die_with_parent
 
     # first: a worker must not outlive its supervisor (or Dask worker), even one killed with -9
     die_with_parent(_parent_pid(sys.argv[1:] if argv is None else argv))
@@ -319,7 +319,7 @@ def main(argv: list[str] | None = None) -> int:
             if msg is None or msg.get("op") == "stop":
                 break
             if msg.get("op") == "case":
-                from .store import encode
+                from cosim.matrix.store import encode
 
                 rec = run_case(msg["case"], cache, fmu_paths)
                 # the JSON line is made here, in parallel, so the supervisor only writes it

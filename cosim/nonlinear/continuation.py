@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .model import Bicycle, reduced_jacobian
+from cosim.nonlinear.model import Bicycle, reduced_jacobian
 
 #: Scale of the continuation variables (phi [rad], delta [rad], speed -u_R rR [m/s]).
 SPEED_SCALE = 10.0

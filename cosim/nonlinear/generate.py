@@ -24,13 +24,13 @@ import sys
 import time
 from pathlib import Path
 
-from ..errors import MissingExtraError
+from cosim.errors import MissingExtraError
 
 try:  # sympy is the optional extra `generate`: without it, main() refuses in one line
     import sympy as sm
 
-    from .derivation import CROWN, MEIJAARD, RIDER, Derivation, derive
-    from .modelica import modelica, number
+    from cosim.nonlinear.derivation import CROWN, MEIJAARD, RIDER, Derivation, derive
+    from cosim.nonlinear.modelica import modelica, number
 except ImportError as exc:
     if exc.name is None or exc.name.split(".")[0] != "sympy":
         raise

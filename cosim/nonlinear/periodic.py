@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .model import Bicycle
+from cosim.nonlinear.model import Bicycle
 
 SECTION = ("delta", "u_phi", "u_delta", "u_R")
 

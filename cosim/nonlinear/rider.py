@@ -80,8 +80,8 @@ class PathZeros:
 def path_system(fmu, params: dict, v: float):
     """(A, B, C, D) of the path response at speed v: inputs (T_delta, T_beta), output y, on the
     states :data:`PATH_STATES` (the others do not take part at this operating point)."""
-    from ..linearize import linearize
-    from .model import defaults, speed_parameters
+    from cosim.fmu.linearize import linearize
+    from cosim.nonlinear.model import defaults, speed_parameters
 
     params = {**defaults(fmu, ["rR"]), **params}
     lin = linearize(fmu, speed_parameters(params, v))

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import CosimError, SimulationError
+from cosim.errors import CosimError, SimulationError
 
 NANOSECONDS = 1_000_000_000
 
@@ -165,7 +165,7 @@ def run_ssp_libcosim(ssp: str | Path, signals: list[str], stop_time: float | Non
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
     from libcosimpy.CosimObserver import CosimObserver
 
-    from .cosimulation.system import SystemError_
+    from cosim.cosimulation.system import SystemError_
 
     log_output_level(CosimLogLevel.WARNING)
     with _unpacked_ssp(ssp) as (folder, start, stop, base):
@@ -202,7 +202,7 @@ def run_ssp_ecos(ssp: str | Path, signals: list[str], stop_time: float | None = 
     ecospy()
     from ecospy import EcosSimulation
 
-    from .cosimulation.ssp import PARAMETER_SET
+    from cosim.cosimulation.ssp import PARAMETER_SET
 
     with _unpacked_ssp(ssp) as (folder, start, stop, base):
         h = step or base

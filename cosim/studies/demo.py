@@ -39,11 +39,11 @@ def run_demo(output: Path) -> None:
     SimulationError
         If a built FMU fails validation.
     """
-    from .compiler.build import DEFAULT_OUTPUT, build
-    from .errors import SimulationError
-    from .outputs import check_output, check_output_folder
-    from .simulation import input_signals, plot, simulate, write_csv
-    from .validation import validate
+    from cosim.compiler.build import DEFAULT_OUTPUT, build
+    from cosim.errors import SimulationError
+    from cosim.outputs import check_output, check_output_folder
+    from cosim.fmu.simulate import input_signals, plot, simulate, write_csv
+    from cosim.fmu.validate import validate
 
     output = check_output_folder(Path(output), "demo folder")  # before the minutes of work below
     for name in OUTPUTS:
@@ -76,9 +76,9 @@ def run_demo(output: Path) -> None:
     print(f"   final steer delta: CS {cs['delta'][-1]: .6f} rad, ME {me['delta'][-1]: .6f} rad, eq (11) {delta_ss: .6f} rad")
     me_on_cs_grid = np.interp(cs["time"], me["time"], me["phi"])  # ME has an extra row at the input step
     print(f"   CS vs ME max difference in phi: {np.max(np.abs(cs['phi'] - me_on_cs_grid)):.2e} rad")
-    from .cosimulation.factory import run_system
+    from cosim.cosimulation.factory import run_system
 
-    system = Path(__file__).resolve().parent / "systems" / "lane-change.toml"
+    system = Path(__file__).resolve().parents[1] / "systems" / "lane-change.toml"
     print(f"3. co-simulating {system.name}: WhippleLinear FMU + Python lane-change controller ...")
     lane = run_system(system)
     write_csv(lane.data, output / "lane_change.csv")

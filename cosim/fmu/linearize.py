@@ -12,8 +12,8 @@ from pathlib import Path
 import numpy as np
 from fmpy.fmi1 import FMICallException
 
-from .errors import FMUError, ParameterError, SimulationError
-from .fmi import FMU, get_continuous_states, set_continuous_states
+from cosim.errors import FMUError, ParameterError, SimulationError
+from cosim.fmu.access import FMU, get_continuous_states, set_continuous_states
 
 FD_STEP = 1e-6  # relative step of the central differences
 

@@ -13,7 +13,6 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))  # this script's own name would otherwise shadow the cosim package
 SYSTEMS = ["lqr-autopilot", "riderless-push", "lane-change"]
 STOP = 60.0  # s of simulated time per run
 REPEAT = 3
@@ -37,7 +36,7 @@ def main() -> int:
     from cosim.cosimulation.modelica_twins import with_twins
     from cosim.cosimulation.ssp import export_ssp
     from cosim.cosimulation.system import load_system
-    from cosim.engines import _unpacked_ssp
+    from cosim.fmu.engines import _unpacked_ssp
 
     log_output_level(CosimLogLevel.WARNING)
     print(f"{'system':<16} {'steps':>7} {'ours [steps/s]':>15} {'libcosim [steps/s]':>19} {'ratio':>7}")

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import FMUError
+from cosim.errors import FMUError
 
 #: The FMI version this package runs (FMI 3 support is planned; see :func:`check_fmi_version`).
 SUPPORTED_FMI_VERSIONS = ("2.0",)

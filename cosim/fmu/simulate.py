@@ -2,7 +2,7 @@
 
 What the command promises (see ``cosim simulate --help``):
 
-- the FMU is opened through :func:`cosim.fmi.read_fmu` (one message for a damaged file);
+- the FMU is opened through :func:`cosim.fmu.access.read_fmu` (one message for a damaged file);
 - inputs from CSV files are checked cell by cell (file, line and column named for a cell that is
   not a finite number);
 - results are written under a temporary name and renamed (:mod:`cosim.outputs`): ``.csv`` (a
@@ -23,8 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputDataError, ParameterError, SimulationError
-from .parameters import split_assignment
+from cosim.errors import InputDataError, ParameterError, SimulationError
+from cosim.fmu.parameters import split_assignment
 
 #: Result formats by file suffix (``-o``).
 RESULT_FORMATS = {".csv": "CSV text with a header row", ".npy": "a NumPy structured array for numpy.load"}
@@ -65,7 +65,7 @@ class IncompleteResult(SimulationError):
 
 
 def _variables(fmu: Path):
-    from .fmi import read_fmu
+    from cosim.fmu.access import read_fmu
 
     md = read_fmu(fmu)
     return md, {v.name: v for v in md.modelVariables}
@@ -272,7 +272,7 @@ def check_run(md, stop_time: float | None, step: float | None, fmi_type: str, st
         A non-finite or non-positive step, a stop time that is not after the start, a run of
         more than :data:`MAX_ROWS` output rows, or ``solver.fixedStepSize`` with Model Exchange.
     """
-    from .parameters import FIXED_STEP_PARAMETER
+    from cosim.fmu.parameters import FIXED_STEP_PARAMETER
 
     if fmi_type not in ("cs", "me"):
         raise ParameterError(f"--fmi-type must be 'cs' or 'me', got '{fmi_type}'")
@@ -318,7 +318,7 @@ def simulate(fmu: str | Path, stop_time: float | None = None, step: float | None
     Raises
     ------
     FMUError
-        The file is not a usable FMU (see :func:`cosim.fmi.read_fmu`).
+        The file is not a usable FMU (see :func:`cosim.fmu.access.read_fmu`).
     ParameterError
         Settings refused by :func:`check_run`.
     IncompleteResult
@@ -329,7 +329,7 @@ def simulate(fmu: str | Path, stop_time: float | None = None, step: float | None
     """
     from fmpy import simulate_fmu
 
-    from .fmi import FMU, FMULog
+    from cosim.fmu.access import FMU, FMULog
 
     fmu = Path(fmu)
     handle = FMU(fmu)
@@ -451,7 +451,7 @@ def physical_cause(values: dict[str, float]) -> str | None:
 
 def check_result_output(path: str | Path, option: str = "-o") -> Path:
     """Refuse a result path with an unknown suffix or that cannot be written (before any work)."""
-    from .outputs import check_output
+    from cosim.outputs import check_output
 
     path = check_output(path, "result file")
     if path.suffix.lower() not in RESULT_FORMATS:
@@ -464,7 +464,7 @@ def check_result_output(path: str | Path, option: str = "-o") -> Path:
 
 def check_plot_output(path: str | Path, option: str = "--plot") -> Path:
     """Refuse a plot path whose format matplotlib does not write, or that cannot be written."""
-    from .outputs import check_output
+    from cosim.outputs import check_output
 
     path = check_output(path, "plot file")
     formats = _plot_formats()
@@ -494,7 +494,7 @@ def write_result(result: np.ndarray, path: str | Path) -> Path:
     """Write a result array as CSV or NPY (by suffix), atomically."""
     path = Path(path)
     if path.suffix.lower() == ".npy":
-        from .outputs import atomic_output
+        from cosim.outputs import atomic_output
 
         with atomic_output(path, "result file") as tmp:
             np.save(tmp, np.asarray(result), allow_pickle=False)
@@ -504,7 +504,7 @@ def write_result(result: np.ndarray, path: str | Path) -> Path:
 
 def write_csv(result: np.ndarray, path: str | Path) -> Path:
     """Write a result array to CSV with a header row (atomically: complete or absent)."""
-    from .outputs import atomic_output
+    from cosim.outputs import atomic_output
 
     names = result.dtype.names
     data = np.column_stack([result[n].astype(float) for n in names]) if len(result) else \
@@ -521,7 +521,7 @@ def plot(result: np.ndarray, path: str | Path, title: str = "") -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from .outputs import atomic_output
+    from cosim.outputs import atomic_output
 
     names = [n for n in result.dtype.names if n != "time"]
     fig, axes = plt.subplots(len(names) or 1, 1, sharex=True, figsize=(7, 1.8 * max(1, len(names))), squeeze=False)

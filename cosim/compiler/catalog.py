@@ -5,9 +5,9 @@ import sys
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 
-from .compiler.flatten import flatten
-from .compiler.library import Library, load_library
-from .errors import CosimError
+from cosim.compiler.flatten import flatten
+from cosim.compiler.library import Library, load_library
+from cosim.errors import CosimError
 
 
 #: Longest parameter value `cosim list` prints in full; longer ones (expressions) are shortened.

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import json
 
-from .target import is_fmu_path
+from cosim.fmu.target import is_fmu_path
 
 
 def _number(value):
@@ -12,7 +12,7 @@ def _number(value):
 
 def fmu_info(path) -> dict:
     """Model description of an FMU as a plain dict."""
-    from .fmi import read_fmu
+    from cosim.fmu.access import read_fmu
 
     md = read_fmu(path)
     experiment = md.defaultExperiment
@@ -58,7 +58,7 @@ def _format_fmu(info: dict) -> str:
 
 
 def _format_model(summary) -> str:
-    from .catalog import shorten
+    from cosim.compiler.catalog import shorten
 
     lines = [f"{summary.name}: {summary.description}",
              f"  exported: {'yes' if summary.exported else 'no'}"]
@@ -78,7 +78,7 @@ def describe_target(target: str, as_json: bool = False) -> str:
     if is_fmu_path(target):
         info = fmu_info(target)
         return json.dumps(info, indent=2, default=str) if as_json else _format_fmu(info)
-    from .catalog import summarize
+    from cosim.compiler.catalog import summarize
 
     summary = summarize(target)
     return json.dumps(summary.to_dict(), indent=2) if as_json else _format_model(summary)

@@ -3,8 +3,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .compiler.build import DEFAULT_OUTPUT, build_model
-from .compiler.library import load_library
+from cosim.compiler.build import DEFAULT_OUTPUT, build_model
+from cosim.compiler.library import load_library
 
 
 def is_fmu_path(target: str) -> bool:
@@ -41,7 +41,7 @@ def resolve_fmu(target: str, output: str | Path | None = None) -> Path:
         The model cannot be found or built (see :func:`cosim.compiler.build.build_model`).
     """
     if is_fmu_path(target):
-        from .fmi import read_fmu
+        from cosim.fmu.access import read_fmu
 
         path = Path(target)
         read_fmu(path)  # FMUError naming the file and the problem if it is not a usable FMU

@@ -39,12 +39,12 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 def analytic_report(params_name: str, speeds: list[float]) -> dict:
     """Everything `cosim analytic` prints, as a JSON-ready dict."""
-    from .analytic import whipple as W
-    from .whipple_params import parameters_for_model
+    from cosim.analytic import whipple as W
+    from cosim.fmu.stability import parameters_for_model
 
     for v in speeds:
         if not math.isfinite(v):
-            from .errors import ParameterError
+            from cosim.errors import ParameterError
 
             raise ParameterError(f"--speed must be finite, got {v}")
     params = parameters_for_model(params_name)

@@ -22,7 +22,7 @@ class ConvergenceRow:
 
 def reference_solution(fmu, times: np.ndarray) -> np.ndarray:
     """phi(t) of the single FMU, Co-Simulation at tolerance 1e-12 on the sample times."""
-    from ..simulation import simulate
+    from cosim.fmu.simulate import simulate
 
     step = float(times[1] - times[0])
     result = simulate(fmu, float(times[-1]), step, "cs", {"k": K}, relative_tolerance=1e-12, outputs=["phi"])
@@ -30,8 +30,8 @@ def reference_solution(fmu, times: np.ndarray) -> np.ndarray:
 
 
 def coupled_solution(bike_fmu, algorithm: str, step: float) -> np.ndarray:
-    from .factory import run_system
-    from .system import system_from_dict
+    from cosim.cosimulation.factory import run_system
+    from cosim.cosimulation.system import system_from_dict
 
     spec = system_from_dict({
         "system": {"stop": STOP, "step": step, "algorithm": algorithm},

@@ -12,7 +12,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from .errors import CosimError, ParameterError
+from cosim.errors import CosimError, ParameterError
 
 ORIGIN = 1e-6  # roots with |r| <= ORIGIN * max(1, max |roots|) are roots at the origin (integrators)
 REDUCTION_TOL = 1e-10  # relative tolerance of the Krylov reduction to a minimal realization
@@ -186,7 +186,7 @@ def parse_speeds(text: str) -> list[float]:
     ParameterError
         For malformed text, non-finite values, STEP <= 0, B < A or more than :data:`MAX_SPEEDS`.
     """
-    from .errors import ParameterError
+    from cosim.errors import ParameterError
 
     def numbers(parts):
         try:
@@ -230,7 +230,7 @@ def format_table(comparisons: list[Comparison], speed_name: str) -> str:
 
 def _parameter_defaults(fmu) -> dict:
     """Start values of the FMU's top-level Real parameters."""
-    from .fmi import read_fmu
+    from cosim.fmu.access import read_fmu
 
     md = read_fmu(fmu)
     return {v.name: float(v.start) for v in md.modelVariables
@@ -239,7 +239,7 @@ def _parameter_defaults(fmu) -> dict:
 
 def _analytic(model: str, parameters: dict):
     """The analytic twin's system; its refusals (ValueError, KeyError) as ParameterError."""
-    from .twins import analytic_system
+    from cosim.analytic.twins import analytic_system
 
     try:
         return analytic_system(model, parameters)
@@ -256,13 +256,13 @@ def compare_model(model: str, speeds=None, parameters: dict | None = None, param
 
     For every input -> output pair the transfer functions of the FMU's linearization and of the
     analytic model are reduced to minimal realizations and their poles, zeros and gains are
-    compared, and so are the eigenvalues of both A matrices (see :mod:`cosim.compare`).
+    compared, and so are the eigenvalues of both A matrices (see :mod:`cosim.analytic.compare`).
 
     Parameters
     ----------
     model : str
         Full Modelica name of a model with an analytic twin, e.g.
-        ``"Bicycle.Bicycles.SelfStabilizing"`` (:data:`cosim.twins.TWINS` lists them).
+        ``"Bicycle.Bicycles.SelfStabilizing"`` (:data:`cosim.analytic.twins.TWINS` lists them).
     speeds : sequence of float, optional
         Forward speeds [m/s] to compare at, set as the model's speed parameter (``V`` or ``v``);
         default: the model's own speed.
@@ -294,10 +294,10 @@ def compare_model(model: str, speeds=None, parameters: dict | None = None, param
     >>> worst < 1e-9
     True
     """
-    from .linearize import linearize
-    from .parameters import check, declarations, from_command_line, speed_parameter
-    from .target import is_fmu_path, resolve_fmu
-    from .twins import TWINS
+    from cosim.fmu.linearize import linearize
+    from cosim.fmu.parameters import check, declarations, from_command_line, speed_parameter
+    from cosim.fmu.target import is_fmu_path, resolve_fmu
+    from cosim.analytic.twins import TWINS
 
     if is_fmu_path(model):
         raise ParameterError("compare needs a model name (the analytic twin is chosen by model)")

@@ -37,8 +37,8 @@ class DelayCase:
 
 def pendulum_pole(V: float) -> float:
     """The unstable pole p = sqrt(m g h / J), eq (2), of the model at speed V [1/s]."""
-    from ..analytic.simple import pendulum_poles
-    from ..twins import TWINS, bicycle
+    from cosim.analytic.simple import pendulum_poles
+    from cosim.analytic.twins import TWINS, bicycle
 
     return float(np.max(pendulum_poles(bicycle(TWINS[MODEL].parameters({"V": V})))))
 
@@ -55,8 +55,8 @@ def predicted_max_real(parameters: dict, k2: float, tau: float, step: float) -> 
     coupling delay of the co-simulation (:func:`coupling_delay`)."""
     import control
 
-    from ..analytic.simple import roll_steer_tf
-    from ..twins import TWINS, bicycle
+    from cosim.analytic.simple import roll_steer_tf
+    from cosim.analytic.twins import TWINS, bicycle
 
     values = TWINS[MODEL].parameters(parameters)
     roll = roll_steer_tf(bicycle(values), values["V"], frame="eq1")  # G_phi_delta (4)
@@ -84,8 +84,8 @@ def observed_growth(time: np.ndarray, phi: np.ndarray, window: float = 2.0) -> f
 def run_case(fmu, parameters: dict, k2: float, tau: float, step: float = 0.005, stop: float = 20.0,
              phi0: float = 0.02) -> tuple[str, float]:
     """Co-simulate one delay: returns (outcome, growth rate)."""
-    from .factory import run_system
-    from .system import system_from_dict
+    from cosim.cosimulation.factory import run_system
+    from cosim.cosimulation.system import system_from_dict
 
     spec = system_from_dict({
         "system": {"stop": stop, "step": step, "fall": {"signal": "bike.phi", "limit": 1.0}},

@@ -6,7 +6,7 @@ IHyy IHzz rF mF IFxx IFyy``), so a parameter set of :mod:`cosim.analytic.paramet
 name such as ``benchmark``, ``astrom2005``, ``astrom2005-riderless`` or a TOML file) maps onto the
 FMU by identity after validation; the forward speed is the FMU parameter ``v``.
 
-FMU analysis helpers (all from :func:`cosim.linearize.linearize` of the FMU, never from the
+FMU analysis helpers (all from :func:`cosim.fmu.linearize.linearize` of the FMU, never from the
 analytic Python model):
 
 * :func:`whipple_fmu` builds the model (incrementally) and returns the FMU path;
@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import ParameterError
+from cosim.errors import ParameterError
 
 __all__ = [
     "MODEL",
@@ -60,7 +60,7 @@ INPUTS: tuple[str, ...] = ("T_phi", "T_delta")
 
 
 def _parameter_map() -> dict[str, str]:
-    from .analytic.parameters import PARAMETER_NAMES
+    from cosim.analytic.parameters import PARAMETER_NAMES
 
     return {name: name for name in PARAMETER_NAMES}
 
@@ -93,7 +93,7 @@ def parameters_for_model(name_or_path: str | os.PathLike[str]) -> dict[str, floa
     FileNotFoundError
         A path that does not exist.
     """
-    from .analytic.parameters import load_parameters
+    from cosim.analytic.parameters import load_parameters
 
     try:
         values = load_parameters(name_or_path)
@@ -110,15 +110,15 @@ def whipple_fmu(output: str | Path | None = None) -> Path:
     The build is incremental (nothing is compiled when the FMU is up to date), so this is cheap
     to call repeatedly.
     """
-    from .compiler.build import DEFAULT_OUTPUT, build_model
-    from .compiler.library import load_library
+    from cosim.compiler.build import DEFAULT_OUTPUT, build_model
+    from cosim.compiler.library import load_library
 
     return build_model(MODEL, output or DEFAULT_OUTPUT, load_library()).fmu
 
 
 def linearization(fmu: str | Path, params: Mapping[str, float], v: float):
-    """:func:`cosim.linearize.linearize` of the FMU at speed ``v`` (FMU parameter names)."""
-    from .linearize import linearize
+    """:func:`cosim.fmu.linearize.linearize` of the FMU at speed ``v`` (FMU parameter names)."""
+    from cosim.fmu.linearize import linearize
 
     return linearize(fmu, {**{k: float(x) for k, x in params.items()}, SPEED: float(v)})
 

@@ -14,8 +14,8 @@ import math
 import numbers
 from dataclasses import dataclass
 
-from .errors import ParameterError
-from .target import is_fmu_path
+from cosim.errors import ParameterError
+from cosim.fmu.target import is_fmu_path
 
 #: The solver parameter every FMU built by this package has (see the module docstring).
 FIXED_STEP_PARAMETER = "solver.fixedStepSize"
@@ -52,12 +52,12 @@ def declarations(target: str) -> dict[str, Declared]:
     Raises
     ------
     FMUError
-        If ``target`` is an FMU file that cannot be read (see :func:`cosim.fmi.read_fmu`).
+        If ``target`` is an FMU file that cannot be read (see :func:`cosim.fmu.access.read_fmu`).
     UnknownModelError, ModelicaError
         If ``target`` is a model name that is not in the library or does not parse.
     """
     if is_fmu_path(target):
-        from .fmi import read_fmu
+        from cosim.fmu.access import read_fmu
 
         md = read_fmu(target)
 
@@ -78,7 +78,7 @@ def declarations(target: str) -> dict[str, Declared]:
         if solver is not None and solver.min is None:  # a step size is never negative
             solver.min = 0.0
         return found
-    from .catalog import summarize
+    from cosim.compiler.catalog import summarize
 
     summary = summarize(target)
     found = {s.name: Declared(s.name, "parameter", getattr(s, "type", None) or "Real", s.unit, s.min, s.max)
@@ -171,7 +171,7 @@ def from_command_line(target: str, assignments: list[str], extra: dict | None = 
     parameters carry the Meijaard names, such as ``Bicycle.Bicycles.WhippleLinear``."""
     values = {}
     if parameter_set:
-        from .whipple_params import parameters_for_model
+        from cosim.fmu.stability import parameters_for_model
 
         try:
             values.update(parameters_for_model(parameter_set))

@@ -5,7 +5,7 @@ closed-form equations of Åström, Klein & Lennartsson (2005).  A twin takes the
 parameter values (keyed by their Modelica names: ``m a h b c lambda J D V g k3 m_r J_r h_r R``)
 and returns a :class:`control.StateSpace` whose input and output names are the FMU's top-level
 inputs and outputs, in the FMU's order, with the same number of states as the FMU.  Transfer
-functions, poles and zeros of the FMU's linearization (:func:`cosim.linearize.linearize`) must
+functions, poles and zeros of the FMU's linearization (:func:`cosim.fmu.linearize.linearize`) must
 equal the twin's to rounding (``cosim compare MODEL``).
 
 How each model maps onto the paper (see ``simple.py`` for the ``frame`` option):
@@ -37,8 +37,8 @@ from dataclasses import dataclass, field
 import control
 import numpy as np
 
-from .analytic import simple
-from .analytic.simple import SimpleBicycle
+from cosim.analytic import simple
+from cosim.analytic.simple import SimpleBicycle
 
 __all__ = ["Twin", "TWINS", "analytic_system", "bicycle", "twin"]
 
@@ -208,7 +208,7 @@ def _crowned_roller(p: Mapping[str, float], V: float) -> control.StateSpace:
 def _whipple_linear(p: Mapping[str, float], v: float) -> control.StateSpace:
     """Meijaard et al. (2007) in :mod:`cosim.analytic.whipple` plus the linearized heading and
     path (Meijaard eq. (A 9)): der(psi) = (v delta + c delta_dot) cos(lam) / w, der(y) = v psi."""
-    from .analytic import whipple
+    from cosim.analytic import whipple
 
     params = {k: p[k] for k in _MEIJAARD}
     A4, B4 = whipple.state_matrices(params, v)
@@ -224,7 +224,7 @@ def _whipple_linear(p: Mapping[str, float], v: float) -> control.StateSpace:
 
 
 def _meijaard_defaults() -> dict:
-    from .analytic.parameters import load_parameters
+    from cosim.analytic.parameters import load_parameters
 
     return {**load_parameters("benchmark"), "v": 5.0, "phi0": 0.0, "delta0": 0.0, "phi_dot0": 0.0,
             "delta_dot0": 0.0}

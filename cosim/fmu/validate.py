@@ -6,8 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .compiler.fmu import MANIFEST
-from .fmi import FMU, get_continuous_states, set_continuous_states
+from cosim.compiler.fmu import MANIFEST
+from cosim.fmu.access import FMU, get_continuous_states, set_continuous_states
 
 DERIVATIVE_RTOL = 1e-6
 
@@ -111,12 +111,12 @@ def validate(path: str | Path) -> list[str]:
     Raises
     ------
     FMUError
-        If the file cannot be read as an FMU at all (see :func:`cosim.fmi.read_fmu`): not a zip,
+        If the file cannot be read as an FMU at all (see :func:`cosim.fmu.access.read_fmu`): not a zip,
         unsafe member names, no or broken ``modelDescription.xml``, not FMI 2.0.
     """
     from fmpy.validation import validate_fmu
 
-    from .fmi import read_fmu
+    from cosim.fmu.access import read_fmu
 
     path = Path(path)
     read_fmu(path)  # refuses what must not even be unpacked
