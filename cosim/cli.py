@@ -269,6 +269,7 @@ def _cmd_simulate(args) -> int:
 def _operating_point(target: str, assignments: list[str]) -> dict:
     """``--input NAME=VALUE`` of linearize: input values of the operating point."""
     from cosim.fmu.parameters import declarations, split_assignment
+    from cosim.fmu.simulate import finite_number
 
     declared = declarations(target)
     inputs = {}
@@ -278,18 +279,8 @@ def _operating_point(target: str, assignments: list[str]) -> dict:
         if d is None or d.causality != "input":
             known = ", ".join(n for n, v in declared.items() if v.causality == "input") or "(none)"
             raise ParameterError(f"--input: '{name}' is not an input; inputs are: {known}")
-        inputs[name] = _finite_value(raw, f"--input {name}")
+        inputs[name] = finite_number(raw, f"--input {name}")
     return inputs
-
-
-def _finite_value(raw: str, what: str) -> float:
-    try:
-        value = float(raw)
-    except ValueError:
-        raise ParameterError(f"{what}: '{raw}' is not a number") from None
-    if not math.isfinite(value):
-        raise ParameterError(f"{what}: must be finite, got {raw}")
-    return value
 
 
 def _cmd_linearize(args) -> int:

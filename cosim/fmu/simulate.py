@@ -73,7 +73,9 @@ def _variables(fmu: Path):
 
 # --------------------------------------------------------------------------- input signals
 
-def _number(text: str, where: str) -> float:
+def finite_number(text: str, where: str) -> float:
+    """``text`` as a finite float; :class:`InputDataError` naming ``where`` otherwise (the one
+    parser of input values: CSV cells, ``--input NAME=step:T0:VALUE``, ``linearize --input``)."""
     try:
         value = float(text)
     except ValueError:
@@ -122,8 +124,8 @@ def read_input_csv(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
             if len(cells) != len(header):
                 raise InputDataError(f"{label}:{line}: {len(cells)} column(s), but the header has "
                                      f"{len(header)} ({','.join(header)})")
-            t = _number(cells[0], f"{label}:{line}: column 1 ({header[0]})")
-            value = _number(cells[column], f"{label}:{line}: column {column + 1} ({header[column]})")
+            t = finite_number(cells[0], f"{label}:{line}: column 1 ({header[0]})")
+            value = finite_number(cells[column], f"{label}:{line}: column {column + 1} ({header[column]})")
             if times and t < times[-1]:
                 raise InputDataError(f"{label}:{line}: column 1 ({header[0]}): time {t:g} s is before the "
                                      f"previous row's {times[-1]:g} s (times must not decrease)")
@@ -161,8 +163,8 @@ def _step_signal(name: str, source: str, base: float, start_time: float, stop_ti
     parts = source.split(":")
     if len(parts) != 3:
         raise ParameterError(f"--input {name}: expected step:T0:VALUE, got '{source}'")
-    t0 = _number(parts[1], f"--input {name}: step time T0")
-    value = _number(parts[2], f"--input {name}: step value")
+    t0 = finite_number(parts[1], f"--input {name}: step time T0")
+    value = finite_number(parts[2], f"--input {name}: step value")
     t0 = min(max(t0, start_time), stop_time)
     return np.array([start_time, t0, t0, stop_time]), np.array([base, base, value, value])
 
