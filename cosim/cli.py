@@ -89,6 +89,24 @@ longer than the run; start and stop finite with stop > start.
 
 {EXIT_CODES}"""
 
+LINEARIZE_EPILOG = """\
+A, B, C, D are the Jacobians at the initial point (after initialization) with the states in the
+FMU's order; "eigenvalues" are those of A. Directional derivatives are exact (automatic
+differentiation) for FMUs built here.
+
+nonlinear bicycles (Bicycle.Bicycles.Whipple, WhippleRider): --speed V sets upright straight
+running at forward speed V (u_R0 = -V/rR, pitch 0 upright with zero steer). The output adds
+"steady_motion", the exact lateral dynamics: the states phi, delta, u_phi, u_delta (WhippleRider:
+also beta, u_beta unless --lock-hinge) with their A, B and "eigenvalues" (for Whipple those of
+Meijaard et al. 2007), the path rows of psi and y, and "zero_eigenvalues": the other eigenvalues
+of A are exact zeros, each named with its reason: theta (pitch, fixed by roll and steer through
+the holonomic constraint), u_R (the conserved forward speed) and the ignorable (cyclic)
+coordinates x, y, psi, thetaR, thetaF. Numerically A's zero eigenvalues are defective (e.g. y
+integrates psi), which is why the lateral ones are reported separately. --lock-hinge holds the
+rider's hinge at beta = 0 by its reaction torque (the direction of the lean torque T_beta):
+exact, independent of the hinge stiffness kU and damping cU. Off upright straight running the
+reduction is refused ("steady_motion": null with "steady_motion_note")."""
+
 MAIN_EPILOG = f"""\
 Run `cosim VERB --help` for the options of a command.
 
@@ -284,17 +302,31 @@ def _operating_point(target: str, assignments: list[str]) -> dict:
 
 
 def _cmd_linearize(args) -> int:
-    from cosim.fmu.linearize import linearize
-    from cosim.fmu.parameters import from_command_line, speed_parameter
+    from cosim.fmu.linearize import NotSteadyMotion, is_bicycle, linearize, steady_motion
+    from cosim.fmu.parameters import from_command_line
     from cosim.fmu.target import resolve_fmu
 
-    extra = {speed_parameter(args.target): args.speed} if args.speed is not None else {}
-    params = from_command_line(args.target, args.param, extra, parameter_set=args.params,
+    params = from_command_line(args.target, args.param, parameter_set=args.params, speed=args.speed,
                                input_hint="give its operating-point value with --input {name}=VALUE")
     inputs = _operating_point(args.target, args.input)
     result = linearize(resolve_fmu(args.target), params, inputs or None)
+    steady = note = None
+    if is_bicycle(result):  # a nonlinear bicycle: its exact lateral linearization (see the help)
+        try:
+            steady = steady_motion(result, lock_hinge=args.lock_hinge)
+        except NotSteadyMotion as exc:
+            if args.lock_hinge:
+                raise ParameterError(f"--lock-hinge: {exc}") from None
+            note = str(exc)
+    elif args.lock_hinge:
+        raise ParameterError(f"--lock-hinge: {result.model} is not a nonlinear bicycle with a rider hinge")
     if args.json:
-        print(result.to_json())
+        report = result.to_dict()
+        if is_bicycle(result):
+            report["steady_motion"] = steady.to_dict() if steady else None
+            if note:
+                report["steady_motion_note"] = note
+        print(json.dumps(report, indent=2))
         return EXIT_OK
     import numpy as np
 
@@ -306,12 +338,23 @@ def _cmd_linearize(args) -> int:
     for name in "ABCD":
         print(f"{name} =\n{getattr(result, name)}")
     print("eigenvalues:", ", ".join(f"{e:.6g}" for e in result.eigenvalues))
+    if steady is not None:
+        print(f"upright straight running at v = {steady.speed:.6g} m/s"
+              + (f", rider hinge {steady.hinge}" if steady.hinge else "") + ": lateral dynamics")
+        print(f"states:  {', '.join(steady.states)}\ninputs:  {', '.join(steady.inputs)}")
+        print(f"A =\n{steady.A}\nB =\n{steady.B}")
+        print("lateral eigenvalues:", ", ".join(f"{e:.10g}" for e in steady.eigenvalues))
+        print("exact zero eigenvalues:")
+        for state, reason in steady.zero_modes.items():
+            print(f"  {state}: {reason}")
+    elif note:
+        print(f"no lateral reduction: {note}")
     return EXIT_OK
 
 
 def _cmd_compare(args) -> int:
     from cosim.analytic.compare import compare_model, format_table, parse_speeds
-    from cosim.fmu.parameters import speed_parameter, split_assignment
+    from cosim.fmu.parameters import forward_speed, split_assignment
 
     if not args.tol > 0:
         raise ParameterError(f"--tol must be > 0, got {args.tol:g}")
@@ -324,7 +367,7 @@ def _cmd_compare(args) -> int:
                           "comparisons": [c.to_dict() for c in comparisons]}, indent=2))
     else:
         print(f"{args.model}: FMU linearization vs analytic model (relative errors)")
-        print(format_table(comparisons, speed_parameter(args.model)))
+        print(format_table(comparisons, forward_speed(args.model).label))
     if not worst <= args.tol:
         print(f"cosim compare: largest relative error {worst:.2e} exceeds --tol {args.tol:g}", file=sys.stderr)
         return EXIT_CHECK_FAILED
@@ -413,10 +456,10 @@ def use_library(path: str | None):
     if path is None:
         yield
         return
-    from cosim.compiler.library import library_path, load_library
+    from cosim.compiler.library import library_paths, load_library
 
     previous = os.environ.get(LIBRARY_VARIABLE)
-    os.environ[LIBRARY_VARIABLE] = str(library_path(path))
+    os.environ[LIBRARY_VARIABLE] = os.pathsep.join(map(str, library_paths(path)))
     load_library.cache_clear()  # a library parsed earlier in this process under the default key
     try:
         yield
@@ -490,12 +533,17 @@ def parser() -> argparse.ArgumentParser:
     s.set_defaults(func=_cmd_simulate)
 
     lin = sub.add_parser("linearize", help="A, B, C, D of an FMU or model at its initial point",
-                         formatter_class=raw, epilog=EXIT_CODES)
+                         formatter_class=raw, epilog=f"{LINEARIZE_EPILOG}\n\n{EXIT_CODES}")
     lin.add_argument("target", help="FMU file or model name")
     _parameter_options(lin)
     lin.add_argument("--input", action="append", default=[], metavar="NAME=VALUE",
                      help="input value at the operating point (default: the input's start value)")
-    lin.add_argument("--speed", type=_finite, default=None, help="forward speed [m/s] (sets V or v)")
+    lin.add_argument("--speed", type=_finite, default=None, metavar="V",
+                     help="forward speed [m/s]: sets V or v; nonlinear bicycles: upright straight running, "
+                          "u_R0 = -V/rR (V >= 0)")
+    lin.add_argument("--lock-hinge", action="store_true",
+                     help="WhippleRider: lock the rider's hip hinge (exactly, by its reaction torque) in the "
+                          "lateral linearization")
     lin.add_argument("--json", action="store_true", help="print A, B, C, D and the eigenvalues as JSON")
     library_option(lin)
     lin.set_defaults(func=_cmd_linearize)

@@ -53,6 +53,22 @@ def fmus() -> dict[str, Path]:
     return {r.model: r.fmu for r in build(output=os.environ["COSIM_FMU_DIR"], jobs=2)}
 
 
+def variant_library(folder: Path, models: dict[str, str], package: str = "TestVariants"):
+    """The project's library plus a package ``package`` in ``folder`` holding ``models`` (class name ->
+    Modelica text of the class, e.g. ``model V extends Bicycle.Bicycles.Whipple(redeclare ...); end V;``),
+    as one :class:`~cosim.compiler.library.Library` of two folders: variants are built as
+    ``PACKAGE.NAME`` without copying the library."""
+    from cosim.compiler.library import Library
+
+    root = folder / package
+    root.mkdir(parents=True)
+    (root / "package.mo").write_text(f"within;\npackage {package} \"Test variants\"\nend {package};\n", encoding="utf-8")
+    (root / "package.order").write_text("".join(f"{name}\n" for name in models), encoding="utf-8")
+    for name, text in models.items():
+        (root / f"{name}.mo").write_text(f"within {package};\n{text.strip()}\n", encoding="utf-8")
+    return Library([ROOT / "modelica", folder])
+
+
 def run_cli(*args: str, cwd: Path | None = None, env: dict | None = None) -> subprocess.CompletedProcess:
     """Run `python -m cosim ...` as a user would, capturing its output."""
     environment = {**os.environ, **(env or {})}

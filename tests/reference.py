@@ -6,8 +6,18 @@ import math
 import numpy as np
 from scipy.integrate import solve_ivp
 
+# Published values the tests check against (the code under test reads cosim/params/ instead).
+#: The paper's Table 1 bicycle of the second-order models (Astrom et al. 2005).
 SELF_STABILIZING_DEFAULTS = dict(m=92.0, a=0.5, h=1.0, b=1.0, c=0.08, lam=math.radians(70.0),
                                  J=96.7, D=46.3, V=5.0, g=9.81)
+#: The benchmark bicycle of Meijaard et al. (2007), Table 1.
+MEIJAARD_BENCHMARK = {
+    "w": 1.02, "c": 0.08, "lam": math.pi / 10, "g": 9.81,
+    "rR": 0.3, "mR": 2.0, "IRxx": 0.0603, "IRyy": 0.12,
+    "xB": 0.3, "zB": -0.9, "mB": 85.0, "IBxx": 9.2, "IBxz": 2.4, "IByy": 11.0, "IBzz": 2.8,
+    "xH": 0.9, "zH": -0.7, "mH": 4.0, "IHxx": 0.05892, "IHxz": -0.00756, "IHyy": 0.06, "IHzz": 0.00708,
+    "rF": 0.35, "mF": 3.0, "IFxx": 0.1405, "IFyy": 0.28,
+}
 
 
 def self_stabilizing_rhs(p: dict, torque):

@@ -47,13 +47,11 @@ def test_noop_rebuild_and_rebuild_on_change(library, tmp_path):
     units = library / "Bicycle" / "Units.mo"
     units.write_text(units.read_text().replace("exactly as in", "just as in"))
     assert not _build(library, out)[0].rebuilt
-    # A parameter default of a component the model uses does.
-    fork = library / "Bicycle" / "Components" / "StaticFrontFork.mo"
-    text = fork.read_text()
-    assert "V = 5" in text
-    fork.write_text(text.replace("V = 5", "V = 7", 1))
-    frame = library / "Bicycle" / "Bicycles" / "SelfStabilizing.mo"
-    frame.write_text(frame.read_text().replace("V = 5 ", "V = 4 ", 1))
+    # A value of the data set the model's parameter defaults come from does.
+    data = library / "Bicycle" / "Records" / "Astrom2005SecondOrder.mo"
+    text = data.read_text()
+    assert '"m/s") = 5.0 "Forward speed V' in text
+    data.write_text(text.replace('"m/s") = 5.0 "Forward speed V', '"m/s") = 7.0 "Forward speed V', 1))
     changed = _build(library, out)[0]
     assert changed.rebuilt
     assert _guid(changed.fmu) != first_guid

@@ -280,12 +280,12 @@ def test_list_shortens_long_parameter_values_and_keeps_them_in_json():
             current = None
     values = [item.split("=", 1)[1] for block in blocks for item in " ".join(block).split(", ")]
     assert values and max(len(v) for v in values) <= SHORT_VALUE
-    assert any(v.endswith("...") for v in values)  # the Whipple models' calculated parameters
+    assert any(v.endswith("...") for v in values)  # e.g. WhippleLinear's calculated matrix entries
     assert max(len(line) for line in lines if line.startswith("      ")) < 200  # wrapped
     js = run_cli("list", "--json")
     models = json.loads(js.stdout)
     full = [p["value"] for m in models for p in m["parameters"] if isinstance(p["value"], str)]
-    assert max(len(v) for v in full) > 1000  # the full expression, not the shortened text
+    assert max(len(v) for v in full) > SHORT_VALUE  # the full expression, not the shortened text
 
 
 def test_list_json_gives_null_not_the_string_none():
@@ -301,4 +301,4 @@ def test_shorten_cuts_to_the_limit_with_an_ellipsis():
 
     assert shorten("x" * 40) == "x" * 40
     assert shorten("y" * 41) == "y" * 37 + "..." and len(shorten("y" * 41)) == 40
-    assert shorten(96.7) == "96.7" and shorten(None) == "?"
+    assert shorten(12.5) == "12.5" and shorten(None) == "?"

@@ -28,6 +28,7 @@ import numpy as np
 import pytest
 
 from conftest import toml_value
+from reference import SELF_STABILIZING_DEFAULTS as PAPER
 from cosim.matrix import classify, expr
 from cosim.matrix.spec import SpecError, load_spec, spec_from_dict
 from cosim.matrix.store import ResultStore, read_records
@@ -76,7 +77,7 @@ def _write_spec(path: Path, studies: list[dict], matrix: dict | None = None) -> 
 
 @pytest.mark.parametrize("text, variables, value", [
     ("p * tau", {"p": 3.0, "tau": 0.1}, 0.30000000000000004),
-    ("sqrt(92*9.81*(1.0 - R)/96.7)", {"R": 0.0}, math.sqrt(92 * 9.81 / 96.7)),
+    ("sqrt(90*9.8*(1.0 - R)/95.5)", {"R": 0.0}, math.sqrt(90 * 9.8 / 95.5)),
     ("1 if case == 3 else 0", {"case": 3}, 1),
     ("ptau > 2 and V < 5", {"ptau": 2.4, "V": 3}, True),
     ("-U", {"U": 4.0}, -4.0),
@@ -222,7 +223,8 @@ def test_crowned_roller_pole(R):
     study = {"name": "rollers", "observe": "bike.phi", "connections": [], "axes": {"R": [R]},
              "components": {"bike": {"model": "Bicycle.Bicycles.CrownedRoller", "parameters": {"R": "=R"}}}}
     _, pred = predict_case(spec_from_dict({"study": [study]}).cases()[0], {})
-    assert pred["max_re"] == pytest.approx(math.sqrt(92 * 9.81 * (1.0 - R) / 96.7), rel=1e-12)
+    m, g, h, J = (PAPER[k] for k in ("m", "g", "h", "J"))
+    assert pred["max_re"] == pytest.approx(math.sqrt(m * g * (h - R) / J), rel=1e-12)
 
 
 @pytest.mark.parametrize("V, tau, k2", [(2.0, 0.1, 5.0), (4.0, 0.05, 3.0), (1.0, 0.3, 10.0)], ids=lambda v: str(v))
@@ -236,7 +238,7 @@ def test_delayed_loop_matches_python_control(V, tau, k2):
     study["components"]["rider"]["parameters"]["k2"] = k2
     spec = spec_from_dict({"matrix": {"master_lag": False, "pade_order": 6}, "study": [study]})
     _, pred = predict_case(spec.cases()[0], {})
-    m, h, b, J, D, g = 92.0, 1.0, 1.0, 96.7, 46.3, 9.81
+    m, h, b, J, D, g = (PAPER[k] for k in ("m", "h", "b", "J", "D", "g"))
     G = control.tf([V * D / b, m * V * V * h / b], [J, 0, -m * g * h])      # (4)
     P = control.tf(*control.pade(tau, 6))
     loop = control.feedback(G, k2 * P)

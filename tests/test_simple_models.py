@@ -26,6 +26,7 @@ import pytest
 from scipy.linalg import expm
 
 from conftest import run_cli
+from reference import SELF_STABILIZING_DEFAULTS as PAPER
 from cosim.analytic import simple
 from cosim.analytic.compare import minimal_zpk, root_set_error as root_error
 from cosim.fmu.linearize import linearize
@@ -318,7 +319,7 @@ def test_eq27_crowned_rollers(fmus, h):
     """(27): with the steer angle held, the roll poles are +-sqrt(m g (h - R) / J): one unstable
     real pole for R < h, an undamped (imaginary) pair for R > h."""
     fmu = fmus[PKG + "CrownedRoller"]
-    J = 96.7 if h == 1.0 else 30.0
+    J = PAPER["J"] if h == 1.0 else 30.0
     for R in (0.0, 0.5 * h, 0.9 * h, 0.999 * h, 1.001 * h, 1.2 * h, 2.0 * h, 5.0 * h):
         roll = roll_subsystem(lin_ss(fmu, {"V": 3.0, "h": h, "J": J, "R": R}))
         poles = np.linalg.eigvals(roll.A)
@@ -388,8 +389,8 @@ def test_example(example_runs, example):
     elif example == "RearSteeredSteerFeedback":  # (19): lean 0.01 rad grows
         assert phi[0] == 0.01 and np.max(np.abs(_tail(r, "bicycle.phi", 1.0))) > 10 * 0.01
     elif example == "LeaningRiderLean":  # frame rolls against the upper body, then turns right
-        assert phi[0] == pytest.approx(-16.0 * 0.05 / 96.7, rel=1e-12)
+        assert phi[0] == pytest.approx(-16.0 * 0.05 / PAPER["J"], rel=1e-12)
         assert phi[-1] > 0 and r["bicycle.psi"][-1] < 0
     elif example == "CrownedRollerRocking":  # (27), R = 1.2 > h: undamped, period 2 pi / 1.37 s
-        omega = math.sqrt(92 * 9.81 * 0.2 / 96.7)
+        omega = math.sqrt(PAPER["m"] * PAPER["g"] * 0.2 / PAPER["J"])
         np.testing.assert_allclose(phi, 0.05 * np.cos(omega * r["time"]), rtol=0, atol=1e-8)

@@ -137,6 +137,7 @@ class Comparison:
     expected_eigenvalues: list
     eigenvalue_error: float
     pairs: list[PairComparison] = field(default_factory=list)
+    speed: float | None = None  # forward speed [m/s] of the operating point
 
     @property
     def error(self) -> float:
@@ -218,7 +219,7 @@ def format_table(comparisons: list[Comparison], speed_name: str) -> str:
     """One line per operating point and transfer function."""
     lines = [f"{speed_name + ' [m/s]':>10}  {'transfer function':<22} {'poles':>9} {'zeros':>9} {'gain':>9}"]
     for c in comparisons:
-        v = c.parameters.get(speed_name, float("nan"))
+        v = c.speed if c.speed is not None else c.parameters.get(speed_name, float("nan"))
         lines.append(f"{v:10.4g}  {'eigenvalues of A':<22} {c.eigenvalue_error:9.1e}")
         for p in c.pairs:
             lines.append(f"{'':10}  {p.input + ' -> ' + p.output:<22} {p.pole_error:9.1e} {p.zero_error:9.1e} "
@@ -239,10 +240,10 @@ def _parameter_defaults(fmu) -> dict:
 
 def _analytic(model: str, parameters: dict):
     """The analytic twin's system; its refusals (ValueError, KeyError) as ParameterError."""
-    from cosim.analytic.twins import analytic_system
+    from cosim.analytic.twins import twin
 
     try:
-        return analytic_system(model, parameters)
+        return twin(model).system(parameters)
     except CosimError:
         raise
     except (KeyError, ValueError) as exc:
@@ -295,28 +296,38 @@ def compare_model(model: str, speeds=None, parameters: dict | None = None, param
     True
     """
     from cosim.fmu.linearize import linearize
-    from cosim.fmu.parameters import check, declarations, from_command_line, speed_parameter
+    from cosim.fmu.parameters import check, declarations, forward_speed, from_command_line
     from cosim.fmu.target import is_fmu_path, resolve_fmu
-    from cosim.analytic.twins import TWINS
+    from cosim.analytic.twins import STEADY_MOTION_TWINS, TWINS, twin
 
     if is_fmu_path(model):
         raise ParameterError("compare needs a model name (the analytic twin is chosen by model)")
-    if model not in TWINS:
-        raise ParameterError(f"no analytic twin for '{model}'; twins exist for: {', '.join(TWINS)}")
-    speed = speed_parameter(model)
+    if model not in TWINS and model not in STEADY_MOTION_TWINS:
+        raise ParameterError(f"no analytic twin for '{model}'; twins exist for: "
+                             f"{', '.join([*TWINS, *STEADY_MOTION_TWINS])}")
+    declared = declarations(model)
+    speed = forward_speed(model, declared)
     speeds = [None] if speeds is None else [float(v) for v in speeds]
     base = from_command_line(model, [], parameters, parameter_set=parameter_set,
-                             input_hint="compare linearizes at the inputs' start values")
-    declared = declarations(model)
-    for v in speeds:
+                             input_hint="compare linearizes at the inputs' start values", declared=declared)
+    for v in speeds:  # refused before anything is built
         if v is not None:
-            check({speed: v}, declared)
+            speed.check(v)
+            if speed.wheel_radius is None:
+                check({speed.parameter: v}, declared)
     fmu = resolve_fmu(model, output)
     defaults = _parameter_defaults(fmu)
     comparisons = []
     for v in speeds:
-        params = {**base, **({speed: v} if v is not None else {})}
+        params = {**base, **(speed.values(v, {**defaults, **base}) if v is not None else {})}
         expected = _analytic(model, {**defaults, **params})  # refusals before the linearization
-        found = linearize(fmu, params).to_statespace()
-        comparisons.append(compare_systems(model, {**defaults, **params}, found, expected))
+        try:
+            found = twin(model).reduce(linearize(fmu, params))
+        except ValueError as exc:  # not the operating point the twin describes
+            if isinstance(exc, CosimError):
+                raise
+            raise ParameterError(str(exc)) from None
+        result = compare_systems(model, {**defaults, **params}, found, expected)
+        result.speed = speed.speed({**defaults, **params})
+        comparisons.append(result)
     return comparisons

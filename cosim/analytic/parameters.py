@@ -11,7 +11,12 @@ elements about each body's own centre of mass (``I*xz`` = -integral(x z dm));
 wheels are axisymmetric (``IRzz = IRxx``, ``IFzz = IFxx``).  Units are SI.
 
 Bundled sets live in ``cosim/params/<name>.toml`` (one ``key = value`` line per
-symbol, comments document source and conversion).
+symbol, comments document source and conversion).  The same folder holds the
+rider's upper body (``rider/``, :func:`load_upper_body`, :func:`rider_parameters`)
+and the lumped bicycle of the simple second-order models (``second-order/``,
+:func:`load_second_order`).  These files are the one source of the parameter
+values: the Modelica records ``Bicycle.Records`` are generated from them
+(:mod:`cosim.analytic.records`).
 """
 from __future__ import annotations
 
@@ -30,6 +35,12 @@ __all__ = [
     "bundled_parameter_sets",
     "load_parameters",
     "validate_parameters",
+    "UPPER_BODY_UNITS",
+    "SECOND_ORDER_UNITS",
+    "load_upper_body",
+    "split_upper_body",
+    "rider_parameters",
+    "load_second_order",
 ]
 
 #: The 26 symbols of Meijaard et al. (2007), Table 1, in the paper's order.
@@ -269,3 +280,144 @@ def load_parameters(name_or_path: str | os.PathLike[str], *, waive: Iterable[str
         return validate_parameters(data, waive=waived)
     except ValueError as exc:
         raise ValueError(f"{exc} [in {path}]") from exc
+
+
+# --------------------------------------------------------------------------- further data sets
+# Files in sub-folders of cosim/params/ (not Meijaard sets, so not listed by bundled_parameter_sets):
+#   rider/<name>.toml         the rider's upper body on a hip hinge (WhippleRider)
+#   second-order/<name>.toml  the lumped bicycle of the simple models of Astrom et al. (2005)
+
+#: Symbols of the rider's upper body U (``cosim/params/rider/*.toml``) and their SI units.
+UPPER_BODY_UNITS: dict[str, str] = {
+    "mU": "kg", "xU": "m", "hU": "m", "lU": "m",
+    "IUxx": "kg m^2", "IUxz": "kg m^2", "IUyy": "kg m^2", "IUzz": "kg m^2",
+    "kU": "N m/rad", "cU": "N m s/rad",
+}
+
+#: Symbols of the simple second-order models (``cosim/params/second-order/*.toml``), SI units.
+SECOND_ORDER_UNITS: dict[str, str] = {
+    "m": "kg", "a": "m", "h": "m", "b": "m", "c": "m", "lambda": "rad", "J": "kg m^2", "D": "kg m^2",
+    "g": "m/s^2", "m_r": "kg", "J_r": "kg m^2", "h_r": "m", "V": "m/s", "R": "m", "k3": "s",
+}
+
+
+def _load_table(folder: str, name: str, units: Mapping[str, str]) -> dict[str, float]:
+    """Exactly the keys of ``units`` from ``cosim/params/<folder>/<name>.toml``, as finite floats."""
+    directory = _params_dir() / folder
+    path = directory / f"{name}.toml"
+    if not path.is_file():
+        known = ", ".join(sorted(p.stem for p in directory.glob("*.toml"))) or "none"
+        raise ValueError(f"unknown {folder} parameter set {name!r}; bundled: {known}")
+    try:
+        with path.open("rb") as fh:
+            data = tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"{path}: not valid TOML: {exc}") from exc
+    unknown = [k for k in data if k not in units]
+    missing = [k for k in units if k not in data]
+    if unknown or missing:
+        raise ValueError(f"{path}: keys must be exactly {', '.join(units)} "
+                         f"(unknown: {', '.join(unknown) or 'none'}; missing: {', '.join(missing) or 'none'})")
+    out = {}
+    for k in units:
+        value = data[k]
+        if not _is_number(value) or not math.isfinite(float(value)):
+            raise ValueError(f"{k}: must be a finite real number [{units[k]}], got {value!r} [in {path}]")
+        out[k] = float(value)
+    return out
+
+
+def load_upper_body(name: str = "benchmark") -> dict[str, float]:
+    """The rider's upper body U on its hip hinge, ``cosim/params/rider/<name>.toml``.
+
+    Parameters
+    ----------
+    name : str
+        Bundled name (``"benchmark"``: the upper body split off the benchmark's rear frame).
+
+    Returns
+    -------
+    dict of str to float
+        ``mU`` [kg], ``xU``, ``hU``, ``lU`` [m], ``IUxx``, ``IUxz``, ``IUyy``, ``IUzz`` [kg m^2]
+        about U's centre of mass, ``kU`` [N m/rad], ``cU`` [N m s/rad] (see :data:`UPPER_BODY_UNITS`).
+
+    Raises
+    ------
+    ValueError
+        Unknown name, malformed TOML, missing or unknown keys, or a value that is not a finite number.
+    """
+    return _load_table("rider", name, UPPER_BODY_UNITS)
+
+
+def split_upper_body(bicycle: Mapping[str, float], upper_body: Mapping[str, float]) -> dict[str, float]:
+    """The bicycle with the rider's upper body split off its rear frame.
+
+    With the hip hinge locked upright, rear frame + upper body of the result is exactly the rear
+    frame B of ``bicycle`` (same mass, centre of mass and inertia, by the parallel-axis theorem).
+
+    Parameters
+    ----------
+    bicycle : mapping of str to float
+        A Meijaard parameter set (:data:`PARAMETER_NAMES`) whose rear frame B includes the whole rider.
+    upper_body : mapping of str to float
+        The upper body (:func:`load_upper_body`); its centre of mass is at
+        ``x = xU``, ``z = -(hU + lU)``.
+
+    Returns
+    -------
+    dict of str to float
+        The Meijaard symbols (rear frame B now without the upper body) followed by the upper body's.
+
+    Raises
+    ------
+    ValueError
+        If the upper body is not lighter than the rear frame (``mU >= mB``).
+    """
+    b, u = dict(bicycle), dict(upper_body)
+    mB = b["mB"] - u["mU"]
+    if not mB > 0.0:
+        raise ValueError(f"mU: the upper body must be lighter than the rear frame (mU = {u['mU']!r} kg, "
+                         f"mB = {b['mB']!r} kg)")
+    xUc, zUc = u["xU"], -(u["hU"] + u["lU"])  # U's centre of mass
+    xB = (b["mB"] * b["xB"] - u["mU"] * xUc) / mB
+    zB = (b["mB"] * b["zB"] - u["mU"] * zUc) / mB
+
+    def about(m, x, z):  # inertia-tensor elements of a point mass about the composite centre
+        dx, dz = x - b["xB"], z - b["zB"]
+        return {"xx": m * dz**2, "yy": m * (dx**2 + dz**2), "zz": m * dx**2, "xz": -m * dx * dz}
+
+    pu, pb = about(u["mU"], xUc, zUc), about(mB, xB, zB)
+    rest = {f"IB{k}": b[f"IB{k}"] - u[f"IU{k}"] - pu[k] - pb[k] for k in ("xx", "yy", "zz", "xz")}
+    return {**b, "mB": mB, "xB": xB, "zB": zB, **rest, **u}
+
+
+def rider_parameters(bicycle: str = "benchmark", upper_body: str = "benchmark") -> dict[str, float]:
+    """Bundled bicycle with the bundled upper body split off: the defaults of the rider models.
+
+    ``split_upper_body(load_parameters(bicycle), load_upper_body(upper_body))``; the values of
+    ``Bicycle.Records.BenchmarkRider`` and of ``cosim.nonlinear.generate``'s ``WhippleRider``.
+    """
+    return split_upper_body(load_parameters(bicycle), load_upper_body(upper_body))
+
+
+def load_second_order(name: str = "astrom2005") -> dict[str, float]:
+    """Parameters of the simple second-order models, ``cosim/params/second-order/<name>.toml``.
+
+    Parameters
+    ----------
+    name : str
+        Bundled name (``"astrom2005"``: Astrom, Klein & Lennartsson 2005, Table 1 lumped).
+
+    Returns
+    -------
+    dict of str to float
+        The keys of :data:`SECOND_ORDER_UNITS`: ``m``, ``a``, ``h``, ``b``, ``c``, ``lambda``
+        (head angle [rad]), ``J``, ``D``, ``g``, the rider's ``m_r``, ``J_r``, ``h_r`` and the
+        models' default operating values ``V``, ``R``, ``k3``.
+
+    Raises
+    ------
+    ValueError
+        Unknown name, malformed TOML, missing or unknown keys, or a value that is not a finite number.
+    """
+    return _load_table("second-order", name, SECOND_ORDER_UNITS)

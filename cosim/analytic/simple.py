@@ -55,6 +55,11 @@ from typing import Literal
 import control
 import numpy as np
 
+from cosim.analytic.parameters import load_second_order
+
+#: The bicycle of Astrom, Klein & Lennartsson (2005) for the simple models (``lambda`` is the head angle).
+_PAPER = load_second_order("astrom2005")
+
 __all__ = [
     "SimpleBicycle",
     "pendulum_poles",
@@ -132,15 +137,16 @@ class SimpleBicycle:
         Naming the parameter, if a value is not finite or out of range.
     """
 
-    m: float = 92.0
-    a: float = 0.5
-    h: float = 1.0
-    b: float = 1.0
-    c: float = 0.08
-    lam: float = math.radians(70.0)
-    J: float = 96.7
-    D: float = 46.3
-    g: float = 9.81
+    # Defaults: the paper's bicycle, cosim/params/second-order/astrom2005.toml (the one source of the values).
+    m: float = _PAPER["m"]
+    a: float = _PAPER["a"]
+    h: float = _PAPER["h"]
+    b: float = _PAPER["b"]
+    c: float = _PAPER["c"]
+    lam: float = _PAPER["lambda"]
+    J: float = _PAPER["J"]
+    D: float = _PAPER["D"]
+    g: float = _PAPER["g"]
     m_r: float = 0.0
     J_r: float = 0.0
     h_r: float = 0.0
@@ -169,7 +175,8 @@ class SimpleBicycle:
             raise ValueError(f"lam (head angle) must be in (0, pi/2] rad, i.e. (0, 90] deg, got {self.lam!r}")
 
     @classmethod
-    def point_mass(cls, m: float = 92.0, a: float = 0.5, h: float = 1.0, **kw) -> "SimpleBicycle":
+    def point_mass(cls, m: float = _PAPER["m"], a: float = _PAPER["a"], h: float = _PAPER["h"],
+                   **kw) -> "SimpleBicycle":
         """Bicycle with the approximations J ≈ m h², D ≈ m a h used after (1)."""
         return cls(m=m, a=a, h=h, J=m * h**2, D=m * a * h, **kw)
 

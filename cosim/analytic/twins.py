@@ -27,27 +27,49 @@ effective steer angle ``delta_f = delta*sin(lambda)`` (8) for the models with a 
 ``path_steer_tf(frame="eq14")``) and ``delta_f = delta`` for the models with a vertical steer axis
 (``frame="eq1"``).  For ``RearSteered`` the speed V is negative (the model's own convention), so
 its twin is ``rear_steer_roll_steer_tf(bike, -V)``.
+
+The nonlinear bicycles have twins of their linearization about upright straight running
+(:data:`STEADY_MOTION_TWINS`, :class:`SteadyMotionTwin`): the FMU's linearization is reduced exactly
+to the lateral states ``phi, delta, u_phi, u_delta`` plus the path ``psi, y``
+(:func:`cosim.fmu.linearize.steady_motion`) and compared with Meijaard et al. (2007):
+
+=================================  ========================  =====================================
+``Whipple``                        T_delta T_phi -> phi      Meijaard M, C1, K0, K2 + path (A 9)
+                                   delta u_phi u_delta psi y
+``WhippleRider`` (hinge locked)    the same                  the same, upper body merged into the
+                                                             rear frame (:func:`merged_rear_frame`)
+=================================  ========================  =====================================
+
+Their speed parameter is the initial rear wheel rate ``u_R0 = -v/rR``; crown radii ``tR``, ``tF``
+and start values off upright straight running are refused. Their defaults are read from the
+Modelica declarations; the simple models' defaults come from
+``cosim/params/second-order/astrom2005.toml`` (as the Modelica records do).
 """
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import control
 import numpy as np
 
 from cosim.analytic import simple
+from cosim.analytic.parameters import load_second_order
 from cosim.analytic.simple import SimpleBicycle
 
-__all__ = ["Twin", "TWINS", "analytic_system", "bicycle", "twin"]
+__all__ = ["Twin", "SteadyMotionTwin", "TWINS", "STEADY_MOTION_TWINS", "analytic_system", "bicycle", "twin",
+           "merged_rear_frame"]
 
 #: Modelica parameter name -> :class:`SimpleBicycle` field (others are equal).
 _FIELD = {"lambda": "lam"}
 
-#: Defaults of the Table 1 bicycle as declared in the Modelica models.
-_PAPER = {"m": 92.0, "a": 0.5, "h": 1.0, "b": 1.0, "c": 0.08, "lambda": 1.2217304763960306,
-          "J": 96.7, "D": 46.3, "V": 5.0, "g": 9.81}
+#: The Table 1 bicycle of the simple models, from ``cosim/params/second-order/astrom2005.toml``
+#: (the defaults the Modelica models declare; ``tests/test_simple_models.py`` checks they agree).
+_SECOND_ORDER = load_second_order("astrom2005")
+_PAPER = {k: _SECOND_ORDER[k] for k in ("m", "a", "h", "b", "c", "lambda", "J", "D", "V", "g")}
 _PENDULUM = {k: _PAPER[k] for k in ("m", "h", "b", "J", "D", "V", "g")}
 
 
@@ -80,17 +102,27 @@ class Twin:
     speed: str = "V"
     equations: str = ""
 
+    def default_values(self) -> dict[str, float]:
+        """The model's top-level parameters with their default values (SI units)."""
+        return dict(self.defaults)
+
+    def reduce(self, linearization) -> control.StateSpace:
+        """The FMU's linearization (:class:`cosim.fmu.linearize.Linearization`) as the system
+        compared with :meth:`system`: here the whole of it."""
+        return linearization.to_statespace()
+
     def parameters(self, values: Mapping[str, float] | None = None) -> dict[str, float]:
         """The defaults updated with ``values``; unknown names raise ``ValueError``.
 
         Names with a dot (FMU-internal variables such as ``solver.fixedStepSize``) are ignored.
         """
         values = dict(values or {})
-        unknown = sorted(k for k in values if "." not in k and k not in self.defaults)
+        defaults = self.default_values()
+        unknown = sorted(k for k in values if "." not in k and k not in defaults)
         if unknown:
             raise ValueError(f"{self.model}: unknown parameter(s) {', '.join(unknown)}; "
-                             f"parameters are: {', '.join(self.defaults)}")
-        merged = dict(self.defaults)
+                             f"parameters are: {', '.join(defaults)}")
+        merged = dict(defaults)
         for k, v in values.items():
             if "." in k:
                 continue
@@ -238,16 +270,16 @@ _ANGLE_OUT = ("phi", "psi", "eta")
 TWINS: dict[str, Twin] = {t.model: t for t in (
     Twin("Bicycle.Bicycles.SelfStabilizing", _self_stabilizing, dict(_PAPER), ("T",), _TORQUE_OUT,
          equations="(14) + (11); path with delta*sin(lambda)"),
-    Twin("Bicycle.Bicycles.SelfStabilizingGyro", _self_stabilizing_gyro, {**_PAPER, "k3": 0.05}, ("T",),
+    Twin("Bicycle.Bicycles.SelfStabilizingGyro", _self_stabilizing_gyro, {**_PAPER, "k3": _SECOND_ORDER["k3"]}, ("T",),
          _TORQUE_OUT, equations="(14) + (11) with delta = k1 T - k2 phi - k3 dphi/dt"),
     Twin("Bicycle.Bicycles.InvertedPendulum", _inverted_pendulum, dict(_PENDULUM), ("delta",), _ANGLE_OUT,
          equations="(1), (4); path der(psi) = V delta / b, der(eta) = V psi"),
-    Twin("Bicycle.Bicycles.RearSteered", _rear_steered, {**_PENDULUM, "V": -5.0}, ("delta",), _ANGLE_OUT,
+    Twin("Bicycle.Bicycles.RearSteered", _rear_steered, {**_PENDULUM, "V": -_SECOND_ORDER["V"]}, ("delta",), _ANGLE_OUT,
          equations="(18): (4) at negative V"),
     Twin("Bicycle.Bicycles.LeaningRider", _leaning_rider,
-         {**_PAPER, "m_r": 40.0, "J_r": 16.0, "h_r": 0.35}, ("T", "theta"), _TORQUE_OUT,
+         {**_PAPER, **{k: _SECOND_ORDER[k] for k in ("m_r", "J_r", "h_r")}}, ("T", "theta"), _TORQUE_OUT,
          equations="(22) + (11) = (23) with the frame (14)"),
-    Twin("Bicycle.Bicycles.CrownedRoller", _crowned_roller, {**_PENDULUM, "R": 0.3}, ("delta",), _ANGLE_OUT,
+    Twin("Bicycle.Bicycles.CrownedRoller", _crowned_roller, {**_PENDULUM, "R": _SECOND_ORDER["R"]}, ("delta",), _ANGLE_OUT,
          equations="(1) with m g (h - R), poles (27)"),
     Twin("Bicycle.Bicycles.WhippleLinear", _whipple_linear, _meijaard_defaults(), ("T_phi", "T_delta"),
          ("phi", "delta", "phi_dot", "delta_dot", "psi", "y"), speed="v",
@@ -255,12 +287,111 @@ TWINS: dict[str, Twin] = {t.model: t for t in (
 )}
 
 
+# ----------------------------------------------------------------------------
+# twins of the nonlinear bicycles' linearization about upright straight running
+
+@dataclass(frozen=True)
+class SteadyMotionTwin(Twin):
+    """The analytic twin of a nonlinear bicycle's linearization about upright straight running.
+
+    The FMU's linearization is first reduced exactly to its lateral dynamics and path
+    (:func:`cosim.fmu.linearize.steady_motion`, with the rider's hinge locked if ``lock_hinge``);
+    the defaults are read from the model's Modelica declarations (no copies of the values).
+    """
+
+    lock_hinge: bool = False
+
+    def default_values(self) -> dict[str, float]:
+        return dict(_modelica_defaults(self.model, os.environ.get("COSIM_MODELICA_PATH")))
+
+    def reduce(self, linearization) -> control.StateSpace:
+        from cosim.fmu.linearize import steady_motion
+
+        return steady_motion(linearization, lock_hinge=self.lock_hinge).to_statespace()
+
+
+@lru_cache(maxsize=8)
+def _modelica_defaults(model: str, library: str | None) -> dict[str, float]:
+    """Numeric defaults of the top-level parameters declared by ``model`` (``library``: the cache key)."""
+    from cosim.fmu.parameters import declarations, starts
+
+    return {k: v for k, v in starts(declarations(model)).items() if "." not in k}
+
+
+#: Upper-body parameters of ``WhippleRider`` (the hinge's kU, cU do not matter when it is locked).
+_UPPER_BODY = ("mU", "xU", "hU", "lU", "IUxx", "IUxz", "IUyy", "IUzz")
+#: Initial values that must be zero for the steady motion the twin describes (the others -- x0,
+#: y0, thetaR0, thetaF0, the Newton start theta_guess -- do not change the linearization).
+_STEADY_STARTS = ("psi0", "phi0", "delta0", "u_phi0", "u_delta0", "beta0", "u_beta0")
+
+
+def merged_rear_frame(p: Mapping[str, float]) -> dict[str, float]:
+    """The Meijaard parameters of a bicycle whose rider's upper body is locked to the rear frame.
+
+    The upper body (mass ``mU``, centre of mass at ``x = xU``, ``z = -(hU + lU)``, inertia
+    ``IU..`` about it) and the rear frame ``B`` become one rigid body: mass, centre of mass and
+    inertia tensor about the combined centre of mass by the parallel-axis theorem (tensor
+    elements, ``I*xz = -integral(x z dm)``). Inverse of
+    :func:`cosim.analytic.parameters.split_upper_body`. Units: SI.
+    """
+    mB, mU = p["mB"], p["mU"]
+    m = mB + mU
+    if not m > 0:
+        raise ValueError(f"mB + mU must be positive, got {m!r} kg")
+    xU, zU = p["xU"], -(p["hU"] + p["lU"])
+    x, z = (mB * p["xB"] + mU * xU) / m, (mB * p["zB"] + mU * zU) / m
+    bodies = ((mB, p["xB"] - x, p["zB"] - z), (mU, xU - x, zU - z))
+    out = {k: p[k] for k in _MEIJAARD}
+    out.update(mB=m, xB=x, zB=z,
+               IBxx=p["IBxx"] + p["IUxx"] + sum(mi * dz**2 for mi, dx, dz in bodies),
+               IByy=p["IByy"] + p["IUyy"] + sum(mi * (dx**2 + dz**2) for mi, dx, dz in bodies),
+               IBzz=p["IBzz"] + p["IUzz"] + sum(mi * dx**2 for mi, dx, dz in bodies),
+               IBxz=p["IBxz"] + p["IUxz"] - sum(mi * dx * dz for mi, dx, dz in bodies))
+    return out
+
+
+def _steady_lateral(p: Mapping[str, float], u_R0: float, rider: bool) -> control.StateSpace:
+    """Meijaard et al. (2007) about upright straight running at v = -u_R0 rR, on the nonlinear
+    bicycle's names: states (phi, delta, u_phi, u_delta, psi, y), inputs (T_delta, T_phi)."""
+    crowned = [k for k in ("tR", "tF") if p.get(k, 0.0) != 0.0]
+    if crowned:
+        raise ValueError(f"{', '.join(crowned)}: the analytic model has knife-edge wheels (crown radius 0)")
+    moving = [k for k in _STEADY_STARTS if p.get(k, 0.0) != 0.0]
+    if moving:
+        raise ValueError(f"{', '.join(moving)}: the analytic model is about upright straight running along x "
+                         "(these start values must be 0)")
+    params = merged_rear_frame(p) if rider else {k: p[k] for k in _MEIJAARD}
+    v = -float(u_R0) * float(p["rR"])
+    sys = _whipple_linear({**p, **params}, v)
+    names = ["phi", "delta", "u_phi", "u_delta", "psi", "y"]
+    order = [1, 0]  # the FMU's inputs are (T_delta, T_phi)
+    return control.ss(sys.A, sys.B[:, order], np.eye(6), np.zeros((6, 2)), states=names,
+                      inputs=["T_delta", "T_phi"], outputs=names)
+
+
+_LATERAL_OUT = ("phi", "delta", "u_phi", "u_delta", "psi", "y")
+
+#: Twins of the nonlinear bicycles' linearization about upright straight running.
+STEADY_MOTION_TWINS: dict[str, SteadyMotionTwin] = {t.model: t for t in (
+    SteadyMotionTwin("Bicycle.Bicycles.Whipple", lambda p, u: _steady_lateral(p, u, rider=False), {},
+                     ("T_delta", "T_phi"), _LATERAL_OUT, speed="u_R0",
+                     equations="Meijaard et al. (2007) M, C1, K0, K2 plus the path (A 9), about upright "
+                               "straight running"),
+    SteadyMotionTwin("Bicycle.Bicycles.WhippleRider", lambda p, u: _steady_lateral(p, u, rider=True), {},
+                     ("T_delta", "T_phi"), _LATERAL_OUT, speed="u_R0",
+                     equations="Meijaard et al. (2007) with the upper body merged into the rear frame "
+                               "(hip hinge locked)", lock_hinge=True),
+)}
+
+
 def twin(model_name: str) -> Twin:
-    """The twin of ``model_name``; ``KeyError`` lists the models that have one."""
-    try:
-        return TWINS[model_name]
-    except KeyError:
-        raise KeyError(f"no analytic twin for '{model_name}'; twins exist for: {', '.join(TWINS)}") from None
+    """The twin of ``model_name`` (:data:`TWINS`, else :data:`STEADY_MOTION_TWINS`); ``KeyError``
+    lists the models that have one."""
+    found = TWINS.get(model_name) or STEADY_MOTION_TWINS.get(model_name)
+    if found is None:
+        raise KeyError(f"no analytic twin for '{model_name}'; twins exist for: "
+                       f"{', '.join([*TWINS, *STEADY_MOTION_TWINS])}")
+    return found
 
 
 def analytic_system(model_name: str, parameters: Mapping[str, float] | None = None) -> control.StateSpace:

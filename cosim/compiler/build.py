@@ -232,7 +232,7 @@ def _build_locked(model_name, target, library, entry, force, started) -> BuildRe
             "fingerprint": fingerprint,
             "sources_digest": sources_digest,
             "guid": info.guid,
-            "modelica_files": [str(p.relative_to(library.path)) for p in library.files],
+            "modelica_files": [library.relative_name(p) for p in library.files],
             "tools": versions,
             "sources": source_hashes,
         }, indent=2, sort_keys=True) + "\n")

@@ -15,6 +15,14 @@ RUNTIME_SOURCES = ("fmi2_runtime.c", "cosim_model.h")
 FMI_HEADERS = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
 # Above this many doubles the CasADi work array goes to the heap, not the stack (thread stacks are small).
 STACK_WORK_LIMIT = 16384
+# Newton solve of the initial equations: stop when max |residual| <= NEWTON_ABSTOL (or the step is
+# that small) or after NEWTON_MAX_ITER iterations. Newton converges quadratically, so from a guess
+# inside its region of attraction it reaches rounding level in a few iterations; the solution is
+# accepted when max |residual| <= INIT_TOLERANCE, which leaves room for rounding in residuals of
+# larger magnitude (e.g. a few metres), and refused if not (or NaN).
+NEWTON_ABSTOL = 1e-14
+NEWTON_MAX_ITER = 50
+INIT_TOLERANCE = 1e-10
 # The C sources of an FMU, in compile order (also listed in modelDescription.xml).
 SOURCE_FILES = ("model_functions.c", "model.c", "fmi2_runtime.c")
 
@@ -40,12 +48,46 @@ def casadi_functions(model: ExplicitModel) -> list[ca.Function]:
     nx = model.xdot.numel()
     return [
         ca.Function("cosim_calc", [p], [model.c], ["p"], ["c"]),
-        ca.Function("cosim_start", [p], [model.x0], ["p"], ["x0"]),
+        start_function(model),
         ca.Function("cosim_eval", [t, x, u, p], [model.xdot, model.z], ["t", "x", "u", "p"], ["xdot", "z"]),
         ca.Function("cosim_jvp", [t, x, u, p, dx, du, dp], [directional[:nx] if nx else ca.SX(0, 1),
                                                             directional[nx:]],
                     ["t", "x", "u", "p", "dx", "du", "dp"], ["dxdot", "dz"]),
     ]
+
+
+def start_function(model: ExplicitModel) -> ca.Function:
+    """``cosim_start``: the start values of the states.
+
+    Without initial equations ``x0 = s(p)`` (an SX function of the parameters). With them an MX
+    function of ``(t, u, p, x, given)``: a state flagged in ``given`` (set by the importer) keeps
+    the value ``x``, the others start at ``s(p)``; then the states declared ``fixed = false``
+    are solved from the initial equations by Newton's method (CasADi ``fast_newton``, which can
+    be code-generated; ``newton`` cannot), starting from those values. The second output is the
+    residual at the solution: the generated ``fast_newton`` reports success even when it has not
+    converged (NaN included), so the C wrapper checks the residual itself (``INIT_TOLERANCE``).
+    """
+    if not model.init_unknowns:
+        return ca.Function("cosim_start", [model.p], [model.x0], ["p"], ["x0"])
+    x, nx, free = model.x, model.x.numel(), model.init_unknowns
+    others = ca.SX.sym("x_known", nx)
+    z = ca.SX.sym("x_solved", len(free))
+    slot = {k: j for j, k in enumerate(free)}
+    x_trial = ca.vertcat(*[z[slot[k]] if k in slot else others[k] for k in range(nx)])
+    known = ca.vertcat(model.t, model.u, model.p, others)
+    residual = ca.Function("cosim_init_residual", [z, known],
+                           [ca.substitute(model.init_residual, x, x_trial)], ["x_solved", "known"], ["r"])
+    solver = ca.rootfinder("cosim_init_newton", "fast_newton", residual,
+                           {"abstol": NEWTON_ABSTOL, "abstolStep": NEWTON_ABSTOL, "max_iter": NEWTON_MAX_ITER})
+    t, u, p = ca.MX.sym("t"), ca.MX.sym("u", model.u.numel()), ca.MX.sym("p", model.p.numel())
+    x_given, given = ca.MX.sym("x", nx), ca.MX.sym("given", nx)
+    start = ca.Function("cosim_start_values", [model.p], [model.x0])(p)
+    x_start = ca.if_else(given, x_given, start)  # elementwise; the unselected branch is not propagated
+    known_values = ca.vertcat(t, u, p, x_start)
+    solution = solver(x_start[free], known_values)
+    x0 = ca.vertcat(*[solution[slot[k]] if k in slot else x_start[k] for k in range(nx)])
+    return ca.Function("cosim_start", [t, u, p, x_given, given], [x0, residual(solution, known_values)],
+                       ["t", "u", "p", "x", "given"], ["x0", "residual"])
 
 
 def _c_double(value) -> str:
@@ -72,14 +114,14 @@ def _array(ctype: str, name: str, items: list[str]) -> str:
     return f"static const {ctype} {name}[{max(1, len(items))}] = {{{body}}};\n"
 
 
-def _wrapper(f: ca.Function, signature: str, args: list[str], results: list[str]) -> str:
+def _wrapper(f: ca.Function, signature: str, args: list[str], results: list[str], c_name: str | None = None) -> str:
     name = f.name()
     sz_arg, sz_res, sz_iw, sz_w = f.sz_arg(), f.sz_res(), f.sz_iw(), f.sz_w()
     arg_init = ", ".join(args + ["0"] * (sz_arg - len(args)))
     res_init = ", ".join(results + ["0"] * (sz_res - len(results)))
     heap = sz_w > STACK_WORK_LIMIT
     lines = [
-        f"static int call_{name[6:]}({signature}) {{",
+        f"static int {c_name or 'call_' + name[6:]}({signature}) {{",
         f"    const casadi_real *arg[{max(1, sz_arg)}] = {{{arg_init}}};",
         f"    casadi_real *res[{max(1, sz_res)}] = {{{res_init}}};",
         f"    casadi_int iw[{max(1, sz_iw)}];",
@@ -99,18 +141,19 @@ def model_c(info: ModelInfo, functions: list[ca.Function]) -> str:
     types = [f"COSIM_{v.type.upper()}" for v in info.variables]
     starts = [_c_double(v.start) for v in info.variables]
     names = [_c_string(v.name) for v in info.variables]
-    calculated_start = ["1" if v.initial == "calculated" else "0" for v in info.by_role("state")]
+    # 0: exact start value, 1: computed from the parameters, 2: solved from the initial equations
+    calculated_start = [{"calculated": "1", "approx": "2"}.get(v.initial, "0") for v in info.by_role("state")]
     s = info.sizes
     return (
         f"/* Generated by cosim for {info.name}. Do not edit: run `cosim build` instead. */\n"
-        "#include <stdlib.h>\n#include \"cosim_model.h\"\n#include \"model_functions.h\"\n\n"
+        "#include <math.h>\n#include <stdlib.h>\n#include \"cosim_model.h\"\n#include \"model_functions.h\"\n\n"
         + _array("cosim_type", "types", types)
         + _array("double", "start", starts)
         + _array("unsigned char", "state_start_calculated", calculated_start)
         + _array("char *const", "names", names)
         + "\n"
         + _wrapper(calc, "const double *p, double *c", ["p"], ["c"])
-        + _wrapper(start, "const double *p, double *x0", ["p"], ["x0"])
+        + _start_wrapper(info, start)
         + _wrapper(evaluate, "double t, const double *x, const double *u, const double *p, double *xdot, double *z",
                    ["&t", "x", "u", "p"], ["xdot", "z"])
         + _wrapper(jvp, "double t, const double *x, const double *u, const double *p, const double *dx, "
@@ -123,8 +166,49 @@ def model_c(info: ModelInfo, functions: list[ca.Function]) -> str:
         f"    {info.fixed_step_vr},\n"
         "    types, start, state_start_calculated,\n"
         "    call_calc, call_start, call_eval, call_jvp,\n"
-        "    names\n"
+        "    names,\n"
+        f"    {_c_string(info.init_unknowns) if info.init_unknowns else '0'}\n"
         "};\n"
+    )
+
+
+def _start_wrapper(info: ModelInfo, start: ca.Function) -> str:
+    """``call_start`` of the runtime contract (see ``cosim_model.h``)."""
+    signature = ("double t, const double *u, const double *p, const unsigned char *given, double *x0, "
+                 "double *residual")
+    nx = info.sizes["nx"]
+    if start.n_in() == 1:  # no initial equations: x0 = s(p)
+        return (_wrapper(start, "const double *p, double *x0", ["p"], ["x0"], "start_values")
+                + f"static int call_start({signature}) {{\n"
+                "    (void)t; (void)u; (void)given;\n"
+                "    *residual = 0.0;\n"
+                "    return start_values(p, x0);\n"
+                "}\n")
+    n_init = start.size1_out(1)
+    solved = [v.index - 1 for v in info.by_role("state") if v.initial == "approx"]
+    return (
+        _wrapper(start, "double t, const double *u, const double *p, const double *x, const double *given, "
+                        "double *x0, double *r", ["&t", "u", "p", "x", "given"], ["x0", "r"], "start_solve")
+        + _array("int", "solved_states", [str(k) for k in solved])
+        + f"/* Start values of the states; the states declared fixed = false are solved from the initial\n"
+        f"   equations (Newton). 0: ok, COSIM_START_NOT_CONVERGED: max |residual| > {INIT_TOLERANCE!r} or\n"
+        "   not finite (the generated Newton iteration does not report that itself), 1: evaluation failed. */\n"
+        f"static int call_start({signature}) {{\n"
+        f"    double x[{max(1, nx)}], flags[{max(1, nx)}], r[{n_init}];\n"
+        "    int i, status;\n"
+        f"    for (i = 0; i < {nx}; i++) {{ x[i] = x0[i]; flags[i] = given[i] ? 1.0 : 0.0; }}\n"
+        "    status = start_solve(t, u, p, x, flags, x0, r);\n"
+        "    *residual = 0.0;\n"
+        "    if (status != 0) return 1;\n"
+        f"    for (i = 0; i < {n_init}; i++) {{\n"
+        "        const double a = r[i] < 0.0 ? -r[i] : r[i];\n"
+        "        if (a != a) { *residual = a; return COSIM_START_NOT_CONVERGED; }\n"
+        "        if (a > *residual) *residual = a;\n"
+        "    }\n"
+        f"    for (i = 0; i < {len(solved)}; i++)\n"
+        "        if (!isfinite(x0[solved_states[i]])) return COSIM_START_NOT_CONVERGED;\n"
+        f"    return *residual <= {INIT_TOLERANCE!r} ? 0 : COSIM_START_NOT_CONVERGED;\n"
+        "}\n"
     )
 
 

@@ -57,6 +57,7 @@ class ModelInfo:
     output_dependencies: dict = field(default_factory=dict)  # vr -> [vr of states/inputs]
     derivative_dependencies: dict = field(default_factory=dict)
     guid: str = ""
+    init_unknowns: str = ""  # "theta, psi": the states solved from the initial equations, for messages
 
     @property
     def default_tolerance(self) -> float:
@@ -111,9 +112,16 @@ def describe(entry: ModelEntry, flat: FlatModel, model: ExplicitModel) -> ModelI
         return d is not None and "output" in d.prefixes
 
     states = []
-    for s in model.states:
+    guesses = _default_starts(model)
+    for k, s in enumerate(model.states):
+        causality = "output" if declared_output(s.name) else "local"
+        if k in model.init_unknowns:
+            # Solved from the initial equations: FMI 2 initial = "approx", an iteration variable whose
+            # start value (the guess, here at the default parameters) may be set before initialization.
+            states.append(add(s.name, "state", causality, "continuous", "approx", guesses[k]))
+            continue
         calculated = s.start is None
-        states.append(add(s.name, "state", "output" if declared_output(s.name) else "local", "continuous",
+        states.append(add(s.name, "state", causality, "continuous",
                           "calculated" if calculated else "exact", None if calculated else s.start))
     for s, state in zip(model.states, states):
         d = decl.get(s.name)
@@ -139,9 +147,18 @@ def describe(entry: ModelEntry, flat: FlatModel, model: ExplicitModel) -> ModelI
     info = ModelInfo(
         name=flat.name, identifier=model_identifier(flat.name), description=entry.description,
         variables=variables, sizes=sizes, experiment=entry.experiment,
+        init_unknowns=", ".join(model.states[k].name for k in model.init_unknowns),
     )
     _dependencies(info, model)
     return info
+
+
+def _default_starts(model: ExplicitModel) -> list[float]:
+    """The start values of the states at the default parameter values."""
+    if not model.init_unknowns:
+        return [s.start for s in model.states]
+    values = ca.Function("x0", [model.p], [model.x0])([float(s.start) for s in model.parameters])
+    return [float(v) for v in ca.DM(values).full().ravel()]
 
 
 def _derivative_unit(unit: str | None) -> str | None:

@@ -142,6 +142,20 @@ class _Declarations:
             return True
         return any(n == name for n, _, _ in self.symbols(class_name))
 
+    def base_prefixes(self, symbol, owner: str) -> list[str]:
+        """The prefixes (``input``, ``output``, ...) that the short class definitions behind a
+        component's type add, e.g. ``input`` for ``connector RealInput = input Real``."""
+        found, name, seen = [], str(symbol.type), 0
+        while name not in BUILTIN and seen < 20:
+            resolved = self.resolve(name, owner)
+            cls = self._class(resolved) if resolved else None
+            if cls is None or not getattr(cls, "is_short_class_definition", False) or not cls.extends:
+                break
+            found += [p for p in getattr(cls, "_cosim_base_prefixes", []) if p not in found]
+            name, owner = str(cls.extends[0].component), resolved
+            seen += 1
+        return found
+
     def base_type(self, symbol, owner: str) -> str:
         """Real, Integer or Boolean behind a (possibly derived) type."""
         name = str(symbol.type)
@@ -164,6 +178,12 @@ _FLATTEN_ERRORS = [
     (r"Extends name (?P<name>\S+) not found in scope (?P<scope>\S+)", "unknown class '{name}' in 'extends'"),
     (r'Trying to modify symbol "(?P<name>[^"]+)", which does not exist in class (?P<scope>\S+)',
      "modification of '{name}', which {scope} does not declare"),
+    # raised by cosim's pymoca_patches, which applies a record binding b = rb element-wise
+    (r"Unsupported record binding (?P<name>\S+) = (?P<expr>.+?) in scope (?P<scope>\S+): (?P<what>.*)",
+     ("record binding '{name} = {expr}' is not supported ({what}): bind the record to another record "
+      "component ({name} = r) or give its elements as modifiers ({name}(m = ..., I = ...))")),
+    (r"Unsupported redeclare of (?P<name>\S+) in scope (?P<scope>\S+): (?P<what>.*)",
+     "replaceable '{name}': {what}"),
 ]
 
 # Operators pymoca's CasADi generator handles itself; any other call must be a Modelica function
@@ -528,8 +548,9 @@ def flatten(library: Library, model_name: str) -> FlatModel:
         declared, owner = lookup.find(model_name, name)
         prefixes = list(symbol.prefixes)
         if declared is not None and "." not in name:
+            declared_prefixes = list(declared.prefixes) + lookup.base_prefixes(declared, owner)
             for causality in ("input", "output"):
-                if causality in declared.prefixes and causality not in prefixes:
+                if causality in declared_prefixes and causality not in prefixes:
                     prefixes.append(causality)
             symbol.prefixes = prefixes
         description = symbol.comment or (declared.comment if declared is not None else "") or ""

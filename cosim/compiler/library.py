@@ -49,6 +49,29 @@ def library_path(path: str | os.PathLike | None = None) -> Path:
     return chosen
 
 
+def library_paths(path=None) -> list[Path]:
+    """The folders that hold the top-level Modelica packages (like ``MODELICAPATH``).
+
+    ``path`` is one folder, several folders joined by ``os.pathsep`` (``modelica:tests/oracle``)
+    or a list of folders; None takes ``COSIM_MODELICA_PATH`` (which may list several folders the
+    same way), else the library that ships with the package. Each folder is checked as in
+    :func:`library_path`; a folder named twice counts once.
+
+    Raises
+    ------
+    ModelicaError
+        If a folder does not exist or is a file.
+    """
+    if path is None:
+        path = os.environ.get("COSIM_MODELICA_PATH") or DEFAULT_LIBRARY
+    items = list(path) if isinstance(path, (list, tuple)) else [path]
+    parts = [part for item in items for part in
+             (str(item).split(os.pathsep) if isinstance(item, str) else [item]) if str(part).strip()]
+    if not parts:
+        raise ModelicaError("no Modelica library folder given")
+    return list(dict.fromkeys(library_path(part) for part in parts))
+
+
 @dataclass
 class ModelEntry:
     """A class of the library as the command line lists it."""
@@ -170,8 +193,11 @@ def _parse_text(text: str):
 
     from pymoca import parser
 
+    from cosim.compiler import pymoca_patches
+
+    pymoca_patches.apply()  # the parser patches must see every file
     try:
-        return parser.parse_text(text)
+        return parser.parse_text(text, cache_db=pymoca_patches.PARSE_CACHE_DB)
     except (OSError, sqlite3.Error):
         return parser.parse_text(text, bypass_cache=True)
 
@@ -215,11 +241,17 @@ class Library:
 
     Parameters
     ----------
-    path : path-like, optional
-        Folder that contains the top-level packages (default: :func:`library_path`).
+    path : path-like, list of path-like, optional
+        Folder that contains the top-level packages, or several such folders (a list, or joined by
+        ``os.pathsep``), e.g. the shipped library and a folder of test packages that use it
+        (default: :func:`library_paths`).
 
     Attributes
     ----------
+    path : Path
+        The first folder (where a class name that is found nowhere is reported).
+    paths : list of Path
+        Every folder, in the order given.
     files : list of Path
         Every ``.mo`` file of the library.
     errors : dict of Path to ModelicaError
@@ -229,10 +261,16 @@ class Library:
     def __init__(self, path: str | os.PathLike | None = None):
         from pymoca import ast
 
-        self.path = library_path(path)
-        self.files = sorted(p for p in self.path.rglob("*.mo") if p.is_file())
+        self.paths = library_paths(path)
+        self.path = self.paths[0]
+        self._roots: dict[Path, Path] = {}  # file -> the library folder it lies in
+        for root in self.paths:
+            for file in sorted(p for p in root.rglob("*.mo") if p.is_file()):
+                self._roots.setdefault(file, root)  # a folder nested in another listed folder: the outer one
+        self.files = list(self._roots)
         if not self.files:
-            raise ModelicaError(f"{self.path}: no .mo files in the Modelica library folder")
+            raise ModelicaError(f"{os.pathsep.join(map(str, self.paths))}: no .mo files in the Modelica "
+                                "library folder")
         self.errors: dict[Path, ModelicaError] = {}
         self.tree = ast.Tree()
         defined: dict[str, Path] = {}  # class name -> the file that defines it
@@ -274,11 +312,15 @@ class Library:
     def _defined_classes(self, file: Path, tree) -> list[str]:
         """Names of the classes the file itself defines (its class and the classes nested in
         it), not the enclosing packages its ``within`` names."""
-        within, name = expected_class(self.path, file)
+        from pymoca import ast
+
+        within, name = expected_class(self._roots[file], file)
         node, prefix = tree, ""
         for part in within.split(".") if within else []:
             node, prefix = node.classes[part], f"{prefix}{part}."
         found = []
+        # an ast.Tree starts with the built-in classes (Real, ...): not classes of the file
+        builtin = set(ast.Tree().classes) if not within else set()
 
         def walk(cls, full):
             found.append(full)
@@ -286,12 +328,13 @@ class Library:
                 walk(child, f"{full}.{child_name}")
 
         for class_name, cls in node.classes.items():
-            walk(cls, f"{prefix}{class_name}")
+            if class_name not in builtin:
+                walk(cls, f"{prefix}{class_name}")
         return found
 
     def _check_place(self, file: Path, text: str, parsed) -> None:
         """A file must hold the one class its path names, ``within`` its folder's package."""
-        within, name = expected_class(self.path, file)
+        within, name = expected_class(self._roots[file], file)
         declared_within = ".".join(parsed.within[0].to_tuple()) if parsed.within else ""
         classes = list(parsed.classes)
         if not classes:
@@ -315,7 +358,7 @@ class Library:
             return self._digest
         h = hashlib.sha256()
         for file in self.files:
-            h.update(str(file.relative_to(self.path)).encode())
+            h.update(self.relative_name(file).encode())
             h.update(b"\0")
             try:
                 h.update(file.read_bytes())
@@ -324,13 +367,24 @@ class Library:
         self._digest = h.hexdigest()
         return self._digest
 
+    def relative_name(self, file: Path) -> str:
+        """The name of a library file relative to its library folder; prefixed by the folder's
+        position (``1:BicycleOracle/Whipple.mo``) for every folder after the first."""
+        root = self._roots.get(Path(file))
+        if root is None:
+            return str(file)
+        index = self.paths.index(root)
+        relative = str(Path(file).relative_to(root))
+        return f"{index}:{relative}" if index else relative
+
     def _file_of(self, name: str) -> Path:
         parts = name.split(".")
         for n in range(len(parts), 0, -1):
-            stem = self.path.joinpath(*parts[:n])
-            for candidate in (stem.with_suffix(".mo"), stem / "package.mo"):
-                if candidate.is_file():
-                    return candidate
+            for root in self.paths:
+                stem = root.joinpath(*parts[:n])
+                for candidate in (stem.with_suffix(".mo"), stem / "package.mo"):
+                    if candidate.is_file():
+                        return candidate
         return self.path
 
     def file_of(self, class_name: str) -> Path:
@@ -369,7 +423,7 @@ class Library:
         """Class name -> file for every file that did not parse (the class its path names)."""
         found = {}
         for file in self.errors:
-            within, name = expected_class(self.path, file)
+            within, name = expected_class(self._roots[file], file)
             if name:
                 found[f"{within}.{name}" if within else name] = file
         return found
@@ -429,10 +483,19 @@ class Library:
         else:
             problem = f"'{name}' is a {entry.kind} ({entry.file}), not a model or block"
         known = "\n  ".join(e.name for e in self.models())
-        raise UnknownModelError(f"{problem}; the library at {self.path} has:\n  {known}")
+        where = os.pathsep.join(map(str, self.paths))
+        raise UnknownModelError(f"{problem}; the library at {where} has:\n  {known}")
+
+
+def load_library(path=None) -> Library:
+    """Parse the library once per process and path (one folder, or several as for
+    :class:`Library`)."""
+    return _load_library(tuple(map(str, path)) if isinstance(path, (list, tuple)) else path)
 
 
 @lru_cache(maxsize=4)
-def load_library(path: str | None = None) -> Library:
-    """Parse the library once per process and path."""
-    return Library(path)
+def _load_library(path) -> Library:
+    return Library(list(path) if isinstance(path, tuple) else path)
+
+
+load_library.cache_clear = _load_library.cache_clear  # callers clear the cache after editing files

@@ -5,6 +5,10 @@ pymoca gives residual equations ``0 = r(der(x), x, z, u, p, t)``. The unknowns
 (block-triangular form) and solved block by block: a block linear in its unknowns is solved
 symbolically. pymoca does no index reduction, so an equation that determines no unknown (a
 constraint on states: index > 1) is reported with the variables involved.
+
+Initial equations become residuals ``0 = r(t, x, u, p)`` (state derivatives and algebraic
+variables replaced by their solution) whose unknowns are the states declared ``fixed = false``;
+the FMU solves them by Newton's method at initialization (see ``codegen.start_function``).
 """
 from __future__ import annotations
 
@@ -15,7 +19,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from cosim.errors import ModelStructureError, ParameterError
+from cosim.errors import ModelicaError, ModelStructureError, ParameterError
 from cosim.compiler.flatten import FlatModel
 
 
@@ -46,6 +50,18 @@ class ExplicitModel:
     parameters: list[Symbolic]
     calculated: list[Symbolic]
     algebraics: list[Symbolic]
+    # Initial equations ``0 = r(t, x, u, p)`` (state derivatives and algebraic variables
+    # substituted) and the indices into ``x`` of their unknowns, the states declared
+    # ``fixed = false``; their ``x0`` entries are the guesses of the Newton solve. Empty: every
+    # state starts at ``x0``.
+    init_residual: ca.SX = None
+    init_unknowns: list[int] = None
+
+    def __post_init__(self):
+        if self.init_residual is None:
+            self.init_residual = ca.SX(0, 1)
+        if self.init_unknowns is None:
+            self.init_unknowns = []
 
 
 def _column(symbols):
@@ -133,7 +149,11 @@ def make_explicit(flat: FlatModel) -> ExplicitModel:
     ------
     ModelStructureError
         Unbalanced model, structurally singular (index > 1) system, algebraic loop that is
-        not linear, unsupported constructs (delay, initial equations).
+        not linear, unsupported constructs (delay, ``fixed`` attributes that ask for an
+        initialization problem other than states solved from initial equations).
+    ModelicaError
+        Initial equations that do not determine the states declared ``fixed = false``
+        (unbalanced or structurally singular), naming file:line and the variables.
     ParameterError
         A parameter without value.
     """
@@ -141,10 +161,6 @@ def make_explicit(flat: FlatModel) -> ExplicitModel:
     name = flat.name
     if getattr(m, "delay_states", None):
         raise ModelStructureError(f"{name}: delay() is not supported; use a Pade approximation (Bicycle.Rider)")
-    if m.initial_equations:
-        raise ModelStructureError(
-            f"{name}: initial equations are not supported; give the states start values with fixed = true")
-
     _refuse_initialization_attributes(flat)
 
     for v in m.parameters:
@@ -228,6 +244,10 @@ def make_explicit(flat: FlatModel) -> ExplicitModel:
         if bad:
             raise ModelStructureError(f"{name}: {label} depend on non-parameters: {', '.join(bad)}")
 
+    init_residual, init_unknowns = _initial_problem(
+        flat, known(tr(m.initial_equations)) if m.initial_equations else ca.SX(0, 1),
+        tr, _column(xd + z), ca.vertcat(*solution) if solution else ca.SX(0, 1), x, t, u, p)
+
     def symbols(variables, starts=None):
         found = []
         for v in variables:
@@ -253,23 +273,98 @@ def make_explicit(flat: FlatModel) -> ExplicitModel:
         parameters=symbols(tunable, literal("value")),
         calculated=symbols(calculated),
         algebraics=symbols(alg),
+        init_residual=init_residual,
+        init_unknowns=init_unknowns,
     )
 
 
-def _refuse_initialization_attributes(flat: FlatModel) -> None:
-    """Refuse ``fixed`` attributes that would need an initialization problem to be solved.
+def _initial_problem(flat: FlatModel, residual, tr, w, solution, x, t, u, p):
+    """The initial equations as residuals of ``(t, x, u, p)`` and the indices of their unknowns.
 
-    The FMU starts every state exactly at its start value (``initial = "exact"``), computed
-    from the parameters; it solves no initialization problem. That is what ``fixed = true``
-    means, and what Modelica tools do for a state without a ``fixed`` attribute when no
-    initial equation determines it (they fix its start value). The compiler refuses (rather than
-    honours with an initial solve) the attributes that ask for more, because without initial
-    equations there is nothing to solve: an explicit ``fixed = false`` on a state (its start
-    value is only a guess; some initial equation must determine it), ``fixed = false`` on a
+    The unknowns are the states declared ``fixed = false`` (all elements of an array state);
+    every other state starts at its start value. State derivatives and algebraic variables in
+    the initial equations are replaced by their solution, so ``der(v) = 0`` (steady state) and
+    an equation on an output such as ``frontContactHeight = 0`` are residuals of the states.
+
+    Raises
+    ------
+    ModelicaError
+        Unbalanced (unknowns != initial equations) or structurally singular (an equation that
+        involves none of the unknowns it could determine), naming file:line and the variables.
+    """
+    m = flat.casadi
+    unknown_names, unknowns = [], []
+    for v in m.states:
+        decl = flat.declarations.get(v.symbol.name())
+        if decl is not None and decl.fixed is False:
+            unknown_names.append(v.symbol.name())
+            unknowns += [k for k, e in enumerate(x) if any(ca.is_equal(e, s) for s in tr.elements[v.symbol.name()])]
+    if residual.numel() == 0 and not unknowns:
+        return ca.SX(0, 1), []
+    if w.numel():
+        residual = ca.substitute(residual, w, solution)
+    names = ", ".join(x[k].name() for k in unknowns) or "(none)"
+    where = _initial_equation_location(flat, unknown_names)
+    if residual.numel() != len(unknowns):
+        if not unknowns:
+            remedy = "declare the states they determine with fixed = false (their start values are then guesses)"
+        elif residual.numel() < len(unknowns):
+            remedy = ("add initial equations, or give the states that keep their start value fixed = true")
+        else:
+            remedy = "remove initial equations, or declare further states with fixed = false"
+        raise ModelicaError(
+            f"{where}: {flat.name}: the initial equations are unbalanced: {residual.numel()} initial "
+            f"equation(s) for {len(unknowns)} unknown(s) (the states declared fixed = false: {names}); {remedy}")
+    allowed = [t] + list(x) + list(u) + list(p)
+    bad = sorted({s.name() for s in ca.symvar(residual) if not any(ca.is_equal(s, a) for a in allowed)})
+    if bad:
+        raise ModelStructureError(f"{where}: {flat.name}: the initial equations depend on {', '.join(bad)}, "
+                                  "which are not states, inputs, parameters or time")
+    free = ca.vertcat(*[x[k] for k in unknowns])
+    sp = ca.jacobian(residual, free).sparsity()
+    rows = [[] for _ in range(residual.numel())]
+    for r, c in zip(*sp.get_triplet()):
+        rows[r].append(c)
+    row_match, col_match = _maximum_matching(rows, len(unknowns))
+    if -1 in row_match:
+        surplus = [_shortened(f"0 = {residual[r]}") for r, c in enumerate(row_match) if c < 0]
+        left = [x[unknowns[c]].name() for c, r in enumerate(col_match) if r < 0]
+        raise ModelicaError(
+            f"{where}: {flat.name}: the initial equations do not determine the states declared fixed = false "
+            f"({names}): undetermined: {', '.join(left)}; initial equations left without an unknown of their "
+            f"own (after substituting the model equations):\n  " + "\n  ".join(surplus))
+    return residual, unknowns
+
+
+def _initial_equation_location(flat: FlatModel, unknown_names: list[str]) -> str:
+    """``file:line`` of the ``initial equation`` section (in the model or a class it is made
+    of), else of the ``fixed = false`` of the first unknown, else the model's file."""
+    library = flat.library
+    if library is None:
+        return flat.name
+    classes = [flat.name] + sorted({d.owner for d in flat.declarations.values() if d.owner and d.owner != flat.name})
+    for cls in classes:
+        file, line = library.locate(cls, r"\binitial\s+equation\b")
+        if line is not None:
+            return f"{file}:{line}"
+    return flat.locate(unknown_names[0], "fixed") if unknown_names else str(library.file_of(flat.name))
+
+
+def _shortened(text: str, limit: int = 300) -> str:
+    """``text``, cut to ``limit`` characters (substituted equations of a large model are long)."""
+    return text if len(text) <= limit else text[: limit - 5] + " ..."
+
+
+def _refuse_initialization_attributes(flat: FlatModel) -> None:
+    """Refuse ``fixed`` attributes that ask for an initialization problem cosim does not solve.
+
+    A state declared ``fixed = false`` is an unknown of the initial equations (its start value
+    is the guess of the Newton solve, see :func:`_initial_problem`); a state with
+    ``fixed = true`` or without ``fixed`` starts at its start value (what Modelica tools do for
+    a state that no initial equation determines). Still refused: ``fixed = <expression>`` on a
+    state (whether it is an unknown would depend on parameters), ``fixed = false`` on a
     parameter (a parameter computed during initialization) and ``fixed = true`` on a variable
-    that is not a state (an initial equation ``v = start``). Initial equations themselves are
-    refused before this check. Taking the start value as exact instead would silently start
-    the model from a state its author said was not the initial one.
+    that is not a state (the initial equation ``v = start`` of an algebraic variable).
 
     Raises
     ------
@@ -277,31 +372,31 @@ def _refuse_initialization_attributes(flat: FlatModel) -> None:
         Naming the variable and the file (and line) where its ``fixed`` is given.
     """
     m = flat.casadi
-    states = {v.symbol.name(): v for v in m.states}
+    states = {v.symbol.name() for v in m.states}
     parameters = {v.symbol.name() for v in list(m.parameters) + list(m.constants)}
     inputs = {v.symbol.name() for v in m.inputs}
     for name, decl in flat.declarations.items():
         if decl.fixed is None or name in inputs:
             continue
         given = "fixed = <expression>" if decl.fixed == "expression" else f"fixed = {str(decl.fixed).lower()}"
-        if name in states and decl.fixed is not True:
-            start = states[name].start
-            start = f" {start:g}" if isinstance(start, (int, float)) else ""
-            problem = (f"state '{name}' has {given}: its start value{start} is then only a guess for an "
-                       "initial solve, which needs initial equations")
-            remedy = "give it fixed = true (the start value is the initial value) or remove fixed = false"
+        if name in states and decl.fixed == "expression":
+            problem = (f"state '{name}' has {given}: whether its start value is the initial value or a guess "
+                       "for the initial equations must not depend on parameters")
+            remedy = "write fixed = true (start value is the initial value) or fixed = false (solved)"
         elif name in parameters and decl.fixed is not True:
             problem = f"parameter '{name}' has {given}: it would be computed by initial equations"
-            remedy = "give the parameter a value (binding) instead"
+            remedy = ("give the parameter a value (binding) instead, or make the quantity a state "
+                      "with fixed = false and der() = 0")
         elif name not in states and name not in parameters and decl.fixed is not False:
             problem = (f"'{name}' is not a state but has {given}: that is an initial equation "
                        f"{name} = start")
-            remedy = "remove fixed (only states are started from their start values)"
+            remedy = ("remove fixed and write the condition as an initial equation that determines a state "
+                      "declared fixed = false")
         else:
             continue
         raise ModelStructureError(
-            f"{flat.locate(name, 'fixed')}: {flat.name}: {problem}; cosim solves no initialization "
-            f"problem (initial equations are not supported): {remedy}")
+            f"{flat.locate(name, 'fixed')}: {flat.name}: {problem}; cosim solves initial equations only for "
+            f"states declared fixed = false: {remedy}")
 
 
 def _structural_error(name, residual, rows, row_match, col_match, w, x, m):

@@ -27,11 +27,12 @@ class Declared:
     """What a model says about one parameter or input."""
 
     name: str
-    causality: str  # parameter, input or "start value"
+    causality: str  # parameter, input, "start value" or "start value (guess of the initial equations)"
     type: str = "Real"  # Real, Integer, Boolean, String or Enumeration
     unit: str | None = None
     min: float | None = None
     max: float | None = None
+    start: float | None = None  # the default (start) value where it is a number
 
 
 def split_assignment(text: str, option: str = "--param") -> tuple[str, str]:
@@ -67,13 +68,20 @@ def declarations(target: str) -> dict[str, Declared]:
             except (TypeError, ValueError):
                 return None
 
-        # Parameters, inputs, and states with an exact start value (settable before initialization).
-        found = {v.name: Declared(v.name, v.causality if v.causality != "local" else "start value", v.type,
+        # Parameters, inputs, and states with an exact start value or a start value that is the guess
+        # of the initial equations' Newton solve (initial = "approx"): settable before initialization.
+        def role(v):
+            if v.causality in ("parameter", "input"):
+                return v.causality
+            return "start value" if v.initial == "exact" else "start value (guess of the initial equations)"
+
+        found = {v.name: Declared(v.name, role(v), v.type,
                                   getattr(v, "unit", None), number(getattr(v, "min", None)),
-                                  number(getattr(v, "max", None)))
+                                  number(getattr(v, "max", None)), number(getattr(v, "start", None)))
                  for v in md.modelVariables
                  if v.causality in ("parameter", "input")
-                 or (v.causality == "local" and v.initial == "exact" and v.variability == "continuous")}
+                 or (v.causality in ("local", "output") and v.variability == "continuous"
+                     and (v.initial == "approx" or (v.causality == "local" and v.initial == "exact")))}
         solver = found.get(FIXED_STEP_PARAMETER)
         if solver is not None and solver.min is None:  # a step size is never negative
             solver.min = 0.0
@@ -81,7 +89,8 @@ def declarations(target: str) -> dict[str, Declared]:
     from cosim.compiler.catalog import summarize
 
     summary = summarize(target)
-    found = {s.name: Declared(s.name, "parameter", getattr(s, "type", None) or "Real", s.unit, s.min, s.max)
+    found = {s.name: Declared(s.name, "parameter", getattr(s, "type", None) or "Real", s.unit, s.min, s.max,
+                              float(s.value) if isinstance(s.value, (int, float)) else None)
              for s in summary.parameters}
     found.update({s.name: Declared(s.name, "input", getattr(s, "type", None) or "Real", s.unit, s.min, s.max)
                   for s in summary.inputs})
@@ -163,12 +172,14 @@ def check(values: dict, declared: dict[str, Declared], input_hint: str | None = 
 
 
 def from_command_line(target: str, assignments: list[str], extra: dict | None = None,
-                      parameter_set: str | None = None, input_hint: str | None = SIMULATE_INPUT_HINT) -> dict:
-    """``--params`` set, then ``--param`` strings, then ``extra`` values (e.g. ``--speed``),
-    checked for ``target``.
+                      parameter_set: str | None = None, input_hint: str | None = SIMULATE_INPUT_HINT,
+                      speed: float | None = None, declared: dict[str, Declared] | None = None) -> dict:
+    """``--params`` set, then ``--param`` strings, then ``extra`` values, then the forward speed
+    ``speed`` [m/s] (``--speed``, see :func:`forward_speed`), checked for ``target``.
 
     ``parameter_set`` is a Meijaard parameter set (bundled name or TOML file) for models whose
-    parameters carry the Meijaard names, such as ``Bicycle.Bicycles.WhippleLinear``."""
+    parameters carry the Meijaard names, such as ``Bicycle.Bicycles.WhippleLinear``.
+    ``declared`` (from :func:`declarations`) saves reading the model again."""
     values = {}
     if parameter_set:
         from cosim.fmu.stability import parameters_for_model
@@ -179,17 +190,120 @@ def from_command_line(target: str, assignments: list[str], extra: dict | None = 
             raise ParameterError(f"--params {parameter_set}: no such bundled set or file") from None
     values.update(dict(split_assignment(a) for a in assignments))  # a repeated name: the last wins
     values.update(extra or {})
-    return check(values, declarations(target), input_hint) if values else {}
+    if not values and speed is None:
+        return {}
+    declared = declarations(target) if declared is None else declared
+    if speed is not None:
+        fs = forward_speed(target, declared)
+        known = {**starts(declared), **values}
+        if fs.wheel_radius and fs.wheel_radius not in known and not is_fmu_path(target):
+            # a default given by an expression (e.g. a record's value): the built FMU has the number
+            from cosim.fmu.target import resolve_fmu
+
+            known = {**starts(declarations(str(resolve_fmu(target)))), **values}
+        values.update(fs.values(speed, known))
+    return check(values, declared, input_hint)
+
+
+def starts(declared: dict[str, Declared]) -> dict[str, float]:
+    """The numeric default (start) values of the declared parameters."""
+    return {n: d.start for n, d in declared.items() if d.causality == "parameter" and d.start is not None}
 
 
 SPEED_NAMES = ("V", "v")
 
 
-def speed_parameter(target: str) -> str:
-    """The forward-speed parameter of a model or FMU (``V`` in the simple models, ``v`` in the
-    Whipple family); :class:`ParameterError` if it has none."""
-    declared = declarations(target)
+#: Rolling bicycles: the initial rear wheel rate [rad/s] and the rear wheel radius [m].
+WHEEL_RATE, WHEEL_RADIUS = "u_R0", "rR"
+
+
+@dataclass(frozen=True)
+class ForwardSpeed:
+    """How the forward speed ``V`` [m/s] of a model is set.
+
+    * ``V`` (simple models) or ``v`` (``WhippleLinear``): the speed parameter itself (any finite
+      value its declaration allows; ``RearSteered`` runs at ``V <= 0``);
+    * ``u_R0`` with ``rR`` (the nonlinear bicycles ``Whipple``, ``WhippleRider``): upright straight
+      running at forward speed ``V >= 0``, i.e. the initial rear wheel rate ``u_R0 = -V/rR``
+      (pitch 0 when upright with zero steer, so the rear contact moves at ``-u_R rR``).
+    """
+
+    parameter: str
+    wheel_radius: str | None = None
+
+    @property
+    def label(self) -> str:
+        """The speed's symbol in tables (``V``, ``v``)."""
+        return "v" if self.wheel_radius else self.parameter
+
+    def check(self, V) -> float:
+        """``V`` as a float [m/s]; ParameterError if it is not a finite number or, for a rolling
+        bicycle, negative (the declared ``min``/``max`` of ``V``/``v`` are checked with the other
+        parameters, see :func:`check`)."""
+        try:
+            V = float(V)
+        except (TypeError, ValueError):
+            raise ParameterError(f"the speed must be a number [m/s], got {V!r}") from None
+        if not math.isfinite(V):
+            raise ParameterError(f"the speed must be finite, got {V}")
+        if self.wheel_radius is not None and V < 0:
+            raise ParameterError(f"the forward speed must be >= 0 m/s (upright straight running forwards), got {V:g}")
+        return V
+
+    def values(self, V: float, known: dict) -> dict[str, float]:
+        """Parameter values for speed ``V`` [m/s] (refused as by :meth:`check`); ``known`` holds
+        the other parameter values (``rR`` [m] for a rolling bicycle)."""
+        V = self.check(V)
+        if self.wheel_radius is None:
+            return {self.parameter: V}
+        radius = known.get(self.wheel_radius)
+        try:  # a --param value is still text here
+            r = float(radius)
+        except (TypeError, ValueError):
+            r = math.nan
+        if not (math.isfinite(r) and r > 0):
+            raise ParameterError(f"the speed needs a positive rear wheel radius {self.wheel_radius} [m], "
+                                 f"got {radius!r}")
+        return {self.parameter: -V / r}
+
+    def speed(self, values: dict) -> float:
+        """The forward speed [m/s] that parameter ``values`` set (inverse of :meth:`values`)."""
+        if self.wheel_radius is None:
+            return float(values[self.parameter])
+        return -float(values[self.parameter]) * float(values[self.wheel_radius])
+
+
+def forward_speed(target: str, declared: dict[str, Declared] | None = None) -> ForwardSpeed:
+    """How the forward speed of a model or FMU is set (:class:`ForwardSpeed`).
+
+    Parameters
+    ----------
+    target : str
+        Model name or FMU file.
+    declared : dict, optional
+        Its :func:`declarations` (read if not given).
+
+    Raises
+    ------
+    ParameterError
+        The model has no forward speed (no ``V``, ``v`` or ``u_R0`` with ``rR``).
+    """
+    declared = declarations(target) if declared is None else declared
+
+    def parameter(name):
+        return name in declared and declared[name].causality == "parameter"
+
     for name in SPEED_NAMES:
-        if name in declared and declared[name].causality == "parameter":
-            return name
-    raise ParameterError(f"{target} has no speed parameter ({' or '.join(SPEED_NAMES)})")
+        if parameter(name):
+            return ForwardSpeed(name)
+    if parameter(WHEEL_RATE) and parameter(WHEEL_RADIUS):
+        return ForwardSpeed(WHEEL_RATE, WHEEL_RADIUS)
+    raise ParameterError(f"{target} has no forward speed (no parameter {', '.join(SPEED_NAMES)}, "
+                         f"or {WHEEL_RATE} with {WHEEL_RADIUS}); --speed does not apply")
+
+
+def speed_parameter(target: str) -> str:
+    """The parameter that sets the forward speed of a model or FMU (``V`` in the simple models,
+    ``v`` in ``WhippleLinear``, ``u_R0`` in the nonlinear bicycles, see :func:`forward_speed`);
+    :class:`ParameterError` if it has none."""
+    return forward_speed(target).parameter

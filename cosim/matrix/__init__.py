@@ -42,8 +42,9 @@ Spec format (TOML)::
     connections = ["bike.phi -> rider.phi", "rider.delta -> delay.u", "delay.y -> bike.delta"]
     system = { record = ["bike.phi", "bike.psi"] }   # [system] keys of a system file (optional)
     [study.variables]             # derived values, in order; strings are expressions
-    p = "sqrt(92*9.81*1.0/96.7)"
+    p = 3.0                       # a number, or an expression of the axes and earlier variables
     ptau = "p*tau"
+    vw = "weave_speed('benchmark')"   # functions of cosim.matrix.expr: speeds of a parameter set
     [study.components.bike]       # as in a system file, plus parameter_set and initial
     model = "Bicycle.Bicycles.InvertedPendulum"     # or fmu = "x.fmu" or python = "Block"
     parameter_set = "astrom2005"  # Meijaard parameter set (WhippleLinear), bundled name or file

@@ -31,6 +31,18 @@ def _weave_speed(parameter_set: str) -> float:
     return float(weave_speed(load_parameters(parameter_set)))
 
 
+def _second_order(key: str, parameter_set: str = "astrom2005") -> float:
+    """A parameter of the paper's second-order models (cosim/params/second-order/SET.toml): the
+    studies read m, g, h, J from the data set instead of repeating its numbers."""
+    from cosim.analytic.parameters import load_second_order
+
+    values = load_second_order(parameter_set)
+    if key not in values:
+        raise ValueError(f"second_order: no parameter {key!r} in the set {parameter_set!r} "
+                         f"(it has {', '.join(sorted(values))})")
+    return float(values[key])
+
+
 def _capsize_speed(parameter_set: str) -> float:
     from cosim.analytic.parameters import load_parameters
     from cosim.analytic.whipple import capsize_speed
@@ -52,6 +64,8 @@ FUNCTIONS = {
     "round": _round, "float": float, "int": int,
     # speeds [m/s] of the linear Whipple model for a Meijaard parameter set (bundled name or file)
     "weave_speed": _weave_speed, "capsize_speed": _capsize_speed,
+    # a parameter [SI] of the paper's second-order models: second_order("J") (set astrom2005)
+    "second_order": _second_order,
 }
 CONSTANTS = {"pi": math.pi, "e": math.e, "inf": math.inf, "true": True, "false": False}
 

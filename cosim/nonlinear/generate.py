@@ -1,9 +1,15 @@
-"""Generate the Modelica models ``Bicycle.Bicycles.Whipple`` and ``Bicycle.Bicycles.WhippleRider``
-from the Kane's-method derivation of :mod:`cosim.nonlinear.derivation`.
+"""Generate the flat Modelica models of the nonlinear Whipple bicycle (with and without the rider's
+upper body) from the Kane's-method derivation of :mod:`cosim.nonlinear.derivation`.
 
-Regenerate both with one command (deterministic: byte-identical output)::
+Where they go: the test oracle ``BicycleOracle`` (``tests/oracle/BicycleOracle/``: ``Whipple``
+and ``WhippleRider``, a self-contained package that is not part of the exported library); the
+library's component models ``Bicycle.Bicycles.Whipple`` and ``WhippleRider`` are tested against
+it. They are an independent check (sympy's KanesMethod on the whole bicycle at once), not a
+user-facing model, and are not exported.
 
-    python -m cosim.nonlinear.generate            # writes modelica/Bicycle/Bicycles/Whipple*.mo
+Regenerate all with one command (deterministic: byte-identical output)::
+
+    python -m cosim.nonlinear.generate            # writes tests/oracle/BicycleOracle/*
     python -m cosim.nonlinear.generate --check    # exit 1 if the files on disk differ
 
 The generated model is written for the project's compiler (``cosim.compiler.ode``): explicit
@@ -17,13 +23,14 @@ steps written out as calculated parameters.
 from __future__ import annotations
 
 import argparse
-import math
+import functools
 import os
 import subprocess
 import sys
 import time
 from pathlib import Path
 
+from cosim.analytic.parameters import load_parameters, load_upper_body, rider_parameters
 from cosim.errors import MissingExtraError
 
 try:  # sympy is the optional extra `generate`: without it, main() refuses in one line
@@ -40,43 +47,22 @@ else:
     MISSING = None
 
 ROOT = Path(__file__).resolve().parents[2]
-TARGET_DIR = ROOT / "modelica" / "Bicycle" / "Bicycles"
+#: The oracle package (flat generated models the component models are tested against).
+ORACLE_PACKAGE = "BicycleOracle"
+ORACLE_DIR = ROOT / "tests" / "oracle" / ORACLE_PACKAGE
+LIBRARY_PACKAGE = "Bicycle.Bicycles"
 COMMAND = "python -m cosim.nonlinear.generate"
 NEWTON_STEPS = 6
 
 # ---------------------------------------------------------------------------- parameters
 
-BENCHMARK = {  # Meijaard et al. (2007), Table 1
-    "w": 1.02, "c": 0.08, "lam": math.pi / 10, "g": 9.81,
-    "rR": 0.3, "mR": 2.0, "IRxx": 0.0603, "IRyy": 0.12,
-    "xB": 0.3, "zB": -0.9, "mB": 85.0, "IBxx": 9.2, "IBxz": 2.4, "IByy": 11.0, "IBzz": 2.8,
-    "xH": 0.9, "zH": -0.7, "mH": 4.0, "IHxx": 0.05892, "IHxz": -0.00756, "IHyy": 0.06, "IHzz": 0.00708,
-    "rF": 0.35, "mF": 3.0, "IFxx": 0.1405, "IFyy": 0.28,
-}
-
-# The rider's upper body U (defaults): hinge (hip) at x = xU, height hU; centre of mass lU above
-# the hinge; inertia about its centre of mass in axes parallel to the rear frame's.
-UPPER_BODY = {"mU": 40.0, "xU": 0.4, "hU": 0.9, "lU": 0.3, "IUxx": 1.2, "IUxz": 0.0, "IUyy": 1.4,
-              "IUzz": 0.6, "kU": 300.0, "cU": 30.0}
-
-
-def rider_defaults() -> dict[str, float]:
-    """Benchmark bicycle split into rear frame (bicycle + lower body) and upper body U such that,
-    with the hinge locked upright, rear frame + U is exactly the benchmark's rear frame B
-    (parallel-axis theorem)."""
-    b, u = BENCHMARK, UPPER_BODY
-    mB = b["mB"] - u["mU"]
-    xUc, zUc = u["xU"], -(u["hU"] + u["lU"])  # U's centre of mass
-    xB = (b["mB"] * b["xB"] - u["mU"] * xUc) / mB
-    zB = (b["mB"] * b["zB"] - u["mU"] * zUc) / mB
-
-    def about(m, x, z):  # inertia-tensor elements of a point mass about the composite centre
-        dx, dz = x - b["xB"], z - b["zB"]
-        return {"xx": m * dz**2, "yy": m * (dx**2 + dz**2), "zz": m * dx**2, "xz": -m * dx * dz}
-
-    pu, pb = about(u["mU"], xUc, zUc), about(mB, xB, zB)
-    rest = {f"IB{k}": b[f"IB{k}"] - u[f"IU{k}"] - pu[k] - pb[k] for k in ("xx", "yy", "zz", "xz")}
-    return {**b, "mB": mB, "xB": xB, "zB": zB, **rest, **u}
+# The oracle's defaults come from the same data files as the Modelica records (cosim/params/):
+# the benchmark bicycle of Meijaard et al. (2007), Table 1, and for the rider the benchmark split
+# into rear frame (bicycle + lower body) and upper body U, such that with the hinge locked upright
+# rear frame + U is exactly the benchmark's rear frame B (parallel-axis theorem).
+BENCHMARK = load_parameters("benchmark")
+UPPER_BODY = load_upper_body("benchmark")
+rider_defaults = rider_parameters
 
 
 DESCRIPTIONS = {
@@ -129,11 +115,29 @@ INLINE = {
     "Energy": 'final quantity = "Energy", final unit = "J"',
 }
 
+# The library's Units types written out for the oracle package, which must not depend on the
+# library it checks (and cannot see it: a Modelica library folder holds one top-level package).
+UNITS = {
+    "Length": 'final quantity = "Length", final unit = "m"',
+    "Position": 'final quantity = "Length", final unit = "m"',
+    "Angle": 'final quantity = "Angle", final unit = "rad", displayUnit = "deg"',
+    "AngularVelocity": 'final quantity = "AngularVelocity", final unit = "rad/s"',
+    "Acceleration": 'final quantity = "Acceleration", final unit = "m/s2"',
+    "Velocity": 'final quantity = "Velocity", final unit = "m/s"',
+    "Mass": 'final quantity = "Mass", final unit = "kg", min = 0',
+    "MomentOfInertia": 'final quantity = "MomentOfInertia", final unit = "kg.m2"',
+    "Torque": 'final quantity = "Torque", final unit = "N.m"',
+}
 
-def _declare(prefix: str, kind: str, name: str, modifiers: str, value: str | None, description: str) -> str:
-    if kind in INLINE:
+
+def _declare_any(prefix: str, kind: str, name: str, modifiers: str, value: str | None, description: str,
+             inline_units: bool = False) -> str:
+    if kind in INLINE or (inline_units and kind in UNITS):
         type_text = "Real"
-        modifiers = ", ".join(m for m in (INLINE[kind], modifiers) if m)
+        attributes = INLINE.get(kind) or UNITS[kind]
+        if "min = " in attributes and "min = " in modifiers:  # the declaration's bound replaces the type's
+            attributes = attributes.replace(", min = 0", "")
+        modifiers = ", ".join(m for m in (attributes, modifiers) if m)
     else:
         type_text = f"Bicycle.Units.{kind}"
     mods = f"({modifiers})" if modifiers else ""
@@ -184,8 +188,12 @@ def _zero_entries(named):
     return kept, zero
 
 
-def model_text(rider: bool = False, d: Derivation | None = None) -> str:
+def model_text(rider: bool = False, d: Derivation | None = None, package: str = LIBRARY_PACKAGE) -> str:
+    """The Modelica text of the generated model in ``package`` (the library's ``Bicycle.Bicycles``,
+    or the self-contained oracle package, which writes the unit types out)."""
     d = d or derive(rider=rider)
+    inline_units = package != LIBRARY_PACKAGE
+    _declare = functools.partial(_declare_any, inline_units=inline_units)
     name = "WhippleRider" if rider else "Whipple"
     defaults = rider_defaults() if rider else BENCHMARK
     defaults = {**defaults, "tR": 0.0, "tF": 0.0}
@@ -213,7 +221,7 @@ def model_text(rider: bool = False, d: Derivation | None = None) -> str:
     L = []
     add = L.append
     rider_text = " with a leaning rider (upper body hinged to the rear frame)" if rider else ""
-    add("within Bicycle.Bicycles;")
+    add(f"within {package};")
     add(f"model {name} \"Nonlinear Whipple bicycle{rider_text}, eq (26): Kane's method, rolling without slip, "
         "toroidal wheels (Meijaard 2007 parameters)\"")
     add("  // GENERATED FILE - DO NOT EDIT.")
@@ -400,14 +408,29 @@ parameters and the hinge locked upright, rear frame + upper body is the benchmar
 # ---------------------------------------------------------------------------- main
 
 def targets(names=None):
-    models = {"Whipple": False, "WhippleRider": True}
+    """Model name -> (rider?, [(package, folder), ...]): where each generated model is written."""
+    oracle = [(ORACLE_PACKAGE, ORACLE_DIR)]
+    models = {"Whipple": (False, oracle), "WhippleRider": (True, oracle)}
     return {n: models[n] for n in (names or list(models))}
+
+
+def oracle_package_text() -> str:
+    """``package.mo`` of the oracle package."""
+    return (f"within;\npackage {ORACLE_PACKAGE} \"Test oracle: the flat nonlinear Whipple bicycles generated by "
+            f"Kane's method (sympy)\"\n  // GENERATED FILE - DO NOT EDIT (regenerate with: {COMMAND})\n"
+            "  annotation(Documentation(info = \"<html><p>Not part of the exported library: the flat models "
+            "generated from <code>cosim/nonlinear/derivation.py</code>, written out with the unit types "
+            "inline so that the package needs no other library. The component models of "
+            "<code>Bicycle</code> are tested against them (<code>tests/test_component_bicycle.py</code>)."
+            f"</p></html>\"));\nend {ORACLE_PACKAGE};\n")
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m cosim.nonlinear.generate", description=__doc__.split("\n\n")[0])
     parser.add_argument("models", nargs="*", metavar="MODEL", help="Whipple and/or WhippleRider (default: both)")
-    parser.add_argument("-o", "--output", default=str(TARGET_DIR), help="output folder (default: the library)")
+    parser.add_argument("-o", "--output", default=None,
+                        help="write every model into this one folder, within the oracle package "
+                             f"(default: {ORACLE_DIR.relative_to(ROOT)})")
     parser.add_argument("--check", action="store_true", help="do not write; exit 1 if a file on disk differs")
     args = parser.parse_args(argv)
     if MISSING is not None:
@@ -421,20 +444,28 @@ def main(argv: list[str] | None = None) -> int:
         env = {**os.environ, "PYTHONHASHSEED": "0"}
         return subprocess.call([sys.executable, "-m", "cosim.nonlinear.generate", *(argv if argv is not None else sys.argv[1:])],
                                env=env)
-    out = Path(args.output)
     status = 0
-    for name, rider in targets(args.models).items():
-        t0 = time.perf_counter()
-        text = model_text(rider)
-        path = out / f"{name}.mo"
+
+    def emit(path: Path, text: str, t0: float) -> int:
         if args.check:
             same = path.is_file() and path.read_text(encoding="utf-8") == text
             print(f"{path}: {'up to date' if same else 'DIFFERS'} ({time.perf_counter() - t0:.1f} s)")
-            status |= 0 if same else 1
-        else:
-            out.mkdir(parents=True, exist_ok=True)
-            path.write_text(text, encoding="utf-8")
-            print(f"wrote {path} ({len(text.splitlines())} lines, {time.perf_counter() - t0:.1f} s)")
+            return 0 if same else 1
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text, encoding="utf-8")
+        print(f"wrote {path} ({len(text.splitlines())} lines, {time.perf_counter() - t0:.1f} s)")
+        return 0
+
+    for name, (rider, places) in targets(args.models).items():
+        t0 = time.perf_counter()
+        d = derive(rider=rider)
+        if args.output is not None:
+            places = [(ORACLE_PACKAGE, Path(args.output))]
+        for package, folder in places:
+            status |= emit(folder / f"{name}.mo", model_text(rider, d, package), t0)
+    if args.output is None:
+        status |= emit(ORACLE_DIR / "package.mo", oracle_package_text(), time.perf_counter())
+        status |= emit(ORACLE_DIR / "package.order", "Whipple\nWhippleRider\n", time.perf_counter())
     return status
 
 

@@ -24,19 +24,37 @@ typedef struct {
     double default_tolerance;         /* relative tolerance when fmi2SetupExperiment gives none */
     int vr_fixed_step;                /* value reference of parameter solver.fixedStepSize (0 = adaptive) */
     const cosim_type *types;          /* nv = 2*nx+nu+np+nc+nz entries */
-    const double *start;              /* nv start values (states: exact start; others as declared, 0 if none) */
-    const unsigned char *state_start_calculated; /* nx flags: 1 = start of x[i] computed by start_states */
+    const double *start;              /* nv start values (states: exact start, or the guess of a state solved
+                                         from the initial equations; others as declared, 0 if none) */
+    /* nx flags: 0 = x[i] starts at start[i]; 1 = its start is computed from the parameters by
+       start_states; 2 = it is solved from the initial equations by start_states (start[i] and a value
+       set by the importer are only the guess) */
+    const unsigned char *state_start_calculated;
 
     /* Each returns 0 on success, non-zero if the evaluation failed (e.g. an algebraic solve diverged). */
     int (*calc_parameters)(const double *p, double *c);
-    int (*start_states)(const double *p, double *x0);
+    /* Start values of the states at time t with inputs u and parameters p.  x0: on entry the current
+       values of the states; given (nx flags) marks those set by the importer.  On return the start
+       values: a state set by the importer keeps its value, others get their start value (flag 0 or 1),
+       except that a state solved from the initial equations (flag 2) gets the solution, for which its
+       value on entry (if given) or its start value was the guess.  residual: on return
+       max |residual| of the initial equations (0 without).  Returns COSIM_START_NOT_CONVERGED if the
+       initial equations were not solved (max |residual| above the tolerance, or not finite). */
+    int (*start_states)(double t, const double *u, const double *p, const unsigned char *given, double *x0,
+                        double *residual);
     int (*eval)(double t, const double *x, const double *u, const double *p, double *xdot, double *z);
     /* Jacobian-vector product of (xdot, z) along the direction (dx, du, dp). */
     int (*jvp)(double t, const double *x, const double *u, const double *p,
                const double *dx, const double *du, const double *dp, double *dxdot, double *dz);
     /* nv variable names as in modelDescription.xml (e.g. "der(phi)"), for messages; may be NULL. */
     const char *const *names;
+    /* The states solved from the initial equations (flag 2), e.g. "theta, psi", for messages;
+       NULL if the model has no initial equations.  Their solve waits for fmi2ExitInitializationMode
+       (or a getter in initializationMode), so that parameters set in initializationMode count. */
+    const char *init_unknowns;
 } cosim_model;
+
+#define COSIM_START_NOT_CONVERGED 2
 
 extern const cosim_model COSIM_MODEL;
 

@@ -5,7 +5,8 @@
  * Everything model-specific comes from COSIM_MODEL (see cosim_model.h): block sizes, types,
  * start values and the generated evaluation functions.  This file adds
  *   - the FMI 2.0 state machine and the checking of every call,
- *   - lazy evaluation of calculated parameters, derivatives and algebraics,
+ *   - lazy evaluation of calculated parameters, state starts (including the solve of the initial
+ *     equations, which waits for fmi2ExitInitializationMode or a getter), derivatives and algebraics,
  *   - FMU states (get/set/free/serialize),
  *   - for CoSimulation an error-controlled embedded Dormand-Prince 5(4) integrator.
  *
@@ -427,13 +428,26 @@ static int update_parameters(rt_instance *in, const char *fn)
     }
     /* Calculated starts follow the parameters only until fmi2ExitInitializationMode. */
     if (in->s.state == ST_INIT && in->has_calc_start) {
+        double residual = 0.0;
+        int status;
         memcpy(in->xs, XV(in), in->nx * sizeof(double));
-        if (COSIM_MODEL.start_states(PV(in), in->xs) != 0) {
+        status = COSIM_MODEL.start_states(in->s.time, UE(in), PV(in), in->s.x_set, in->xs, &residual);
+        if (status == COSIM_START_NOT_CONVERGED) {
+            const char *unknowns = COSIM_MODEL.init_unknowns ? COSIM_MODEL.init_unknowns : "the states";
+            fail(in, "%s: initialization failed: the initial equations for %s did not converge "
+                 "(|residual| = %g); check the parameters and the start values (guesses) of %s",
+                 fn, unknowns, residual, unknowns);
+            return 0;
+        }
+        if (status != 0) {
             fail(in, "%s: computing the start values of the states failed", fn);
             return 0;
         }
+        /* A solved state takes the solution even if it was set (its value was the guess). */
         for (i = 0; i < in->nx; i++)
-            if (COSIM_MODEL.state_start_calculated[i] && !in->s.x_set[i]) XV(in)[i] = in->xs[i];
+            if (COSIM_MODEL.state_start_calculated[i] == 2
+                || (COSIM_MODEL.state_start_calculated[i] && !in->s.x_set[i]))
+                XV(in)[i] = in->xs[i];
     }
     in->s.params_dirty = 0;
     in->s.eval_dirty = 1;
@@ -539,6 +553,8 @@ static void store(rt_instance *in, fmi2ValueReference vr, double value)
     const rt_block b = block_of(in, vr);
 
     if (b == B_X) in->s.x_set[vr] = 1;
+    /* The initial equations involve the states and inputs: solve them again with the new value. */
+    if ((b == B_X || b == B_U) && in->s.state == ST_INIT && COSIM_MODEL.init_unknowns) in->s.params_dirty = 1;
     if (b == B_U && UE(in)[vr - in->o_u] != value) {
         UE(in)[vr - in->o_u] = value;
         in->s.eval_dirty = 1;
@@ -896,6 +912,9 @@ RT_EXPORT fmi2Status fmi2EnterInitializationMode(fmi2Component c)
     if (!allowed(in, "fmi2EnterInitializationMode", BIT(ST_INSTANTIATED), IF_ANY)) return fmi2Error;
     in->s.state = ST_INIT;
     in->s.params_dirty = 1; /* now the calculated state starts are computed, too */
+    /* The initial equations are solved when their solution is needed (a getter, or
+       fmi2ExitInitializationMode): parameters and inputs may still change in initializationMode. */
+    if (COSIM_MODEL.init_unknowns) return fmi2OK;
     return update_parameters(in, "fmi2EnterInitializationMode") ? fmi2OK : fmi2Error;
 }
 

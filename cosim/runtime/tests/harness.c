@@ -2,11 +2,11 @@
  * harness.c -- tests of fmi2_runtime.c against the hand-written model in test_model.c.
  *
  * Build (see run.sh):  cc -std=c99 -I<fmi2 headers> -I.. harness.c test_model.c ../fmi2_runtime.c -lm -ldl
- * Run:                 harness SMALL.so SMALL_SAME_GUID.so TWIN.so
- *   the three arguments are other FMUs (fmi2_runtime.c compiled with another model into a shared
+ * Run:                 harness SMALL.so SMALL_SAME_GUID.so TWIN.so INIT.so
+ *   the first three arguments are other FMUs (fmi2_runtime.c compiled with another model into a shared
  *   library, see run.sh): test_model_small.c with its own GUID, test_model_small.c claiming this
  *   model's GUID, and test_model.c with the GUID TWIN_GUID.  They are the foreign FMUs whose FMU
- *   states the runtime must refuse.
+ *   states the runtime must refuse.  The fourth, test_model_init.c, is a model with an initial equation.
  * Exit code 0 if every check passes.
  */
 #define _POSIX_C_SOURCE 200809L /* dlopen under -std=c99 */
@@ -1001,6 +1001,8 @@ typedef struct {
     fmi2SerializedFMUstateSizeTYPE *serialized_size;
     fmi2SerializeFMUstateTYPE *serialize;
     fmi2DeSerializeFMUstateTYPE *deserialize;
+    fmi2GetRealTYPE *get_real;
+    fmi2SetRealTYPE *set_real;
 } other_fmu;
 
 /* dlsym returns an object pointer; copying its bytes into a function pointer is the POSIX idiom
@@ -1034,10 +1036,11 @@ static int load_other(other_fmu *o, const char *path, const char *guid)
            SYMBOL(o, get_state, "fmi2GetFMUstate") && SYMBOL(o, set_state, "fmi2SetFMUstate") &&
            SYMBOL(o, free_state, "fmi2FreeFMUstate") &&
            SYMBOL(o, serialized_size, "fmi2SerializedFMUstateSize") &&
-           SYMBOL(o, serialize, "fmi2SerializeFMUstate") && SYMBOL(o, deserialize, "fmi2DeSerializeFMUstate");
+           SYMBOL(o, serialize, "fmi2SerializeFMUstate") && SYMBOL(o, deserialize, "fmi2DeSerializeFMUstate") &&
+           SYMBOL(o, get_real, "fmi2GetReal") && SYMBOL(o, set_real, "fmi2SetReal");
 }
 
-static const char *other_paths[3];
+static const char *other_paths[4];
 
 /* ------------------------------------------------------------------------------------------ */
 /* Defect tests (issue 10)                                                                      */
@@ -1119,6 +1122,86 @@ static void test_fmu_state_of_another_fmu_is_refused(void)
     foreign_state_case(other_paths[0], SMALL_GUID, "another FMU");
     foreign_state_case(other_paths[1], GUID, "sizes");        /* same GUID, other sizes */
     foreign_state_case(other_paths[2], TWIN_GUID, "another FMU"); /* same sizes, other GUID */
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* Initial equations (issue 12): test_model_init.c, theta solved from L sin(theta) = h + u + omega  */
+
+enum { I_THETA, I_OMEGA, I_DTHETA, I_DOMEGA, I_U, I_L, I_H, I_STEP, I_Y };
+
+static double other_get(const other_fmu *o, fmi2Component c, fmi2ValueReference vr)
+{
+    double v = NAN;
+    if (o->get_real(c, &vr, 1, &v) != fmi2OK) return NAN;
+    return v;
+}
+
+static fmi2Status other_set(const other_fmu *o, fmi2Component c, fmi2ValueReference vr, double v)
+{
+    return o->set_real(c, &vr, 1, &v);
+}
+
+static void test_initial_equations(void)
+{
+    logbook lb;
+    fmi2CallbackFunctions cb = callbacks(&lb);
+    other_fmu o;
+    fmi2Component c;
+    const char *guid = "{0b7a1c55-2f0e-4c8e-9d3b-6a1e5f4c3b20}";
+
+    printf("  initial equations (%s)\n", other_paths[3] ? other_paths[3] : "(missing)");
+    CHECK(load_other(&o, other_paths[3], guid));
+    if (!o.lib) return;
+    c = o.instantiate("init", fmi2CoSimulation, guid, "", &cb, fmi2False, fmi2False);
+    CHECK(c != NULL);
+    if (!c) { dlclose(o.lib); return; }
+
+    /* solved with the default parameters: sin(theta) = (0.5 + 0 + 0.5) / 2 */
+    CHECK_OK(o.setup_experiment(c, fmi2False, 0.0, 0.0, fmi2False, 0.0));
+    CHECK_OK(o.enter_init(c));
+    CHECK_NEAR(other_get(&o, c, I_THETA), asin(0.5), 1e-14);
+    /* parameters, inputs and fixed states set in initializationMode are used: solved again */
+    CHECK_OK(other_set(&o, c, I_H, 0.7));
+    CHECK_NEAR(other_get(&o, c, I_THETA), asin(0.6), 1e-14);
+    CHECK_OK(other_set(&o, c, I_U, 0.2));
+    CHECK_OK(other_set(&o, c, I_OMEGA, 0.1));
+    CHECK_OK(o.exit_init(c));
+    CHECK_NEAR(other_get(&o, c, I_THETA), asin(0.5), 1e-14);
+    CHECK_NEAR(other_get(&o, c, I_OMEGA), 0.1, 0.0);
+    CHECK_NEAR(other_get(&o, c, I_Y), 1.0, 1e-14);
+    CHECK_OK(o.do_step(c, 0.0, 0.1, fmi2True));
+    o.free_instance(c);
+
+    /* a guess set before initialization selects the other root; it is replaced by the solution */
+    c = o.instantiate("init", fmi2CoSimulation, guid, "", &cb, fmi2False, fmi2False);
+    CHECK_OK(o.setup_experiment(c, fmi2False, 0.0, 0.0, fmi2False, 0.0));
+    CHECK_OK(other_set(&o, c, I_THETA, 2.5));
+    CHECK_OK(o.enter_init(c));
+    CHECK_OK(o.exit_init(c));
+    CHECK_NEAR(other_get(&o, c, I_THETA), 4.0 * atan(1.0) - asin(0.5), 1e-14);
+    o.free_instance(c);
+
+    /* no real solution: fmi2ExitInitializationMode fails, naming the unknown and the residual;
+       fmi2EnterInitializationMode does not solve yet (a parameter may still be changed) */
+    c = o.instantiate("init", fmi2CoSimulation, guid, "", &cb, fmi2False, fmi2False);
+    CHECK_OK(o.setup_experiment(c, fmi2False, 0.0, 0.0, fmi2False, 0.0));
+    CHECK_OK(other_set(&o, c, I_H, 3.0));
+    CHECK_OK(o.enter_init(c));
+    CHECK_ERR(o.exit_init(c));
+    CHECK(logged(&lb, "fmi2ExitInitializationMode: initialization failed: the initial equations for theta "
+                      "did not converge", "|residual| = "));
+    CHECK(lb.last_status == fmi2Error);
+    CHECK_ERR(o.do_step(c, 0.0, 0.1, fmi2True)); /* the error state */
+    o.free_instance(c);
+    c = o.instantiate("init", fmi2CoSimulation, guid, "", &cb, fmi2False, fmi2False);
+    CHECK_OK(o.setup_experiment(c, fmi2False, 0.0, 0.0, fmi2False, 0.0));
+    CHECK_OK(other_set(&o, c, I_H, 3.0));
+    CHECK_OK(o.enter_init(c));
+    CHECK_OK(other_set(&o, c, I_H, -0.5));
+    CHECK_OK(o.exit_init(c));
+    CHECK_NEAR(other_get(&o, c, I_THETA), 0.0, 1e-14);
+    o.free_instance(c);
+    dlclose(o.lib);
 }
 
 static void test_input_derivative_does_not_overwrite_input(void)
@@ -1366,7 +1449,7 @@ int main(int argc, char **argv)
 {
     int i;
 
-    for (i = 0; i < 3; i++) other_paths[i] = i + 1 < argc ? argv[i + 1] : NULL;
+    for (i = 0; i < 4; i++) other_paths[i] = i + 1 < argc ? argv[i + 1] : NULL;
     printf("fmi2_runtime tests\n");
     test_basics();
     test_state_machine();
@@ -1388,6 +1471,7 @@ int main(int argc, char **argv)
     test_integration_failure_is_discard_with_last_successful_time();
     test_nonfinite_derivatives_are_reported();
     test_nonfinite_real_is_refused();
+    test_initial_equations();
     CHECK(n_live_allocations == 0); /* everything allocated through the callbacks was freed */
     printf("%d checks, %d failed\n", n_checks, n_failed);
     return n_failed == 0 ? 0 : 1;

@@ -24,6 +24,8 @@ others() {
         "$here/test_model_small.c" "-DTEST_MODEL_GUID=\"$guid\"" -o "$out/small_same_guid$2.so" -lm
     $CC $warn $1 -fPIC -shared -fvisibility=hidden -I"$fmi" -I"$runtime" "$runtime/fmi2_runtime.c" \
         "$here/test_model.c" "-DTEST_MODEL_GUID=\"$twin_guid\"" -o "$out/twin$2.so" -lm
+    $CC $warn $1 -fPIC -shared -fvisibility=hidden -I"$fmi" -I"$runtime" "$runtime/fmi2_runtime.c" \
+        "$here/test_model_init.c" -o "$out/init$2.so" -lm
 }
 guid='{8c4e810f-3df3-4a00-8276-176fa3c9f000}'      # test_model.c (GUID in harness.c)
 twin_guid='{8c4e810f-3df3-4a00-8276-176fa3c9f001}' # TWIN_GUID in harness.c
@@ -33,13 +35,13 @@ echo "== harness (-O2)"
 others "-O2" ""
 $CC $warn -O2 -I"$fmi" -I"$runtime" "$here/harness.c" "$here/test_model.c" "$runtime/fmi2_runtime.c" \
     -o "$out/harness" -lm -ldl
-"$out/harness" "$out/small.so" "$out/small_same_guid.so" "$out/twin.so"
+"$out/harness" "$out/small.so" "$out/small_same_guid.so" "$out/twin.so" "$out/init.so"
 
 echo "== harness (-O0, address and undefined behaviour sanitizers)"
 others "-O0 -g $san" "_san"
 $CC $warn -O0 -g $san -I"$fmi" -I"$runtime" "$here/harness.c" "$here/test_model.c" "$runtime/fmi2_runtime.c" \
     -o "$out/harness_san" -lm -ldl
-"$out/harness_san" "$out/small_san.so" "$out/small_same_guid_san.so" "$out/twin_san.so" > "$out/san.log" 2>&1 ||
+"$out/harness_san" "$out/small_san.so" "$out/small_same_guid_san.so" "$out/twin_san.so" "$out/init_san.so" > "$out/san.log" 2>&1 ||
     { cat "$out/san.log"; exit 1; }
 tail -n 1 "$out/san.log"
 

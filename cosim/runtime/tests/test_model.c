@@ -42,9 +42,14 @@ static int calc_parameters(const double *p, double *c)
     return 0;
 }
 
-static int start_states(const double *p, double *x0)
+static int start_states(double t, const double *u, const double *p, const unsigned char *given, double *x0,
+                        double *residual)
 {
+    (void)t;
+    (void)u;
+    (void)given;
     x0[2] = p[P_K] / 2.0;
+    *residual = 0.0;
     return 0;
 }
 
@@ -114,5 +119,6 @@ const cosim_model COSIM_MODEL = {
     start_states,
     eval,
     jvp,
-    names
+    names,
+    0 /* no initial equations */
 };

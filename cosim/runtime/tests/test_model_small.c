@@ -49,5 +49,6 @@ const cosim_model COSIM_MODEL = {
     0,
     eval,
     jvp,
-    0 /* no names: messages give value references */
+    0, /* no names: messages give value references */
+    0  /* no initial equations */
 };

@@ -1,16 +1,16 @@
 within Bicycle.Bicycles;
 model InvertedPendulum "Inverted-pendulum bicycle (1): steer angle in; roll angle, yaw angle and path deviation out"
-  parameter Bicycle.Units.Mass m(min = 1e-6) = 92 "Total mass m of bicycle and rider";
-  parameter Bicycle.Units.Length h(min = 1e-6) = 1.0 "Height h of the centre of mass";
-  parameter Bicycle.Units.Length b(min = 1e-6) = 1.0 "Wheel base b";
-  parameter Bicycle.Units.MomentOfInertia J(min = 1e-9) = 96.7 "Moment of inertia J about the x axis";
-  parameter Bicycle.Units.MomentOfInertia D(min = 1e-9) = 46.3 "Inertia product D = -Jxz";
-  parameter Bicycle.Units.Velocity V = 5 "Forward speed V";
-  parameter Bicycle.Units.Acceleration g(min = 1e-6) = 9.81 "Gravitational acceleration";
-  input Bicycle.Units.Angle delta "Steer angle (vertical steer axis), positive steering to the left";
-  output Bicycle.Units.Angle phi "Roll angle, positive leaning to the right";
-  output Bicycle.Units.Angle psi "Yaw angle of the rear frame, positive to the left";
-  output Bicycle.Units.Position eta "Path deviation of the rear contact point, positive to the left";
+  parameter Bicycle.Units.Mass m(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.m "Total mass m of bicycle and rider";
+  parameter Bicycle.Units.Length h(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.h "Height h of the centre of mass";
+  parameter Bicycle.Units.Length b(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.b "Wheel base b";
+  parameter Bicycle.Units.MomentOfInertia J(min = 1e-9) = Bicycle.Records.Astrom2005SecondOrder.J "Moment of inertia J about the x axis";
+  parameter Bicycle.Units.MomentOfInertia D(min = 1e-9) = Bicycle.Records.Astrom2005SecondOrder.D "Inertia product D = -Jxz";
+  parameter Bicycle.Units.Velocity V = Bicycle.Records.Astrom2005SecondOrder.V "Forward speed V";
+  parameter Bicycle.Units.Acceleration g(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.g "Gravitational acceleration";
+  Bicycle.Interfaces.RealInput delta(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Steer angle (vertical steer axis), positive steering to the left";
+  Bicycle.Interfaces.RealOutput phi(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Roll angle, positive leaning to the right";
+  Bicycle.Interfaces.RealOutput psi(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Yaw angle of the rear frame, positive to the left";
+  Bicycle.Interfaces.RealOutput eta(final quantity = "Length", final unit = "m") "Path deviation of the rear contact point, positive to the left";
   Bicycle.Components.RearFrame frame(m = m, h = h, b = b, J = J, D = D, V = V, g = g) "Rear frame with rider and wheels, eq (1)";
   Bicycle.Components.SteerAngle handlebar(delta = delta) "Rider's steer angle";
   Bicycle.Components.PathKinematics path(V = V, b = b) "Yaw angle and path deviation";

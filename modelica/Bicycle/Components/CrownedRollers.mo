@@ -1,8 +1,8 @@
 within Bicycle.Components;
 model CrownedRollers "Crowned rollers of lateral (rocking) radius R instead of thin tyres, eq (27)"
-  parameter Bicycle.Units.Mass m(min = 1e-6) = 92 "Total mass m carried by the rollers";
-  parameter Bicycle.Units.Acceleration g(min = 1e-6) = 9.81 "Gravitational acceleration";
-  parameter Bicycle.Units.Length R(min = 0) = 0.3 "Lateral (rocking) radius R of the crowned rollers (R = 0: thin tyres)";
+  parameter Bicycle.Units.Mass m(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.m "Total mass m carried by the rollers";
+  parameter Bicycle.Units.Acceleration g(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.g "Gravitational acceleration";
+  parameter Bicycle.Units.Length R(min = 0) = Bicycle.Records.Astrom2005SecondOrder.R "Lateral (rocking) radius R of the crowned rollers (R = 0: thin tyres)";
   Bicycle.Interfaces.Roll roll "Roll axis of the frame resting on the rollers";
 equation
   // Rolling on the crown moves the contact points R*phi towards the lean: the normal force m*g

@@ -1,13 +1,13 @@
 within Bicycle.Components;
 model GyroscopicFrontFork "Front fork with the gyroscopic derivative term: delta = k1*T - k2*phi - k3*der(phi)"
-  parameter Bicycle.Units.Mass m(min = 1e-6) = 92 "Total mass m of bicycle and rider";
-  parameter Bicycle.Units.Length a(min = 1e-6) = 0.5 "Horizontal distance a from the rear contact point P1 to the centre of mass";
-  parameter Bicycle.Units.Length b(min = 1e-6) = 1.0 "Wheel base b";
-  parameter Bicycle.Units.Length c(min = 1e-6) = 0.08 "Trail c";
-  parameter Bicycle.Units.Angle lambda(min = 1e-6, max = 1.5707963267948966) = 1.2217304763960306 "Head angle lambda (90 deg is a vertical steer axis)";
-  parameter Bicycle.Units.Velocity V = 5 "Forward speed V";
-  parameter Bicycle.Units.Acceleration g(min = 1e-6) = 9.81 "Gravitational acceleration";
-  parameter Bicycle.Units.Time k3(min = 0) = 0.05 "Gain k3 of the gyroscopic derivative feedback from roll rate to steer angle";
+  parameter Bicycle.Units.Mass m(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.m "Total mass m of bicycle and rider";
+  parameter Bicycle.Units.Length a(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.a "Horizontal distance a from the rear contact point P1 to the centre of mass";
+  parameter Bicycle.Units.Length b(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.b "Wheel base b";
+  parameter Bicycle.Units.Length c(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.c "Trail c";
+  parameter Bicycle.Units.Angle lambda(min = 1e-6, max = 1.5707963267948966) = Bicycle.Records.Astrom2005SecondOrder.lambda "Head angle lambda (90 deg is a vertical steer axis)";
+  parameter Bicycle.Units.Velocity V = Bicycle.Records.Astrom2005SecondOrder.V "Forward speed V";
+  parameter Bicycle.Units.Acceleration g(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.g "Gravitational acceleration";
+  parameter Bicycle.Units.Time k3(min = 0) = Bicycle.Records.Astrom2005SecondOrder.k3 "Gain k3 of the gyroscopic derivative feedback from roll rate to steer angle";
   Bicycle.Interfaces.Roll roll "Roll axis";
   Bicycle.Interfaces.Steer steer "Steer axis";
   Bicycle.Interfaces.EffectiveSteerOutput front "Effective steer angle of the front wheel, eq (8)";

@@ -1,9 +1,9 @@
 within Bicycle.Components;
 model LeaningUpperBody "Upper body of the rider, leaning relative to the rear frame by a prescribed angle, eq (22)"
-  parameter Bicycle.Units.Mass m_r(min = 1e-6) = 40 "Mass m_r of the upper body";
-  parameter Bicycle.Units.MomentOfInertia J_r(min = 1e-9) = 16 "Moment of inertia J_r of the upper body with respect to the x axis (coefficient of der(theta,2) in (22))";
-  parameter Bicycle.Units.Length h_r(min = 0) = 0.35 "Distance h_r from the centre of mass of the upper body to its lean axis";
-  parameter Bicycle.Units.Acceleration g(min = 1e-6) = 9.81 "Gravitational acceleration";
+  parameter Bicycle.Units.Mass m_r(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.m_r "Mass m_r of the upper body";
+  parameter Bicycle.Units.MomentOfInertia J_r(min = 1e-9) = Bicycle.Records.Astrom2005SecondOrder.J_r "Moment of inertia J_r of the upper body with respect to the x axis (coefficient of der(theta,2) in (22))";
+  parameter Bicycle.Units.Length h_r(min = 0) = Bicycle.Records.Astrom2005SecondOrder.h_r "Distance h_r from the centre of mass of the upper body to its lean axis";
+  parameter Bicycle.Units.Acceleration g(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.g "Gravitational acceleration";
   input Bicycle.Units.Angle theta "Lean angle of the upper body relative to the frame, positive to the right (same sense as phi)";
   Bicycle.Interfaces.Roll roll "Roll axis of the frame that carries the upper body";
   Bicycle.Interfaces.LeanOutput lean "Inertia-weighted lean J_r*theta for the momentum balance of the frame";

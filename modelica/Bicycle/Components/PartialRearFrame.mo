@@ -1,12 +1,12 @@
 within Bicycle.Components;
 partial model PartialRearFrame "Roll angular momentum balance of the rear frame with rider, eq (1) in momentum form (kinematics left to the extending model)"
-  parameter Bicycle.Units.Mass m(min = 1e-6) = 92 "Total mass m of bicycle and rider";
-  parameter Bicycle.Units.Length h(min = 1e-6) = 1.0 "Height h of the centre of mass above the ground";
-  parameter Bicycle.Units.Length b(min = 1e-6) = 1.0 "Wheel base b";
-  parameter Bicycle.Units.MomentOfInertia J(min = 1e-9) = 96.7 "Moment of inertia J about the x axis (whole bicycle with rider, steer angle zero)";
-  parameter Bicycle.Units.MomentOfInertia D(min = 1e-9) = 46.3 "Inertia product D = -Jxz with respect to the x and z axes";
-  parameter Bicycle.Units.Velocity V = 5 "Forward speed V of the rear contact point (negative: the steered wheel trails, rear-wheel steering)";
-  parameter Bicycle.Units.Acceleration g(min = 1e-6) = 9.81 "Gravitational acceleration";
+  parameter Bicycle.Units.Mass m(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.m "Total mass m of bicycle and rider";
+  parameter Bicycle.Units.Length h(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.h "Height h of the centre of mass above the ground";
+  parameter Bicycle.Units.Length b(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.b "Wheel base b";
+  parameter Bicycle.Units.MomentOfInertia J(min = 1e-9) = Bicycle.Records.Astrom2005SecondOrder.J "Moment of inertia J about the x axis (whole bicycle with rider, steer angle zero)";
+  parameter Bicycle.Units.MomentOfInertia D(min = 1e-9) = Bicycle.Records.Astrom2005SecondOrder.D "Inertia product D = -Jxz with respect to the x and z axes";
+  parameter Bicycle.Units.Velocity V = Bicycle.Records.Astrom2005SecondOrder.V "Forward speed V of the rear contact point (negative: the steered wheel trails, rear-wheel steering)";
+  parameter Bicycle.Units.Acceleration g(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.g "Gravitational acceleration";
   Bicycle.Units.Angle phi(start = 0) "Roll angle of the rear frame, positive leaning to the right";
   Bicycle.Units.AngularMomentum L(start = 0, fixed = true) "Angular momentum about the x axis less the steering term, L = J*der(chi) - D*V*delta_f/b";
   Bicycle.Units.AngularVelocity omega "Rate der(chi) of the inertia-weighted roll angle (the roll rate der(phi) when nothing moves relative to the frame)";

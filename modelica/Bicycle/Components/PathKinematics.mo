@@ -1,7 +1,7 @@
 within Bicycle.Components;
 model PathKinematics "Yaw angle psi and path deviation eta of the rear contact point, linearized about a straight path along the xi axis"
-  parameter Bicycle.Units.Velocity V = 5 "Forward speed V of the rear contact point";
-  parameter Bicycle.Units.Length b(min = 1e-6) = 1.0 "Wheel base b";
+  parameter Bicycle.Units.Velocity V = Bicycle.Records.Astrom2005SecondOrder.V "Forward speed V of the rear contact point";
+  parameter Bicycle.Units.Length b(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.b "Wheel base b";
   Bicycle.Interfaces.EffectiveSteerInput front "Effective steer angle delta_f of the front wheel, eq (8)";
   Bicycle.Units.Angle psi(start = 0, fixed = true) "Yaw angle psi between the xi axis and the x axis, positive to the left";
   Bicycle.Units.Position eta(start = 0, fixed = true) "Path deviation eta of the rear contact point along the eta axis (to the left)";

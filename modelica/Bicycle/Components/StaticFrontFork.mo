@@ -1,12 +1,12 @@
 within Bicycle.Components;
 model StaticFrontFork "Front fork with static torque balance about the steer axis, eqs (7)-(13)"
-  parameter Bicycle.Units.Mass m(min = 1e-6) = 92 "Total mass m of bicycle and rider";
-  parameter Bicycle.Units.Length a(min = 1e-6) = 0.5 "Horizontal distance a from the rear contact point P1 to the centre of mass";
-  parameter Bicycle.Units.Length b(min = 1e-6) = 1.0 "Wheel base b";
-  parameter Bicycle.Units.Length c(min = 1e-6) = 0.08 "Trail c (c = 0, a neutral fork, makes the static torque balance singular)";
-  parameter Bicycle.Units.Angle lambda(min = 1e-6, max = 1.5707963267948966) = 1.2217304763960306 "Head angle lambda (90 deg is a vertical steer axis)";
-  parameter Bicycle.Units.Velocity V = 5 "Forward speed V";
-  parameter Bicycle.Units.Acceleration g(min = 1e-6) = 9.81 "Gravitational acceleration";
+  parameter Bicycle.Units.Mass m(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.m "Total mass m of bicycle and rider";
+  parameter Bicycle.Units.Length a(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.a "Horizontal distance a from the rear contact point P1 to the centre of mass";
+  parameter Bicycle.Units.Length b(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.b "Wheel base b";
+  parameter Bicycle.Units.Length c(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.c "Trail c (c = 0, a neutral fork, makes the static torque balance singular)";
+  parameter Bicycle.Units.Angle lambda(min = 1e-6, max = 1.5707963267948966) = Bicycle.Records.Astrom2005SecondOrder.lambda "Head angle lambda (90 deg is a vertical steer axis)";
+  parameter Bicycle.Units.Velocity V = Bicycle.Records.Astrom2005SecondOrder.V "Forward speed V";
+  parameter Bicycle.Units.Acceleration g(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.g "Gravitational acceleration";
   Bicycle.Interfaces.Roll roll "Roll axis (the fork reads the frame roll angle and loads the frame with the torque of its shifted contact point)";
   Bicycle.Interfaces.Steer steer "Steer axis";
   Bicycle.Interfaces.EffectiveSteerOutput front "Effective steer angle of the front wheel, delta_f = delta*sin(lambda), eq (8)";

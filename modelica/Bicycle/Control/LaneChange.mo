@@ -6,11 +6,11 @@ block LaneChange "Lane change by counter-steering: lateral error -> heading -> r
   parameter Real k_psi(unit = "1") = 1 "Roll demand per radian of heading error";
   parameter Real kp(unit = "N.m/rad") = 20 "Steer torque per radian of roll error";
   parameter Real kd(unit = "N.m.s/rad") = 10 "Steer torque per rad/s of roll rate";
-  input Bicycle.Units.Angle phi "Roll angle (positive leaning right)";
-  input Bicycle.Units.AngularVelocity phi_dot "Roll rate";
-  input Bicycle.Units.Angle psi "Heading (positive turning right)";
-  input Bicycle.Units.Position y "Lateral position (positive to the right)";
-  output Bicycle.Units.Torque T "Steer torque (positive steering right)";
+  Bicycle.Interfaces.RealInput phi(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Roll angle (positive leaning right)";
+  Bicycle.Interfaces.RealInput phi_dot(final quantity = "AngularVelocity", final unit = "rad/s") "Roll rate";
+  Bicycle.Interfaces.RealInput psi(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Heading (positive turning right)";
+  Bicycle.Interfaces.RealInput y(final quantity = "Length", final unit = "m") "Lateral position (positive to the right)";
+  Bicycle.Interfaces.RealOutput T(final quantity = "Torque", final unit = "N.m") "Steer torque (positive steering right)";
 protected
   Bicycle.Units.Position y_cmd "Commanded lateral position";
   Bicycle.Units.Angle phi_ref "Roll demand";
@@ -19,5 +19,13 @@ equation
   y_cmd = if time >= t_start - 1e-12 then y_ref else 0;
   phi_ref = k_psi*(k_y*(y_cmd - y) - psi);
   T = kp*(phi - phi_ref) + kd*phi_dot;
-  annotation(__Cosim(export = true));
+  annotation(__Cosim(export = true), Documentation(info = "<html>
+<p>Inputs (<a href=\"modelica://Bicycle.Interfaces.RealInput\">RealInput</a>): <code>phi</code>
+(rad), <code>phi_dot</code> (rad/s), <code>psi</code> (rad), <code>y</code> (m); output (<a
+href=\"modelica://Bicycle.Interfaces.RealOutput\">RealOutput</a>): <code>T</code> (steer torque,
+N.m). The FMU has the same input and output names. Modelica twin of the Python block
+<code>LaneChange</code> (<code>cosim.cosimulation.controllers</code>).</p>
+<p>Meijaard conventions (y, psi, phi positive to the right), for
+<code>Bicycles.WhippleLinear</code>.</p>
+</html>"));
 end LaneChange;

@@ -4,12 +4,20 @@ block StateFeedback "State feedback on steer torque (LQR autopilot): T = -(K1*ph
   parameter Real K2(unit = "N.m/rad") = 0 "Gain on steer angle";
   parameter Real K3(unit = "N.m.s/rad") = 0 "Gain on roll rate";
   parameter Real K4(unit = "N.m.s/rad") = 0 "Gain on steer rate";
-  input Bicycle.Units.Angle phi "Roll angle";
-  input Bicycle.Units.Angle delta "Steer angle";
-  input Bicycle.Units.AngularVelocity phi_dot "Roll rate";
-  input Bicycle.Units.AngularVelocity delta_dot "Steer rate";
-  output Bicycle.Units.Torque T "Steer torque";
+  Bicycle.Interfaces.RealInput phi(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Roll angle";
+  Bicycle.Interfaces.RealInput delta(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Steer angle";
+  Bicycle.Interfaces.RealInput phi_dot(final quantity = "AngularVelocity", final unit = "rad/s") "Roll rate";
+  Bicycle.Interfaces.RealInput delta_dot(final quantity = "AngularVelocity", final unit = "rad/s") "Steer rate";
+  Bicycle.Interfaces.RealOutput T(final quantity = "Torque", final unit = "N.m") "Steer torque";
 equation
   T = -(K1*phi + K2*delta + K3*phi_dot + K4*delta_dot);
-  annotation(__Cosim(export = true));
+  annotation(__Cosim(export = true), Documentation(info = "<html>
+<p>Inputs (<a href=\"modelica://Bicycle.Interfaces.RealInput\">RealInput</a>): <code>phi</code>,
+<code>delta</code> (rad), <code>phi_dot</code>, <code>delta_dot</code> (rad/s); output (<a
+href=\"modelica://Bicycle.Interfaces.RealOutput\">RealOutput</a>): <code>T</code> (steer torque,
+N.m). The FMU has the same input and output names. Modelica twin of the Python block
+<code>StateFeedback</code> (<code>cosim.cosimulation.controllers</code>).</p>
+<p>The Python block <code>LQR</code> designs the gains and exports this block with them
+(Examples.WhippleLinearLQRDelay).</p>
+</html>"));
 end StateFeedback;

@@ -1,7 +1,11 @@
 within Bicycle.Examples;
 model RearSteeredSteerFeedback "Rear-steered bicycle (18) under proportional steering delta = -k2*phi: unstable, eq (19)"
   parameter Real k2(unit = "1", min = 0) = 0.8 "Gain k2 from roll angle to steer angle";
-  Bicycle.Bicycles.RearSteered bicycle(V = -5, delta = -k2*bicycle.phi, frame(phi(start = 0.01))) "Rear-steered bicycle at 5 m/s, initial lean 0.01 rad";
+  Bicycle.Bicycles.RearSteered bicycle(V = -5, frame(phi(start = 0.01))) "Rear-steered bicycle at 5 m/s, initial lean 0.01 rad";
+  Bicycle.Control.SteerAngleFeedback controller(k2 = k2) "Proportional steering delta = -k2*phi";
+equation
+  connect(bicycle.phi, controller.phi);
+  connect(controller.delta, bicycle.delta);
   annotation(
     experiment(StartTime = 0, StopTime = 3, Tolerance = 1e-8, Interval = 0.01),
     Documentation(info = "<html>

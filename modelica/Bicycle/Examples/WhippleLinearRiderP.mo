@@ -1,16 +1,21 @@
 within Bicycle.Examples;
 model WhippleLinearRiderP "Benchmark bicycle at 5 m/s with the rider's proportional steer torque inside one model"
   parameter Real k(unit = "N.m/rad") = 2 "Rider gain: T_delta = -k*phi";
-  Bicycle.Bicycles.WhippleLinear bike(v = 5, phi0 = 0.05) "Linear Whipple bicycle, released with 0.05 rad of roll";
-  output Bicycle.Units.Angle phi "Roll angle";
-  output Bicycle.Units.Angle delta "Steer angle";
+  Bicycle.Bicycles.WhippleLinear bike(v = 5, phi0 = 0.05, T_phi = 0) "Linear Whipple bicycle, released with 0.05 rad of roll, no roll torque";
+  Bicycle.Control.Proportional rider(k = k) "The paper's rider, T = -k*phi";
+  Bicycle.Interfaces.RealOutput phi(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Roll angle";
+  Bicycle.Interfaces.RealOutput delta(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Steer angle";
 equation
-  bike.T_phi = 0;
-  bike.T_delta = -k*bike.phi;
-  phi = bike.phi;
-  delta = bike.delta;
+  connect(bike.phi, rider.phi);
+  connect(rider.T, bike.T_delta);
+  connect(bike.phi, phi);
+  connect(bike.delta, delta);
   annotation(experiment(StartTime = 0, StopTime = 5, Tolerance = 1e-10, Interval = 0.01), Documentation(info = "<html>
 <p>The single-model reference of the co-simulated rider loop (WhippleLinear FMU + Proportional
-controller): Jacobi and Gauss-Seidel must converge to this solution as the step shrinks.</p>
+controller): the controller block is connected to the bicycle as the master connects the two
+FMUs (<code>bike.phi -&gt; rider.phi</code>, <code>rider.T -&gt; bike.T_delta</code>), but here the
+loop is closed in continuous time. Jacobi and Gauss-Seidel, which hold the torque over each
+communication step, converge to this solution at first order as the step shrinks
+(cosim.studies.convergence).</p>
 </html>"));
 end WhippleLinearRiderP;

@@ -2,8 +2,8 @@ within Bicycle.Rider;
 block PadeDelay "Neuromuscular delay exp(-s*tau) of the rider as a Pade approximation of order n"
   parameter Bicycle.Units.Time tau(min = 1e-6) = 0.1 "Delay (0.1 s for steer torque, 0.3 s for upper-body lean)";
   parameter Integer n(min = 1, max = 10) = 2 "Order of the approximation (numerator and denominator degree); structural";
-  input Real u "Signal into the delay";
-  output Real y "Delayed signal";
+  Bicycle.Interfaces.RealInput u "Signal into the delay";
+  Bicycle.Interfaces.RealOutput y "Delayed signal";
 protected
   Real d[n + 1] "Denominator coefficient of s^(k-1), d[1] = 1 (the numerator's alternate in sign)";
   Real x[n](each start = 0, each fixed = true) "States of the controllable canonical form";

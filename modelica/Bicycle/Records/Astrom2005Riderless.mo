@@ -1,0 +1,31 @@
+within Bicycle.Records;
+// Generated from cosim/params/astrom2005-riderless.toml by python -m cosim.analytic.records: do not edit.
+package Astrom2005Riderless "Riderless bicycle of Astrom, Klein and Lennartsson (2005) (generated from cosim/params/astrom2005-riderless.toml)"
+  constant Real w(final quantity = "Length", final unit = "m") = 1.0 "Wheelbase w";
+  constant Real c(final quantity = "Length", final unit = "m") = 0.08 "Trail c (positive: front contact point behind the steer axis)";
+  constant Real lam(final quantity = "Angle", final unit = "rad") = 0.3490658503988659 "Steer-axis tilt lam from the vertical (pi/2 - head angle)";
+  constant Real g(final quantity = "Acceleration", final unit = "m/s2") = 9.81 "Gravitational acceleration g";
+  constant Real rR(final quantity = "Length", final unit = "m") = 0.35 "Rear wheel radius rR (centre height of the upright wheel)";
+  constant Real mR(final quantity = "Mass", final unit = "kg") = 1.5 "Rear wheel mass mR";
+  constant Real IRxx(final quantity = "MomentOfInertia", final unit = "kg.m2") = 0.07 "Rear wheel diametral inertia IRxx = IRzz";
+  constant Real IRyy(final quantity = "MomentOfInertia", final unit = "kg.m2") = 0.14 "Rear wheel spin inertia IRyy";
+  constant Real xB(final quantity = "Length", final unit = "m") = 0.439 "Rear frame centre of mass: x coordinate xB (forward)";
+  constant Real zB(final quantity = "Length", final unit = "m") = -0.579 "Rear frame centre of mass: z coordinate zB (down; negative above the ground)";
+  constant Real mB(final quantity = "Mass", final unit = "kg") = 12.0 "Rear frame mass mB";
+  constant Real IBxx(final quantity = "MomentOfInertia", final unit = "kg.m2") = 0.476 "Rear frame inertia-tensor element IBxx about its centre of mass";
+  constant Real IBxz(final quantity = "MomentOfInertia", final unit = "kg.m2") = 0.274 "Rear frame inertia-tensor element IBxz about its centre of mass";
+  constant Real IByy(final quantity = "MomentOfInertia", final unit = "kg.m2") = 1.033 "Rear frame inertia-tensor element IByy about its centre of mass";
+  constant Real IBzz(final quantity = "MomentOfInertia", final unit = "kg.m2") = 0.527 "Rear frame inertia-tensor element IBzz about its centre of mass";
+  constant Real xH(final quantity = "Length", final unit = "m") = 0.866 "Front frame centre of mass: x coordinate xH (forward)";
+  constant Real zH(final quantity = "Length", final unit = "m") = -0.676 "Front frame centre of mass: z coordinate zH (down; negative above the ground)";
+  constant Real mH(final quantity = "Mass", final unit = "kg") = 2.0 "Front frame mass mH";
+  constant Real IHxx(final quantity = "MomentOfInertia", final unit = "kg.m2") = 0.08 "Front frame inertia-tensor element IHxx about its centre of mass";
+  constant Real IHxz(final quantity = "MomentOfInertia", final unit = "kg.m2") = -0.02 "Front frame inertia-tensor element IHxz about its centre of mass";
+  constant Real IHyy(final quantity = "MomentOfInertia", final unit = "kg.m2") = 0.07 "Front frame inertia-tensor element IHyy about its centre of mass";
+  constant Real IHzz(final quantity = "MomentOfInertia", final unit = "kg.m2") = 0.02 "Front frame inertia-tensor element IHzz about its centre of mass";
+  constant Real rF(final quantity = "Length", final unit = "m") = 0.35 "Front wheel radius rF (centre height of the upright wheel)";
+  constant Real mF(final quantity = "Mass", final unit = "kg") = 1.5 "Front wheel mass mF";
+  constant Real IFxx(final quantity = "MomentOfInertia", final unit = "kg.m2") = 0.07 "Front wheel diametral inertia IFxx = IFzz";
+  constant Real IFyy(final quantity = "MomentOfInertia", final unit = "kg.m2") = 0.14 "Front wheel spin inertia IFyy";
+  annotation(Documentation(info = "<html><p>Data set generated from <code>cosim/params/astrom2005-riderless.toml</code> (the one source of these values) by <code>python -m cosim.analytic.records</code>. A model takes it as <code>replaceable package Data = Bicycle.Records.Astrom2005Riderless constrainedby Bicycle.Records.PartialWhipple</code>.</p></html>"));
+end Astrom2005Riderless;

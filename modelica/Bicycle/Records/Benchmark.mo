@@ -1,0 +1,31 @@
+within Bicycle.Records;
+// Generated from cosim/params/benchmark.toml by python -m cosim.analytic.records: do not edit.
+package Benchmark "Benchmark bicycle of Meijaard et al. (2007), Table 1 (generated from cosim/params/benchmark.toml)"
+  constant Real w(final quantity = "Length", final unit = "m") = 1.02 "Wheelbase w";
+  constant Real c(final quantity = "Length", final unit = "m") = 0.08 "Trail c (positive: front contact point behind the steer axis)";
+  constant Real lam(final quantity = "Angle", final unit = "rad") = 0.3141592653589793 "Steer-axis tilt lam from the vertical (pi/2 - head angle)";
+  constant Real g(final quantity = "Acceleration", final unit = "m/s2") = 9.81 "Gravitational acceleration g";
+  constant Real rR(final quantity = "Length", final unit = "m") = 0.3 "Rear wheel radius rR (centre height of the upright wheel)";
+  constant Real mR(final quantity = "Mass", final unit = "kg") = 2.0 "Rear wheel mass mR";
+  constant Real IRxx(final quantity = "MomentOfInertia", final unit = "kg.m2") = 0.0603 "Rear wheel diametral inertia IRxx = IRzz";
+  constant Real IRyy(final quantity = "MomentOfInertia", final unit = "kg.m2") = 0.12 "Rear wheel spin inertia IRyy";
+  constant Real xB(final quantity = "Length", final unit = "m") = 0.3 "Rear frame centre of mass: x coordinate xB (forward)";
+  constant Real zB(final quantity = "Length", final unit = "m") = -0.9 "Rear frame centre of mass: z coordinate zB (down; negative above the ground)";
+  constant Real mB(final quantity = "Mass", final unit = "kg") = 85.0 "Rear frame mass mB";
+  constant Real IBxx(final quantity = "MomentOfInertia", final unit = "kg.m2") = 9.2 "Rear frame inertia-tensor element IBxx about its centre of mass";
+  constant Real IBxz(final quantity = "MomentOfInertia", final unit = "kg.m2") = 2.4 "Rear frame inertia-tensor element IBxz about its centre of mass";
+  constant Real IByy(final quantity = "MomentOfInertia", final unit = "kg.m2") = 11.0 "Rear frame inertia-tensor element IByy about its centre of mass";
+  constant Real IBzz(final quantity = "MomentOfInertia", final unit = "kg.m2") = 2.8 "Rear frame inertia-tensor element IBzz about its centre of mass";
+  constant Real xH(final quantity = "Length", final unit = "m") = 0.9 "Front frame centre of mass: x coordinate xH (forward)";
+  constant Real zH(final quantity = "Length", final unit = "m") = -0.7 "Front frame centre of mass: z coordinate zH (down; negative above the ground)";
+  constant Real mH(final quantity = "Mass", final unit = "kg") = 4.0 "Front frame mass mH";
+  constant Real IHxx(final quantity = "MomentOfInertia", final unit = "kg.m2") = 0.05892 "Front frame inertia-tensor element IHxx about its centre of mass";
+  constant Real IHxz(final quantity = "MomentOfInertia", final unit = "kg.m2") = -0.00756 "Front frame inertia-tensor element IHxz about its centre of mass";
+  constant Real IHyy(final quantity = "MomentOfInertia", final unit = "kg.m2") = 0.06 "Front frame inertia-tensor element IHyy about its centre of mass";
+  constant Real IHzz(final quantity = "MomentOfInertia", final unit = "kg.m2") = 0.00708 "Front frame inertia-tensor element IHzz about its centre of mass";
+  constant Real rF(final quantity = "Length", final unit = "m") = 0.35 "Front wheel radius rF (centre height of the upright wheel)";
+  constant Real mF(final quantity = "Mass", final unit = "kg") = 3.0 "Front wheel mass mF";
+  constant Real IFxx(final quantity = "MomentOfInertia", final unit = "kg.m2") = 0.1405 "Front wheel diametral inertia IFxx = IFzz";
+  constant Real IFyy(final quantity = "MomentOfInertia", final unit = "kg.m2") = 0.28 "Front wheel spin inertia IFyy";
+  annotation(Documentation(info = "<html><p>Data set generated from <code>cosim/params/benchmark.toml</code> (the one source of these values) by <code>python -m cosim.analytic.records</code>. A model takes it as <code>replaceable package Data = Bicycle.Records.Benchmark constrainedby Bicycle.Records.PartialWhipple</code>.</p></html>"));
+end Benchmark;

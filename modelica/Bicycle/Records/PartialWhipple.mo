@@ -1,0 +1,31 @@
+within Bicycle.Records;
+// Generated from cosim/analytic/parameters.py (PARAMETER_NAMES) by python -m cosim.analytic.records: do not edit.
+partial package PartialWhipple "Parameter set of the Whipple bicycle: the symbols of Meijaard et al. (2007), Table 1"
+  constant Real w(final quantity = "Length", final unit = "m") "Wheelbase w";
+  constant Real c(final quantity = "Length", final unit = "m") "Trail c (positive: front contact point behind the steer axis)";
+  constant Real lam(final quantity = "Angle", final unit = "rad") "Steer-axis tilt lam from the vertical (pi/2 - head angle)";
+  constant Real g(final quantity = "Acceleration", final unit = "m/s2") "Gravitational acceleration g";
+  constant Real rR(final quantity = "Length", final unit = "m") "Rear wheel radius rR (centre height of the upright wheel)";
+  constant Real mR(final quantity = "Mass", final unit = "kg") "Rear wheel mass mR";
+  constant Real IRxx(final quantity = "MomentOfInertia", final unit = "kg.m2") "Rear wheel diametral inertia IRxx = IRzz";
+  constant Real IRyy(final quantity = "MomentOfInertia", final unit = "kg.m2") "Rear wheel spin inertia IRyy";
+  constant Real xB(final quantity = "Length", final unit = "m") "Rear frame centre of mass: x coordinate xB (forward)";
+  constant Real zB(final quantity = "Length", final unit = "m") "Rear frame centre of mass: z coordinate zB (down; negative above the ground)";
+  constant Real mB(final quantity = "Mass", final unit = "kg") "Rear frame mass mB";
+  constant Real IBxx(final quantity = "MomentOfInertia", final unit = "kg.m2") "Rear frame inertia-tensor element IBxx about its centre of mass";
+  constant Real IBxz(final quantity = "MomentOfInertia", final unit = "kg.m2") "Rear frame inertia-tensor element IBxz about its centre of mass";
+  constant Real IByy(final quantity = "MomentOfInertia", final unit = "kg.m2") "Rear frame inertia-tensor element IByy about its centre of mass";
+  constant Real IBzz(final quantity = "MomentOfInertia", final unit = "kg.m2") "Rear frame inertia-tensor element IBzz about its centre of mass";
+  constant Real xH(final quantity = "Length", final unit = "m") "Front frame centre of mass: x coordinate xH (forward)";
+  constant Real zH(final quantity = "Length", final unit = "m") "Front frame centre of mass: z coordinate zH (down; negative above the ground)";
+  constant Real mH(final quantity = "Mass", final unit = "kg") "Front frame mass mH";
+  constant Real IHxx(final quantity = "MomentOfInertia", final unit = "kg.m2") "Front frame inertia-tensor element IHxx about its centre of mass";
+  constant Real IHxz(final quantity = "MomentOfInertia", final unit = "kg.m2") "Front frame inertia-tensor element IHxz about its centre of mass";
+  constant Real IHyy(final quantity = "MomentOfInertia", final unit = "kg.m2") "Front frame inertia-tensor element IHyy about its centre of mass";
+  constant Real IHzz(final quantity = "MomentOfInertia", final unit = "kg.m2") "Front frame inertia-tensor element IHzz about its centre of mass";
+  constant Real rF(final quantity = "Length", final unit = "m") "Front wheel radius rF (centre height of the upright wheel)";
+  constant Real mF(final quantity = "Mass", final unit = "kg") "Front wheel mass mF";
+  constant Real IFxx(final quantity = "MomentOfInertia", final unit = "kg.m2") "Front wheel diametral inertia IFxx = IFzz";
+  constant Real IFyy(final quantity = "MomentOfInertia", final unit = "kg.m2") "Front wheel spin inertia IFyy";
+  annotation(Documentation(info = "<html><p>The constraining class of the Meijaard data sets. Conventions: x forward, y right, z down, origin at the rear contact point; inertias about each body's own centre of mass, I*xz = -integral(x z dm); wheels axisymmetric (IRzz = IRxx, IFzz = IFxx). Units SI.</p></html>"));
+end PartialWhipple;
