@@ -69,6 +69,22 @@ def variant_library(folder: Path, models: dict[str, str], package: str = "TestVa
     return Library([ROOT / "modelica", folder])
 
 
+def calculated_parameters(fmu_path, names, parameters=None) -> dict:
+    """Values of (calculated) parameters read in initialization mode."""
+    from cosim.fmu.access import FMU
+
+    with FMU(fmu_path) as f:
+        me = f.instantiate("me")
+        f.set(me, parameters or {})
+        me.setupExperiment(startTime=0.0)
+        me.enterInitializationMode()
+        values = dict(zip(names, f.get_real(me, list(names))))
+        me.exitInitializationMode()
+        me.terminate()
+        me.freeInstance()
+    return values
+
+
 def run_cli(*args: str, cwd: Path | None = None, env: dict | None = None) -> subprocess.CompletedProcess:
     """Run `python -m cosim ...` as a user would, capturing its output."""
     environment = {**os.environ, **(env or {})}

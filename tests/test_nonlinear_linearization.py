@@ -111,6 +111,27 @@ def test_linearize_speed_gives_meijaard_eigenvalues(fmu, capsys, tmp_path, name)
     assert worst_speed <= 1e-14
 
 
+@pytest.mark.parametrize("name", ["benchmark"])
+def test_rider_model_takes_a_set_with_the_upper_body_split_off(rider_fmu, capsys, name):
+    """--params SET on WhippleRider: the set's rear frame holds the whole rider, so the model's upper body
+    is split off it; with the hinge locked the bicycle is the set's bicycle (Meijaard eigenvalues)."""
+    p = load_parameters(name)
+    for v in (0.0, 3.0, 5.0, 8.0):
+        d = _linearize_json(capsys, str(rider_fmu), "--params", name, "--speed", repr(v), "--lock-hinge")
+        assert d["parameters"]["mB"] == pytest.approx(p["mB"] - load_upper_body()["mU"], rel=1e-15)
+        error = root_set_error(_complex(d["steady_motion"]["eigenvalues"]), W.eigenvalues(p, v))
+        assert error <= ROOT_TOL, (v, error)
+
+
+@pytest.mark.parametrize("name, problem", [("astrom2005-riderless", "mU"), ("astrom2005", "IBxx")])
+def test_rider_model_refuses_a_set_that_cannot_carry_the_upper_body(rider_fmu, capsys, name, problem):
+    """The riderless set's 12 kg rear frame, or the paper's rider set whose rear-frame roll inertia is
+    smaller than the benchmark upper body's share: one message naming the parameter, exit 2."""
+    status = main(["linearize", str(rider_fmu), "--params", name, "--speed", "5"])
+    err = capsys.readouterr().err
+    assert status == 2 and err.count("\n") == 1 and problem in err and "Traceback" not in err, err
+
+
 def test_linearize_model_name_on_the_command_line(fmu):
     """The real command, model name resolved (built into COSIM_FMU_DIR), default parameters."""
     result = run_cli("linearize", MODEL, "--speed", "5", "--json")

@@ -308,15 +308,20 @@ def _line(text: str, fragment: str) -> int:
     return next(i for i, line in enumerate(lines, 1) if fragment in line)
 
 
+def _assert_refused_at(tmp_path, files: dict[str, str], file: str, model: str, fragment: str, message: str):
+    """Flattening ``model`` fails with ``FILE:LINE: message``, LINE being the line of ``fragment``."""
+    library = _library(tmp_path, files)
+    line = _line(files[file], fragment)
+    with pytest.raises(ModelicaError, match=rf"{re.escape(Path(file).name)}:{line}: {message}"):
+        flatten(library, model)
+
+
 @pytest.mark.parametrize("model, fragment, message", [
     ("Rec.Constructor", "b = Body(m = 3", r"record binding 'b = Body\(\.\.\.\)' is not supported"),
     ("Rec.Mismatch", "b = o", r"record binding 'b = o' is not supported \('o' has no element 'I'\)"),
 ], ids=["constructor", "other-record-type"])
 def test_unsupported_record_binding_is_refused_with_line(tmp_path, model, fragment, message):
-    library = _library(tmp_path, RECORDS)
-    line = _line(RECORDS["Rec/package.mo"], fragment)
-    with pytest.raises(ModelicaError, match=rf"package\.mo:{line}: {re.escape(model)}: {message}"):
-        flatten(library, model)
+    _assert_refused_at(tmp_path, RECORDS, "Rec/package.mo", model, fragment, rf"{re.escape(model)}: {message}")
 
 
 # -- 4. Component redeclarations and constraining clauses ------------------------------------------
@@ -420,10 +425,7 @@ def test_two_component_redeclares_in_one_extends_modifier(tmp_path):
       r"are ignored by pymoca")),
 ], ids=["class-modifiers-redeclared", "constraining-clause-modifiers"])
 def test_replaceable_class_modifiers_pymoca_gets_wrong_are_refused(tmp_path, model, fragment, message):
-    library = _library(tmp_path, WHEELS)
-    line = _line(WHEELS["Wh/package.mo"], fragment)
-    with pytest.raises(ModelicaError, match=rf"package\.mo:{line}: {message}"):
-        flatten(library, model)
+    _assert_refused_at(tmp_path, WHEELS, "Wh/package.mo", model, fragment, message)
 
 
 # -- 5. Several top-level packages, several library folders ------------------------------------------

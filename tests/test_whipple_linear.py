@@ -22,7 +22,7 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from conftest import assert_plotted, png_pixels
+from conftest import assert_plotted, calculated_parameters, png_pixels
 from cosim.fmu import stability as WP
 from cosim.analytic import parameters as P
 from cosim.analytic import whipple as W
@@ -49,20 +49,6 @@ SPEEDS = [round(0.5 * k, 1) for k in range(21)]  # 0 ... 10 m/s
 def fmu(fmus):
     """The session's build (tests/conftest.py): the FMU is only read here."""
     return fmus[MODEL]
-
-
-def _calculated(fmu_path, names, parameters=None):
-    """Values of (calculated) parameters read in initialization mode."""
-    with FMU(fmu_path) as f:
-        me = f.instantiate("me")
-        f.set(me, parameters or {})
-        me.setupExperiment(startTime=0.0)
-        me.enterInitializationMode()
-        values = dict(zip(names, f.get_real(me, list(names))))
-        me.exitInitializationMode()
-        me.terminate()
-        me.freeInstance()
-    return values
 
 
 # --------------------------------------------------------------------------- interface
@@ -109,7 +95,7 @@ def test_parameters_for_model_rejects_bad_sets(tmp_path):
 @pytest.mark.parametrize("name", list(PUBLISHED), ids=list(PUBLISHED))
 def test_benchmark_calculated_parameters(fmu, name):
     """Calculated parameter of the FMU (default = benchmark) vs Meijaard (2007): rtol 1e-12, atol 1e-13."""
-    got = _calculated(fmu, [name])[name]
+    got = calculated_parameters(fmu, [name])[name]
     assert got == pytest.approx(PUBLISHED[name], rel=1e-12, abs=1e-13)
 
 
@@ -117,7 +103,7 @@ def test_benchmark_calculated_parameters(fmu, name):
 def test_calculated_matrices_match_analytic(fmu, name):
     """M, C1, K0, K2 from the FMU (parameters set at run time) vs cosim.analytic.whipple: rtol 1e-12, atol 1e-13."""
     params = WP.parameters_for_model(name)
-    got = _calculated(fmu, list(PUBLISHED), params)
+    got = calculated_parameters(fmu, list(PUBLISHED), params)
     M, C1, K0, K2 = W.matrices(params)
     expected = {"M11": M[0, 0], "M12": M[0, 1], "M21": M[1, 0], "M22": M[1, 1],
                 "C1_12": C1[0, 1], "C1_21": C1[1, 0], "C1_22": C1[1, 1],

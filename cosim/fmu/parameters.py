@@ -188,6 +188,9 @@ def from_command_line(target: str, assignments: list[str], extra: dict | None = 
             values.update(parameters_for_model(parameter_set))
         except FileNotFoundError:
             raise ParameterError(f"--params {parameter_set}: no such bundled set or file") from None
+        declared = declarations(target) if declared is None else declared
+        if "mU" in declared:
+            values = _split_rider(values, parameter_set)
     values.update(dict(split_assignment(a) for a in assignments))  # a repeated name: the last wins
     values.update(extra or {})
     if not values and speed is None:
@@ -203,6 +206,21 @@ def from_command_line(target: str, assignments: list[str], extra: dict | None = 
             known = {**starts(declarations(str(resolve_fmu(target)))), **values}
         values.update(fs.values(speed, known))
     return check(values, declared, input_hint)
+
+
+def _split_rider(values: dict[str, float], parameter_set: str) -> dict[str, float]:
+    """A Meijaard set's rear frame B holds the whole (rigid) rider. For a model with the rider's upper
+    body on a hip hinge (parameters mU, xU, ...), the bundled upper body is split off B, so that with
+    the hinge locked the bicycle is the set's bicycle (not one carrying a second upper body)."""
+    from cosim.analytic.parameters import load_upper_body, split_upper_body, validate_parameters
+
+    try:
+        split = split_upper_body(values, load_upper_body())
+        validate_parameters({k: split[k] for k in values})
+    except ValueError as exc:
+        raise ParameterError(f"--params {parameter_set}: the rear frame of the set cannot carry the rider's "
+                             f"upper body of this model: {exc}") from None
+    return split
 
 
 def starts(declared: dict[str, Declared]) -> dict[str, float]:
