@@ -12,7 +12,14 @@ Joints and translations pass these on; every body adds its generalized mass matr
 as <em>flow</em> variables, so that <code>connect()</code> sums them. The root (<a
 href=\"modelica://Bicycle.Mechanics.Ground\">Ground</a>) owns the coordinates, eliminates the
 dependent speeds through the rolling constraints of the wheels and writes Kane's equations
-<code>Mr*der(ui) = fr</code> for the independent speeds.</p>
+<code>Mr*der(ui) = fr</code> for the independent speeds (the elimination and Kane's equations are
+written once, in <a href=\"modelica://Bicycle.Mechanics.PartialGround\">PartialGround</a>).</p>
+<p>Subpackages: <code>Interfaces</code> (the <code>Frame</code> and <code>ContactRows</code> connectors),
+<code>Parts</code> (rigid body, fixed translation), <code>Joints</code> (revolute joints, with a torque
+input), <code>Frames</code> (the bicycle's rear frame, steer axis and front frame), <code>Rider</code>
+(the rider's upper body on a hip hinge with passive stiffness and damping and a lean-torque input, a
+locked hinge, and the 7-speed root of the bicycle with the rider). The wheels are in
+<a href=\"modelica://Bicycle.Wheels\">Bicycle.Wheels</a>.</p>
 <p>Vectors are resolved in ground axes (Meijaard et al. 2007: x forward, y right, z down; the
 ground is the plane z = 0). Vector algebra is written element by element (cross products,
 rotation matrices) because the Modelica front end used (pymoca 0.12) has no <code>cross()</code>
