@@ -7,6 +7,10 @@ Every command that writes a file (CSV, NPY, PNG, HTML, JSON, SSP, FMU) goes thro
 - a file appears under its final name only when it is complete: a kill or an error half-way leaves
   at most a hidden ``.NAME.partial-*`` file, never a complete-looking partial result
   (:func:`atomic_output`).
+
+Input text files (CSV input data, system and matrix spec TOML) are read through
+:func:`read_text_file`, so that an unreadable or undecodable file gets the same one message
+everywhere.
 """
 from __future__ import annotations
 
@@ -96,6 +100,23 @@ def _umask() -> int:
     mask = os.umask(0)
     os.umask(mask)
     return mask
+
+
+def read_text_file(path: Path, error: type[Exception], label: str, encoding: str = "utf-8") -> str:
+    """The text of the input file ``path``.
+
+    Raises
+    ------
+    error
+        ``"LABEL: not UTF-8 text (byte N)"`` for undecodable bytes, ``"LABEL: cannot read the file:
+        REASON"`` if it cannot be read (missing, a folder, no permission).
+    """
+    try:
+        return path.read_text(encoding=encoding)
+    except UnicodeDecodeError as exc:
+        raise error(f"{label}: not UTF-8 text (byte {exc.start})") from None
+    except OSError as exc:
+        raise error(f"{label}: cannot read the file: {exc.strerror or exc}") from None
 
 
 def write_text(path: str | os.PathLike, text: str, what: str = "output file") -> Path:

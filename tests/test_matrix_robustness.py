@@ -643,7 +643,7 @@ def test_bad_option_values_are_refused(tmp_path, args, message):
     assert not (tmp_path / "out").exists()
 
 
-@pytest.mark.parametrize("content, message", [(b"\xff\xfe\x00bad", "not a UTF-8 text file"),
+@pytest.mark.parametrize("content, message", [(b"\xff\xfe\x00bad", "not UTF-8 text (byte 0)"),
                                               (b"[matrix\nname = 1", "Expected ']'")],
                          ids=["not-utf8", "toml-syntax"])
 def test_unreadable_spec_file_is_one_message(tmp_path, content, message):

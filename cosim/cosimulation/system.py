@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from cosim.errors import ParameterError
+from cosim.outputs import read_text_file
 
 ALGORITHMS = ("jacobi", "gauss-seidel")
 # When outputs are recorded: right after the step (libcosim's observers) or after the connected
@@ -127,11 +128,7 @@ def load_system(path: str | Path) -> SystemSpec:
     if not path.is_file():
         raise SystemError_(f"{path}: system file not found")
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except UnicodeDecodeError as exc:
-        raise SystemError_(f"{path}: not UTF-8 text (byte {exc.start}); TOML files are UTF-8") from None
-    except OSError as exc:
-        raise SystemError_(f"{path}: cannot read the file: {exc.strerror or exc}") from None
+        data = tomllib.loads(read_text_file(path, SystemError_, str(path)))
     except tomllib.TOMLDecodeError as exc:
         raise SystemError_(f"{path}: {exc}") from None
     return system_from_dict(data, path)

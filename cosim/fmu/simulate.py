@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from cosim.errors import InputDataError, ParameterError, SimulationError
+from cosim.outputs import read_text_file
 from cosim.fmu.parameters import split_assignment
 
 #: Result formats by file suffix (``-o``).
@@ -101,12 +102,7 @@ def read_input_csv(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
         time that decreases; also for an empty file or one without data rows.
     """
     label = f"--input {name}: {path}"
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise InputDataError(f"{label}: not UTF-8 text (byte {exc.start})") from None
-    except OSError as exc:
-        raise InputDataError(f"{label}: cannot read the file: {exc.strerror or exc}") from None
+    text = read_text_file(path, InputDataError, label, encoding="utf-8-sig")
     reader = csv.reader(io.StringIO(text))
     header: list[str] | None = None
     column = 1

@@ -50,6 +50,7 @@ from pathlib import Path
 from cosim.cosimulation.system import type_name
 from cosim.errors import CosimError, ParameterError
 from cosim.matrix import expr
+from cosim.outputs import read_text_file
 
 SPECS_DIR = Path(__file__).resolve().parent / "specs"
 
@@ -617,12 +618,7 @@ def load_spec(path_or_name: str | Path, max_cases: int = MAX_CASES) -> MatrixSpe
         else:
             names = ", ".join(sorted(p.stem for p in SPECS_DIR.glob("*.toml")))
             raise SpecError(f"{path_or_name}: no such spec file (bundled specs: {names})")
-    try:
-        text = path.read_text(encoding="utf-8")
-    except UnicodeDecodeError as exc:
-        raise SpecError(f"{path}: not a UTF-8 text file (byte {exc.start})") from None
-    except OSError as exc:
-        raise SpecError(f"{path}: cannot be read: {exc.strerror or exc}") from None
+    text = read_text_file(path, SpecError, str(path))
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
