@@ -92,10 +92,17 @@ def test_upper_body_split_recombines_to_the_benchmark_rear_frame():
     P.validate_parameters({k: split[k] for k in P.PARAMETER_NAMES})
 
 
-def test_generator_of_the_nonlinear_models_uses_the_same_split():
-    """cosim.nonlinear.generate still has its own copy (helper A's file): both must agree exactly."""
-    generate = pytest.importorskip("cosim.nonlinear.generate")
-    assert generate.rider_defaults() == P.rider_parameters()
+@pytest.mark.parametrize("model, expected", [("Whipple", lambda: P.load_parameters("benchmark")),
+                                             ("WhippleRider", P.rider_parameters)], ids=["Whipple", "WhippleRider"])
+def test_generated_oracle_defaults_are_the_data_sets(model, expected):
+    """The committed oracle models (tests/oracle, written by cosim.nonlinear.generate) carry exactly the
+    data set's values (the rider model: the benchmark with the upper body split off)."""
+    text = (ROOT / "tests" / "oracle" / "BicycleOracle" / f"{model}.mo").read_text()
+    defaults = {m.group(1): float(m.group(2))
+                for m in re.finditer(r"^  parameter Real (\w+)\([^\n]*?\) = ([-+0-9.e]+) \"", text, re.M)}
+    values = expected()
+    assert set(values) <= set(defaults)
+    assert {k: defaults[k] for k in values} == values
 
 
 def test_split_refuses_an_upper_body_heavier_than_the_frame():

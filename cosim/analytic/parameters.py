@@ -39,6 +39,7 @@ __all__ = [
     "SECOND_ORDER_UNITS",
     "load_upper_body",
     "split_upper_body",
+    "merged_rear_frame",
     "rider_parameters",
     "load_second_order",
 ]
@@ -382,13 +383,38 @@ def split_upper_body(bicycle: Mapping[str, float], upper_body: Mapping[str, floa
     xB = (b["mB"] * b["xB"] - u["mU"] * xUc) / mB
     zB = (b["mB"] * b["zB"] - u["mU"] * zUc) / mB
 
-    def about(m, x, z):  # inertia-tensor elements of a point mass about the composite centre
-        dx, dz = x - b["xB"], z - b["zB"]
-        return {"xx": m * dz**2, "yy": m * (dx**2 + dz**2), "zz": m * dx**2, "xz": -m * dx * dz}
-
-    pu, pb = about(u["mU"], xUc, zUc), about(mB, xB, zB)
+    # the parts' point-mass contributions about the composite centre (the old rear frame's)
+    pu = _point_mass_inertia(u["mU"], xUc - b["xB"], zUc - b["zB"])
+    pb = _point_mass_inertia(mB, xB - b["xB"], zB - b["zB"])
     rest = {f"IB{k}": b[f"IB{k}"] - u[f"IU{k}"] - pu[k] - pb[k] for k in ("xx", "yy", "zz", "xz")}
     return {**b, "mB": mB, "xB": xB, "zB": zB, **rest, **u}
+
+
+def merged_rear_frame(p: Mapping[str, float]) -> dict[str, float]:
+    """The Meijaard parameters of a bicycle whose rider's upper body is locked to the rear frame.
+
+    The upper body (mass ``mU``, centre of mass at ``x = xU``, ``z = -(hU + lU)``, inertia
+    ``IU..`` about it) and the rear frame ``B`` become one rigid body: mass, centre of mass and
+    inertia tensor about the combined centre of mass by the parallel-axis theorem (tensor
+    elements, ``I*xz = -integral(x z dm)``). Inverse of :func:`split_upper_body`. Units: SI.
+    """
+    mB, mU = p["mB"], p["mU"]
+    m = mB + mU
+    if not m > 0:
+        raise ValueError(f"mB + mU must be positive, got {m!r} kg")
+    xU, zU = p["xU"], -(p["hU"] + p["lU"])
+    x, z = (mB * p["xB"] + mU * xU) / m, (mB * p["zB"] + mU * zU) / m
+    parts = [_point_mass_inertia(mB, p["xB"] - x, p["zB"] - z), _point_mass_inertia(mU, xU - x, zU - z)]
+    out = {k: p[k] for k in PARAMETER_NAMES}
+    out.update(mB=m, xB=x, zB=z, **{f"IB{k}": p[f"IB{k}"] + p[f"IU{k}"] + sum(q[k] for q in parts)
+                                    for k in ("xx", "yy", "zz", "xz")})
+    return out
+
+
+def _point_mass_inertia(m: float, dx: float, dz: float) -> dict[str, float]:
+    """Inertia-tensor elements (xx, yy, zz, xz) [kg m^2] of a point mass ``m`` at ``(dx, 0, dz)`` from
+    the reference point (tensor elements: ``xz = -m dx dz``)."""
+    return {"xx": m * dz**2, "yy": m * (dx**2 + dz**2), "zz": m * dx**2, "xz": -m * dx * dz}
 
 
 def rider_parameters(bicycle: str = "benchmark", upper_body: str = "benchmark") -> dict[str, float]:

@@ -57,7 +57,7 @@ import control
 import numpy as np
 
 from cosim.analytic import simple
-from cosim.analytic.parameters import load_second_order
+from cosim.analytic.parameters import PARAMETER_NAMES, load_second_order, merged_rear_frame
 from cosim.analytic.simple import SimpleBicycle
 
 __all__ = ["Twin", "SteadyMotionTwin", "TWINS", "STEADY_MOTION_TWINS", "analytic_system", "bicycle", "twin",
@@ -242,7 +242,7 @@ def _whipple_linear(p: Mapping[str, float], v: float) -> control.StateSpace:
     path (Meijaard eq. (A 9)): der(psi) = (v delta + c delta_dot) cos(lam) / w, der(y) = v psi."""
     from cosim.analytic import whipple
 
-    params = {k: p[k] for k in _MEIJAARD}
+    params = {k: p[k] for k in PARAMETER_NAMES}
     A4, B4 = whipple.state_matrices(params, v)
     A = np.zeros((6, 6))
     A[:4, :4] = A4
@@ -262,8 +262,6 @@ def _meijaard_defaults() -> dict:
             "delta_dot0": 0.0}
 
 
-_MEIJAARD = ("w", "c", "lam", "g", "rR", "mR", "IRxx", "IRyy", "xB", "zB", "mB", "IBxx", "IBxz", "IByy", "IBzz",
-             "xH", "zH", "mH", "IHxx", "IHxz", "IHyy", "IHzz", "rF", "mF", "IFxx", "IFyy")
 _TORQUE_OUT = ("phi", "delta", "psi", "eta")
 _ANGLE_OUT = ("phi", "psi", "eta")
 
@@ -325,31 +323,6 @@ _UPPER_BODY = ("mU", "xU", "hU", "lU", "IUxx", "IUxz", "IUyy", "IUzz")
 _STEADY_STARTS = ("psi0", "phi0", "delta0", "u_phi0", "u_delta0", "beta0", "u_beta0")
 
 
-def merged_rear_frame(p: Mapping[str, float]) -> dict[str, float]:
-    """The Meijaard parameters of a bicycle whose rider's upper body is locked to the rear frame.
-
-    The upper body (mass ``mU``, centre of mass at ``x = xU``, ``z = -(hU + lU)``, inertia
-    ``IU..`` about it) and the rear frame ``B`` become one rigid body: mass, centre of mass and
-    inertia tensor about the combined centre of mass by the parallel-axis theorem (tensor
-    elements, ``I*xz = -integral(x z dm)``). Inverse of
-    :func:`cosim.analytic.parameters.split_upper_body`. Units: SI.
-    """
-    mB, mU = p["mB"], p["mU"]
-    m = mB + mU
-    if not m > 0:
-        raise ValueError(f"mB + mU must be positive, got {m!r} kg")
-    xU, zU = p["xU"], -(p["hU"] + p["lU"])
-    x, z = (mB * p["xB"] + mU * xU) / m, (mB * p["zB"] + mU * zU) / m
-    bodies = ((mB, p["xB"] - x, p["zB"] - z), (mU, xU - x, zU - z))
-    out = {k: p[k] for k in _MEIJAARD}
-    out.update(mB=m, xB=x, zB=z,
-               IBxx=p["IBxx"] + p["IUxx"] + sum(mi * dz**2 for mi, dx, dz in bodies),
-               IByy=p["IByy"] + p["IUyy"] + sum(mi * (dx**2 + dz**2) for mi, dx, dz in bodies),
-               IBzz=p["IBzz"] + p["IUzz"] + sum(mi * dx**2 for mi, dx, dz in bodies),
-               IBxz=p["IBxz"] + p["IUxz"] - sum(mi * dx * dz for mi, dx, dz in bodies))
-    return out
-
-
 def _steady_lateral(p: Mapping[str, float], u_R0: float, rider: bool) -> control.StateSpace:
     """Meijaard et al. (2007) about upright straight running at v = -u_R0 rR, on the nonlinear
     bicycle's names: states (phi, delta, u_phi, u_delta, psi, y), inputs (T_delta, T_phi)."""
@@ -360,7 +333,7 @@ def _steady_lateral(p: Mapping[str, float], u_R0: float, rider: bool) -> control
     if moving:
         raise ValueError(f"{', '.join(moving)}: the analytic model is about upright straight running along x "
                          "(these start values must be 0)")
-    params = merged_rear_frame(p) if rider else {k: p[k] for k in _MEIJAARD}
+    params = merged_rear_frame(p) if rider else {k: p[k] for k in PARAMETER_NAMES}
     v = -float(u_R0) * float(p["rR"])
     sys = _whipple_linear({**p, **params}, v)
     names = ["phi", "delta", "u_phi", "u_delta", "psi", "y"]

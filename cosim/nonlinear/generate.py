@@ -30,7 +30,7 @@ import sys
 import time
 from pathlib import Path
 
-from cosim.analytic.parameters import load_parameters, load_upper_body, rider_parameters
+from cosim.analytic.parameters import load_parameters, rider_parameters
 from cosim.errors import MissingExtraError
 
 try:  # sympy is the optional extra `generate`: without it, main() refuses in one line
@@ -61,8 +61,6 @@ NEWTON_STEPS = 6
 # into rear frame (bicycle + lower body) and upper body U, such that with the hinge locked upright
 # rear frame + U is exactly the benchmark's rear frame B (parallel-axis theorem).
 BENCHMARK = load_parameters("benchmark")
-UPPER_BODY = load_upper_body("benchmark")
-rider_defaults = rider_parameters
 
 
 DESCRIPTIONS = {
@@ -195,7 +193,7 @@ def model_text(rider: bool = False, d: Derivation | None = None, package: str = 
     inline_units = package != LIBRARY_PACKAGE
     _declare = functools.partial(_declare_any, inline_units=inline_units)
     name = "WhippleRider" if rider else "Whipple"
-    defaults = rider_defaults() if rider else BENCHMARK
+    defaults = rider_parameters() if rider else BENCHMARK
     defaults = {**defaults, "tR": 0.0, "tF": 0.0}
     ni = len(d.ui)
     sym = {s.name: s for s in d.params + d.q + d.ui + d.ud + d.inputs}
