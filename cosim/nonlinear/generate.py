@@ -23,7 +23,6 @@ steps written out as calculated parameters.
 from __future__ import annotations
 
 import argparse
-import functools
 import os
 import subprocess
 import sys
@@ -50,7 +49,6 @@ ROOT = Path(__file__).resolve().parents[2]
 #: The oracle package (flat generated models the component models are tested against).
 ORACLE_PACKAGE = "BicycleOracle"
 ORACLE_DIR = ROOT / "tests" / "oracle" / ORACLE_PACKAGE
-LIBRARY_PACKAGE = "Bicycle.Bicycles"
 COMMAND = "python -m cosim.nonlinear.generate"
 NEWTON_STEPS = 6
 
@@ -128,16 +126,13 @@ UNITS = {
 }
 
 
-def _declare_any(prefix: str, kind: str, name: str, modifiers: str, value: str | None, description: str,
-             inline_units: bool = False) -> str:
-    if kind in INLINE or (inline_units and kind in UNITS):
-        type_text = "Real"
-        attributes = INLINE.get(kind) or UNITS[kind]
-        if "min = " in attributes and "min = " in modifiers:  # the declaration's bound replaces the type's
-            attributes = attributes.replace(", min = 0", "")
-        modifiers = ", ".join(m for m in (attributes, modifiers) if m)
-    else:
-        type_text = f"Bicycle.Units.{kind}"
+def _declare(prefix: str, kind: str, name: str, modifiers: str, value: str | None, description: str) -> str:
+    """A declaration with the unit type ``kind`` written out as Real with its attributes."""
+    attributes = INLINE.get(kind) or UNITS[kind]
+    if "min = " in attributes and "min = " in modifiers:  # the declaration's bound replaces the type's
+        attributes = attributes.replace(", min = 0", "")
+    modifiers = ", ".join(m for m in (attributes, modifiers) if m)
+    type_text = "Real"
     mods = f"({modifiers})" if modifiers else ""
     binding = f" = {value}" if value is not None else ""
     return f"  {prefix}{type_text} {name}{mods}{binding} \"{description}\";"
@@ -186,12 +181,10 @@ def _zero_entries(named):
     return kept, zero
 
 
-def model_text(rider: bool = False, d: Derivation | None = None, package: str = LIBRARY_PACKAGE) -> str:
-    """The Modelica text of the generated model in ``package`` (the library's ``Bicycle.Bicycles``,
-    or the self-contained oracle package, which writes the unit types out)."""
+def model_text(rider: bool = False, d: Derivation | None = None) -> str:
+    """The Modelica text of the generated model in the self-contained oracle package (which writes
+    the unit types out)."""
     d = d or derive(rider=rider)
-    inline_units = package != LIBRARY_PACKAGE
-    _declare = functools.partial(_declare_any, inline_units=inline_units)
     name = "WhippleRider" if rider else "Whipple"
     defaults = rider_parameters() if rider else BENCHMARK
     defaults = {**defaults, "tR": 0.0, "tF": 0.0}
@@ -219,7 +212,7 @@ def model_text(rider: bool = False, d: Derivation | None = None, package: str = 
     L = []
     add = L.append
     rider_text = " with a leaning rider (upper body hinged to the rear frame)" if rider else ""
-    add(f"within {package};")
+    add(f"within {ORACLE_PACKAGE};")
     add(f"model {name} \"Nonlinear Whipple bicycle{rider_text}, eq (26): Kane's method, rolling without slip, "
         "toroidal wheels (Meijaard 2007 parameters)\"")
     add("  // GENERATED FILE - DO NOT EDIT.")
@@ -406,9 +399,8 @@ parameters and the hinge locked upright, rear frame + upper body is the benchmar
 # ---------------------------------------------------------------------------- main
 
 def targets(names=None):
-    """Model name -> (rider?, [(package, folder), ...]): where each generated model is written."""
-    oracle = [(ORACLE_PACKAGE, ORACLE_DIR)]
-    models = {"Whipple": (False, oracle), "WhippleRider": (True, oracle)}
+    """Model name -> rider? of the generated models."""
+    models = {"Whipple": False, "WhippleRider": True}
     return {n: models[n] for n in (names or list(models))}
 
 
@@ -454,13 +446,10 @@ def main(argv: list[str] | None = None) -> int:
         print(f"wrote {path} ({len(text.splitlines())} lines, {time.perf_counter() - t0:.1f} s)")
         return 0
 
-    for name, (rider, places) in targets(args.models).items():
+    folder = ORACLE_DIR if args.output is None else Path(args.output)
+    for name, rider in targets(args.models).items():
         t0 = time.perf_counter()
-        d = derive(rider=rider)
-        if args.output is not None:
-            places = [(ORACLE_PACKAGE, Path(args.output))]
-        for package, folder in places:
-            status |= emit(folder / f"{name}.mo", model_text(rider, d, package), t0)
+        status |= emit(folder / f"{name}.mo", model_text(rider, derive(rider=rider)), t0)
     if args.output is None:
         status |= emit(ORACLE_DIR / "package.mo", oracle_package_text(), time.perf_counter())
         status |= emit(ORACLE_DIR / "package.order", "Whipple\nWhippleRider\n", time.perf_counter())
