@@ -186,6 +186,85 @@ def test_directional_derivatives(fmus, V):
         me.freeInstance()
 
 
+
+def test_directional_derivatives_of_outputs_not_locals(fmus):
+    """An assembly's FMU differentiates its derivatives and outputs (the ModelStructure unknowns of
+    FMI 2), exactly (<= 1e-6 relative to central differences); a local variable of a component (here
+    a connector variable of the rear frame) is refused with a message naming it, not computed."""
+    from fmpy.fmi1 import FMICallException
+
+    with FMU(fmus["Bicycle.Bicycles.Whipple"]) as fmu:
+        me = fmu.instantiate("me")
+        me.setupExperiment(startTime=0.0)
+        fmu.set(me, {"phi0": 0.1, "delta0": 0.2, "u_phi0": 0.3})
+        me.enterInitializationMode()
+        me.exitInitializationMode()
+        me.enterContinuousTimeMode()
+        x = np.array(me.getReal([fmu.vr[n] for n in fmu.states]))
+        outputs = [n for n in ("E", "v", "u_theta_dot") if fmu.variables[n].causality == "output"]
+        assert outputs == ["E", "v", "u_theta_dot"]
+        known = fmu.states.index("phi")
+        seed = list(np.eye(len(x))[known])
+        dd = np.array(me.getDirectionalDerivative([fmu.vr[n] for n in outputs], [fmu.vr[n] for n in fmu.states], seed))
+        h = 1e-6
+        values = []
+        for sign in (+1, -1):
+            xs = x.copy()
+            xs[known] += sign * h
+            set_continuous_states(me, xs)
+            values.append(np.array(me.getReal([fmu.vr[n] for n in outputs])))
+        fd = (values[0] - values[1]) / (2 * h)
+        np.testing.assert_allclose(dd, fd, rtol=DIRECTIONAL_RTOL, atol=DIRECTIONAL_RTOL * np.max(np.abs(fd)))
+        local = "rearFrame.frame_b.r[3]"
+        assert fmu.variables[local].causality == "local"
+        with pytest.raises(FMICallException):
+            me.getDirectionalDerivative([fmu.vr[local]], [fmu.vr["phi"]], [1.0])
+        assert any(local in text and "local variable" in text for _, text in me.log.messages)
+        me.terminate()
+        me.freeInstance()
+
+
+def test_local_variables_follow_the_state(fmus):
+    """The locals of an assembly are computed when read (the integrators evaluate the derivatives
+    and outputs only): a local read after a change of the state, after a Co-Simulation step and
+    after restoring an FMU state belongs to that point. The rear hub of the knife-edge Whipple
+    bicycle is at height rR cos(phi) whatever the other coordinates (z down)."""
+    hub = "rearWheel.hub.r[3]"
+    with FMU(fmus["Bicycle.Bicycles.Whipple"]) as fmu:
+        rR = float(fmu.variables["rR"].start)
+        assert fmu.variables[hub].causality == "local"
+        me = fmu.instantiate("me")
+        me.setupExperiment(startTime=0.0)
+        me.enterInitializationMode()
+        me.exitInitializationMode()
+        me.enterContinuousTimeMode()
+        x = np.array(me.getReal([fmu.vr[n] for n in fmu.states]))
+        for phi in (0.3, -0.1):
+            x[fmu.states.index("phi")] = phi
+            set_continuous_states(me, x)
+            assert fmu.get_real(me, [hub])[0] == pytest.approx(-rR * math.cos(phi), rel=1e-14)
+        me.terminate()
+        me.freeInstance()
+
+        cs = fmu.instantiate("cs")
+        fmu.set(cs, {"phi0": 0.1, "u_phi0": 0.5})
+        cs.setupExperiment(startTime=0.0)
+        cs.enterInitializationMode()
+        cs.exitInitializationMode()
+        seen = []
+        for k in range(3):
+            cs.doStep(currentCommunicationPoint=0.1 * k, communicationStepSize=0.1)
+            phi, height = fmu.get_real(cs, ["phi", hub])
+            assert height == pytest.approx(-rR * math.cos(phi), rel=1e-13)
+            seen.append((phi, height))
+            if k == 0:
+                saved = cs.getFMUstate()
+        cs.setFMUstate(saved)
+        assert tuple(fmu.get_real(cs, ["phi", hub])) == seen[0]
+        cs.freeFMUstate(saved)
+        cs.terminate()
+        cs.freeInstance()
+
 def test_fmu_state_round_trip(fmus):
     """Save, step, restore, step again gives bit-identical outputs (also through serialization)."""
     with FMU(fmus[SELF]) as fmu:

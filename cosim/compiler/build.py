@@ -32,7 +32,7 @@ from cosim.errors import BuildError, CosimError, ModelicaError, OutputError, Par
 from cosim.outputs import check_output_folder
 from cosim.processes import die_with_parent
 from cosim.compiler import fmu as fmu_files
-from cosim.compiler.codegen import RUNTIME_DIR, casadi_functions, write_sources
+from cosim.compiler.codegen import RUNTIME_DIR, casadi_functions, generated_sources, write_sources
 from cosim.compiler.description import describe
 from cosim.compiler.flatten import flatten
 from cosim.compiler.fmu import MANIFEST, compile_binary, pack, platform_folder, read_manifest
@@ -224,7 +224,8 @@ def _build_locked(model_name, target, library, entry, force, started) -> BuildRe
         (staging / "modelDescription.xml").write_bytes(model_description_xml(info, tool))
         binaries = staging / "binaries" / platform_folder()
         binaries.mkdir(parents=True)
-        compile_binary(sources, info.identifier, binaries / f"{info.identifier}.so")
+        compile_binary(sources, info.identifier, binaries / f"{info.identifier}.so", generated=tuple(generated_sources(info)),
+                       objects=Path(tmp) / "objects")
         source_hashes = {name: hashlib.sha256((sources / name).read_bytes()).hexdigest() for name in files}
         (staging / MANIFEST).parent.mkdir(parents=True, exist_ok=True)
         (staging / MANIFEST).write_text(json.dumps({

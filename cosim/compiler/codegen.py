@@ -23,8 +23,8 @@ STACK_WORK_LIMIT = 16384
 NEWTON_ABSTOL = 1e-14
 NEWTON_MAX_ITER = 50
 INIT_TOLERANCE = 1e-10
-# The C sources of an FMU, in compile order (also listed in modelDescription.xml).
-SOURCE_FILES = ("model_functions.c", "model.c", "fmi2_runtime.c")
+# Algebraic variables per function (and C file) of eval_locals, see local_chunks.
+LOCALS_PER_FILE = 1000
 
 
 def fmi_header_dir() -> Path:
@@ -35,25 +35,68 @@ def fmi_header_dir() -> Path:
 
 
 def casadi_functions(model: ExplicitModel) -> list[ca.Function]:
-    """The four functions of the runtime contract, as CasADi functions."""
+    """The functions of the runtime contract, as CasADi functions: ``cosim_calc``, ``cosim_start``,
+    ``cosim_eval``, ``cosim_jvp`` and the chunks ``cosim_locals<k>`` of ``eval_locals`` (none if
+    every algebraic variable is an output)."""
     t, x, u, p = model.t, model.x, model.u, model.p
     dx, du, dp = (ca.SX.sym(n, s.numel(), 1) for n, s in (("dx", x), ("du", u), ("dp", p)))
-    outputs = ca.vertcat(model.xdot, model.z)
+    # The integrators need the state derivatives and the outputs; the locals of an assembly (every
+    # connector variable of every component: 4000 in the Whipple bicycle with a rider) are computed
+    # only when an importer reads one (eval_locals), and have no directional derivatives (FMI 2
+    # defines them for the ModelStructure unknowns). Compiled with the rest, they took two thirds of
+    # the build and of every model evaluation.
+    outputs = derivative_outputs(model)
+    z_eval = ca.vertcat(*[model.z[k] for k in outputs]) if local_chunks(model) else model.z
+    differentiated = ca.vertcat(model.xdot, *[model.z[k] for k in outputs])
     # Integer and Boolean parameters are not differentiated (d/dn of (-1)^n is NaN, and NaN*0 is NaN).
     real = [k for k, s in enumerate(model.parameters) if s.python_type is float]
     p_real = ca.vertcat(*[p[k] for k in real]) if real else ca.SX(0, 1)
     dp_real = ca.vertcat(*[dp[k] for k in real]) if real else ca.SX(0, 1)
     seeds = ca.vertcat(dx, du, dp_real)
-    directional = ca.jtimes(outputs, ca.vertcat(x, u, p_real), seeds) if outputs.numel() else ca.SX(0, 1)
+    directional = (ca.jtimes(differentiated, ca.vertcat(x, u, p_real), seeds) if differentiated.numel()
+                   else ca.SX(0, 1))
     nx = model.xdot.numel()
     return [
         ca.Function("cosim_calc", [p], [model.c], ["p"], ["c"]),
         start_function(model),
-        ca.Function("cosim_eval", [t, x, u, p], [model.xdot, model.z], ["t", "x", "u", "p"], ["xdot", "z"]),
+        ca.Function("cosim_eval", [t, x, u, p], [model.xdot, z_eval], ["t", "x", "u", "p"], ["xdot", "z"]),
         ca.Function("cosim_jvp", [t, x, u, p, dx, du, dp], [directional[:nx] if nx else ca.SX(0, 1),
                                                             directional[nx:]],
                     ["t", "x", "u", "p", "dx", "du", "dp"], ["dxdot", "dz"]),
+        *(ca.Function(f"cosim_locals{k}", [t, x, u, p], [model.z[first:stop]], ["t", "x", "u", "p"], ["z"])
+          for k, (first, stop) in enumerate(local_chunks(model))),
     ]
+
+
+def derivative_outputs(model: ExplicitModel) -> list[int]:
+    """Indices into ``z`` of the algebraic variables with directional derivatives, which ``eval``
+    computes: the outputs."""
+    return [k for k, s in enumerate(model.algebraics) if s.output]
+
+
+def local_chunks(model: ExplicitModel | ModelInfo) -> list[tuple[int, int]]:
+    """Ranges ``[first, stop)`` of ``z`` that the functions of ``eval_locals`` compute, one C file
+    each (gcc's time grows faster than the size of a function: 4000 variables in one took 2.4 s,
+    in four 1.1 s, and the files compile in parallel); none if every algebraic variable is an
+    output (then ``eval`` computes all of ``z``)."""
+    if isinstance(model, ModelInfo):
+        nz, any_local = model.sizes["nz"], any(v.causality != "output" for v in model.by_role("algebraic"))
+    else:
+        nz, any_local = model.z.numel(), not all(s.output for s in model.algebraics)
+    return [(k, min(k + LOCALS_PER_FILE, nz)) for k in range(0, nz, LOCALS_PER_FILE)] if any_local else []
+
+
+def source_files(model: ExplicitModel | ModelInfo) -> list[str]:
+    """The C sources of the FMU, in compile order (also listed in modelDescription.xml): those
+    CasADi writes, then the tables and the runtime."""
+    return generated_sources(model) + ["model.c", "fmi2_runtime.c"]
+
+
+def generated_sources(model: ExplicitModel | ModelInfo) -> list[str]:
+    """The C files CasADi writes: the small functions with ``eval``; the Jacobian-vector product,
+    the largest function, in a file of its own so that gcc compiles it in parallel with the rest
+    (the build time of a large model is mostly gcc's); the chunks of ``eval_locals``."""
+    return ["model_functions.c", "model_jvp.c", *(f"model_locals{k}.c" for k in range(len(local_chunks(model))))]
 
 
 def start_function(model: ExplicitModel) -> ca.Function:
@@ -137,25 +180,30 @@ def _wrapper(f: ca.Function, signature: str, args: list[str], results: list[str]
 
 def model_c(info: ModelInfo, functions: list[ca.Function]) -> str:
     """The tables and wrappers of ``model.c``."""
-    calc, start, evaluate, jvp = functions
+    calc, start, evaluate, jvp, *chunks = functions
     types = [f"COSIM_{v.type.upper()}" for v in info.variables]
     starts = [_c_double(v.start) for v in info.variables]
     names = [_c_string(v.name) for v in info.variables]
     # 0: exact start value, 1: computed from the parameters, 2: solved from the initial equations
     calculated_start = [{"calculated": "1", "approx": "2"}.get(v.initial, "0") for v in info.by_role("state")]
+    # Slot of each algebraic variable in the dz of cosim_jvp: the outputs in order, -1 for a local
+    # (the same selection as derivative_outputs: an algebraic variable is an output iff declared so).
+    outputs = iter(range(info.sizes["nz"]))
+    jvp_slots = [str(next(outputs)) if v.causality == "output" else "-1" for v in info.by_role("algebraic")]
     s = info.sizes
     return (
         f"/* Generated by cosim for {info.name}. Do not edit: run `cosim build` instead. */\n"
-        "#include <math.h>\n#include <stdlib.h>\n#include \"cosim_model.h\"\n#include \"model_functions.h\"\n\n"
+        "#include <math.h>\n#include <stdlib.h>\n#include \"cosim_model.h\"\n"
+        + "".join(f"#include \"{Path(name).with_suffix('.h')}\"\n" for name in generated_sources(info)) + "\n"
         + _array("cosim_type", "types", types)
         + _array("double", "start", starts)
         + _array("unsigned char", "state_start_calculated", calculated_start)
         + _array("char *const", "names", names)
+        + _array("int", "z_jvp_slot", jvp_slots)
         + "\n"
         + _wrapper(calc, "const double *p, double *c", ["p"], ["c"])
         + _start_wrapper(info, start)
-        + _wrapper(evaluate, "double t, const double *x, const double *u, const double *p, double *xdot, double *z",
-                   ["&t", "x", "u", "p"], ["xdot", "z"])
+        + _eval_wrappers(info, evaluate, chunks)
         + _wrapper(jvp, "double t, const double *x, const double *u, const double *p, const double *dx, "
                         "const double *du, const double *dp, double *dxdot, double *dz",
                    ["&t", "x", "u", "p", "dx", "du", "dp"], ["dxdot", "dz"])
@@ -167,9 +215,35 @@ def model_c(info: ModelInfo, functions: list[ca.Function]) -> str:
         "    types, start, state_start_calculated,\n"
         "    call_calc, call_start, call_eval, call_jvp,\n"
         "    names,\n"
-        f"    {_c_string(info.init_unknowns) if info.init_unknowns else '0'}\n"
+        f"    {_c_string(info.init_unknowns) if info.init_unknowns else '0'},\n"
+        f"    {'z_jvp_slot' if jvp_slots else '0'},\n"
+        f"    {'call_locals' if chunks else '0'}\n"
         "};\n"
     )
+
+
+def _eval_wrappers(info: ModelInfo, evaluate: ca.Function, chunks: list[ca.Function]) -> str:
+    """``call_eval`` and ``call_locals`` of the runtime contract. Without locals ``cosim_eval``
+    computes all of z; with locals only the outputs, which ``call_eval`` scatters into z."""
+    signature = "double t, const double *x, const double *u, const double *p, double *xdot, double *z"
+    if not chunks:
+        return _wrapper(evaluate, signature, ["&t", "x", "u", "p"], ["xdot", "z"])
+    outputs = [str(k) for k, v in enumerate(info.by_role("algebraic")) if v.causality == "output"]
+    text = (_wrapper(evaluate, signature.replace("double *z", "double *zo"), ["&t", "x", "u", "p"], ["xdot", "zo"],
+                     "eval_outputs")
+            + _array("int", "z_outputs", outputs)
+            + f"static int call_eval({signature}) {{\n"
+            f"    double zo[{max(1, len(outputs))}];\n"
+            "    int i, status = eval_outputs(t, x, u, p, xdot, zo);\n"
+            f"    for (i = 0; i < {len(outputs)}; i++) z[z_outputs[i]] = zo[i];\n"
+            "    return status;\n"
+            "}\n")
+    local_signature = "double t, const double *x, const double *u, const double *p, double *z"
+    calls = []
+    for k, (chunk, (first, _)) in enumerate(zip(chunks, local_chunks(info))):
+        text += _wrapper(chunk, local_signature, ["&t", "x", "u", "p"], ["z"], f"call_locals{k}")
+        calls.append(f"    if (call_locals{k}(t, x, u, p, z + {first}) != 0) return 1;\n")
+    return text + f"static int call_locals({local_signature}) {{\n" + "".join(calls) + "    return 0;\n}\n"
 
 
 def _start_wrapper(info: ModelInfo, start: ca.Function) -> str:
@@ -216,10 +290,12 @@ def write_sources(info: ModelInfo, model: ExplicitModel, folder: Path) -> list[s
     """Write every C source and header of the FMU into ``folder``; returns the file names."""
     folder.mkdir(parents=True, exist_ok=True)
     functions = casadi_functions(model)
-    generator = ca.CodeGenerator("model_functions.c", {"with_header": True, "casadi_real": "double"})
-    for f in functions:
-        generator.add(f)
-    generator.generate(str(folder) + "/")
+    calc, start, evaluate, jvp, *chunks = functions
+    for file, group in zip(generated_sources(model), ([calc, start, evaluate], [jvp], *([c] for c in chunks))):
+        generator = ca.CodeGenerator(file, {"with_header": True, "casadi_real": "double"})
+        for f in group:
+            generator.add(f)
+        generator.generate(str(folder) + "/")
     (folder / "model.c").write_text(model_c(info, functions))
     for name in RUNTIME_SOURCES:
         shutil.copyfile(RUNTIME_DIR / name, folder / name)

@@ -107,14 +107,10 @@ def describe(entry: ModelEntry, flat: FlatModel, model: ExplicitModel) -> ModelI
         variables.append(v)
         return v
 
-    def declared_output(name):
-        d = decl.get(name)
-        return d is not None and "output" in d.prefixes
-
     states = []
     guesses = _default_starts(model)
     for k, s in enumerate(model.states):
-        causality = "output" if declared_output(s.name) else "local"
+        causality = "output" if s.output else "local"
         if k in model.init_unknowns:
             # Solved from the initial equations: FMI 2 initial = "approx", an iteration variable whose
             # start value (the guess, here at the default parameters) may be set before initialization.
@@ -138,7 +134,7 @@ def describe(entry: ModelEntry, flat: FlatModel, model: ExplicitModel) -> ModelI
     for s in model.calculated:
         add(s.name, "calculated", "calculatedParameter", "fixed", "calculated", None, s.python_type)
     for s in model.algebraics:
-        add(s.name, "algebraic", "output" if declared_output(s.name) else "local", "continuous", "calculated")
+        add(s.name, "algebraic", "output" if s.output else "local", "continuous", "calculated")
 
     sizes = {
         "nx": len(model.states), "nu": len(model.inputs), "np": len(model.parameters) + 1,
@@ -174,8 +170,9 @@ def _dependencies(info: ModelInfo, model: ExplicitModel) -> None:
     """Structural dependencies of derivatives and outputs on states and inputs (Jacobian sparsity)."""
     knowns = ca.vertcat(model.x, model.u)
     known_vrs = [v.vr for v in info.by_role("state")] + [v.vr for v in info.by_role("input")]
-    unknowns = ca.vertcat(model.xdot, model.z)
-    unknown_vrs = [v.vr for v in info.by_role("derivative")] + [v.vr for v in info.by_role("algebraic")]
+    outputs = [k for k, v in enumerate(info.by_role("algebraic")) if v.causality == "output"]
+    unknowns = ca.vertcat(model.xdot, *[model.z[k] for k in outputs])
+    unknown_vrs = [v.vr for v in info.by_role("derivative")] + [info.by_role("algebraic")[k].vr for k in outputs]
     deps = {vr: [] for vr in unknown_vrs}
     if knowns.numel() and unknowns.numel():
         sp = ca.jacobian(unknowns, knowns).sparsity()

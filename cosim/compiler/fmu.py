@@ -1,6 +1,7 @@
 """Compile the C sources with gcc and pack the FMU (a zip) atomically."""
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import shutil
@@ -27,23 +28,59 @@ def platform_folder() -> str:
     return fmpy.platform
 
 
-def compile_binary(sources: Path, identifier: str, target: Path, cc: str | None = None) -> None:
-    """gcc every C file of ``sources`` into the shared library ``target``."""
+def compile_binary(sources: Path, identifier: str, target: Path, cc: str | None = None,
+                   generated: tuple[str, ...] = (), objects: Path | None = None) -> None:
+    """gcc every C file of ``sources`` into the shared library ``target``.
+
+    The files are compiled in parallel (one gcc per file, as many at once as there are CPUs), then
+    linked. ``generated`` names the files that CasADi wrote: they are compiled without warnings
+    (-Wall on 600 kB of generated straight-line code costs 10 % of the build and says nothing a
+    user could act on). Object files go to ``objects`` (default: a temporary folder).
+    """
     compiler = cc or os.environ.get("CC") or "gcc"
     if shutil.which(compiler) is None:
         raise BuildError(f"C compiler '{compiler}' not found (set CC or install gcc)")
-    c_files = sorted(str(p) for p in sources.glob("*.c"))
-    size = sum(Path(f).stat().st_size for f in c_files)
+    c_files = sorted(sources.glob("*.c"))
+    size = sum(f.stat().st_size for f in c_files)
     optimization = "-O1" if size > LARGE_SOURCE else "-O2"
-    command = [compiler, *CFLAGS, optimization, f"-I{sources}", "-o", str(target), *c_files, "-lm"]
-    try:
-        result = subprocess.run(command, capture_output=True, text=True, errors="replace")
-    except OSError as exc:
-        raise BuildError(f"{identifier}: cannot run the C compiler '{compiler}': {exc.strerror or exc}") from None
-    if result.returncode != 0:
-        tail = "\n".join(result.stderr.strip().splitlines()[-30:])
-        raise BuildError(f"{identifier}: C compilation failed:\n{tail}")
+    with contextlib.ExitStack() as stack:
+        if objects is None:
+            objects = Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="cosim-objects-")))
+        objects.mkdir(parents=True, exist_ok=True)
+        jobs = [[compiler, *CFLAGS, optimization, *(["-w"] if f.name in generated else []), f"-I{sources}",
+                 "-c", str(f), "-o", str(objects / f"{f.stem}.o")] for f in c_files]
+        link = [compiler, *CFLAGS, "-o", str(target), *(str(objects / f"{f.stem}.o") for f in c_files), "-lm"]
+        _run_compiler([*_batches(jobs, os.cpu_count() or 1), [link]], identifier, compiler)
 
+
+def _batches(commands: list, width: int) -> list[list]:
+    """The commands in groups of at most ``width`` that run at the same time."""
+    return [commands[k:k + width] for k in range(0, len(commands), width)]
+
+
+def _run_compiler(batches: list[list[list[str]]], identifier: str, compiler: str) -> None:
+    """Run each batch of compiler commands in parallel, the batches one after the other; the first
+    failure stops the others and raises a BuildError with the compiler's last lines."""
+    for batch in batches:
+        running = []
+        try:
+            for command in batch:
+                try:
+                    running.append(subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                                                    text=True, errors="replace"))
+                except OSError as exc:
+                    raise BuildError(f"{identifier}: cannot run the C compiler '{compiler}': "
+                                     f"{exc.strerror or exc}") from None
+            for process in running:
+                _, stderr = process.communicate()
+                if process.returncode != 0:
+                    tail = "\n".join(stderr.strip().splitlines()[-30:])
+                    raise BuildError(f"{identifier}: C compilation failed:\n{tail}")
+        finally:
+            for process in running:
+                if process.poll() is None:
+                    process.kill()
+                    process.wait()
 
 def pack(staging: Path, destination: Path) -> None:
     """Zip ``staging`` into ``destination``; the file appears only when complete.

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 
-from cosim.compiler.codegen import SOURCE_FILES
+from cosim.compiler.codegen import source_files
 from cosim.compiler.description import ModelInfo
 from cosim.compiler.units import base_units
 
@@ -103,7 +103,7 @@ def model_description_xml(info: ModelInfo, generation_tool: str) -> bytes:
     })
     for element in (me, cs):
         files = ET.SubElement(element, "SourceFiles")
-        for name in SOURCE_FILES:
+        for name in source_files(info):
             ET.SubElement(files, "File", name=name)
     _unit_definitions(info, root)
     categories = ET.SubElement(root, "LogCategories")

@@ -30,6 +30,7 @@ class Symbolic:
     name: str
     start: object = None  # float, SX expression of p, or None
     python_type: type = float
+    output: bool = False  # declared ``output`` (an FMU output: directional derivatives are provided)
 
 
 @dataclass
@@ -254,7 +255,9 @@ def make_explicit(flat: FlatModel) -> ExplicitModel:
             python_type = getattr(v, "python_type", float)
             for k, element in enumerate(tr.elements[v.symbol.name()]):
                 start = starts(v, k) if starts else None
-                found.append(Symbolic(element.name(), start, python_type))
+                declaration = flat.declarations.get(element.name())
+                output = declaration is not None and "output" in declaration.prefixes
+                found.append(Symbolic(element.name(), start, python_type, output))
         return found
 
     def literal(attr, default=None):
@@ -431,6 +434,18 @@ def _structural_error(name, residual, rows, row_match, col_match, w, x, m):
         f"Variables left undetermined: {', '.join(undetermined) or '(none)'}{index_hint}")
 
 
+def _isolated(residual, unknown):
+    """``e`` if the scalar residual is ``unknown - e`` or ``e - unknown`` with ``e`` free of the
+    unknown, else None."""
+    if residual.is_op(ca.OP_SUB):
+        a, b = residual.dep(0), residual.dep(1)
+        if ca.is_equal(a, unknown) and not ca.depends_on(b, unknown):
+            return b
+        if ca.is_equal(b, unknown) and not ca.depends_on(a, unknown):
+            return a
+    return None
+
+
 def _solve_blocks(name, residual, W, w, sp):
     """Solve the residual for all unknowns, block by block in block-triangular order."""
     nb, rowperm, colperm, rowblock, colblock, _, _ = sp.btf()
@@ -450,7 +465,16 @@ def _solve_blocks(name, residual, W, w, sp):
             expr = residual[brows]
             if needed:
                 cols = sorted(needed)
-                expr = ca.substitute(expr, ca.vertcat(*[w[c] for c in cols]), ca.vertcat(*[solved[c] for c in cols]))
+                expr = ca.substitute([expr], [w[c] for c in cols], [solved[c] for c in cols])[0]
+            if len(bcols) == 1:
+                # Most equations of an assembly are aliases (connections) or assignments w = e:
+                # taken as they are, without a Jacobian (a third of the build of a component bicycle)
+                isolated = _isolated(expr, w[bcols[0]])
+                if isolated is not None:
+                    solved[bcols[0]] = isolated
+                    remaining.remove(block)
+                    progress = True
+                    continue
             wb = ca.vertcat(*[w[c] for c in bcols])
             jb = ca.jacobian(expr, wb)
             if ca.depends_on(jb, wb):

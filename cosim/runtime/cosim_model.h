@@ -42,8 +42,11 @@ typedef struct {
        initial equations were not solved (max |residual| above the tolerance, or not finite). */
     int (*start_states)(double t, const double *u, const double *p, const unsigned char *given, double *x0,
                         double *residual);
+    /* der(x) and z; if eval_locals is not NULL, only the outputs in z (the entries with a slot in
+       z_jvp_slot), the others are left as they are. */
     int (*eval)(double t, const double *x, const double *u, const double *p, double *xdot, double *z);
-    /* Jacobian-vector product of (xdot, z) along the direction (dx, du, dp). */
+    /* Jacobian-vector product of (xdot, z) along the direction (dx, du, dp); dz holds the algebraic
+       variables that have a slot in z_jvp_slot (all of z if z_jvp_slot is NULL). */
     int (*jvp)(double t, const double *x, const double *u, const double *p,
                const double *dx, const double *du, const double *dp, double *dxdot, double *dz);
     /* nv variable names as in modelDescription.xml (e.g. "der(phi)"), for messages; may be NULL. */
@@ -52,6 +55,13 @@ typedef struct {
        NULL if the model has no initial equations.  Their solve waits for fmi2ExitInitializationMode
        (or a getter in initializationMode), so that parameters set in initializationMode count. */
     const char *init_unknowns;
+    /* nz entries: the index in jvp's dz of z[i], or -1 if z[i] has no directional derivative (a local
+       variable: FMI 2 defines them for the ModelStructure unknowns, derivatives and outputs).  NULL:
+       dz is all of z. */
+    const int *z_jvp_slot;
+    /* All of z (the local algebraic variables included), computed only when an importer reads a
+       local: the integrators need der(x) and the outputs.  NULL: eval computes all of z. */
+    int (*eval_locals)(double t, const double *x, const double *u, const double *p, double *z);
 } cosim_model;
 
 #define COSIM_START_NOT_CONVERGED 2

@@ -113,6 +113,7 @@ typedef struct {
     double h_next;         /* CS: step size proposed for the next DoStep; 0 = estimate anew */
     int params_dirty;      /* c (and, in initializationMode, calculated state starts) are stale */
     int eval_dirty;        /* der(x) and z are stale */
+    int locals_dirty;      /* the locals of z are stale (computed on demand, see update_locals) */
     double *v;             /* the value array, nv entries; inputs as the environment set them */
     double *ue;            /* nu inputs as the model sees them: v[u] extrapolated with du in CS */
     double *du;            /* CS: first derivatives of the inputs for the next DoStep, nu entries */
@@ -368,6 +369,13 @@ static rt_block block_of(const rt_instance *in, fmi2ValueReference vr)
     return B_NONE;
 }
 
+/* Index in the Jacobian-vector product's dz of the algebraic variable vr, -1 if it has none. */
+static long jvp_slot(const rt_instance *in, fmi2ValueReference vr)
+{
+    const size_t k = vr - in->o_z;
+    return COSIM_MODEL.z_jvp_slot ? COSIM_MODEL.z_jvp_slot[k] : (long)k;
+}
+
 static const char *cosim_type_name(cosim_type t)
 {
     return t == COSIM_REAL ? "Real" : t == COSIM_INTEGER ? "Integer" : "Boolean";
@@ -461,6 +469,7 @@ static const char *evaluate(rt_instance *in, char *why, size_t size)
     size_t i;
     char label[160];
 
+    in->s.locals_dirty = 1;
     if (COSIM_MODEL.eval(in->s.time, XV(in), UE(in), PV(in), DXV(in), ZV(in)) != 0) {
         format(why, size, "model evaluation failed at t = %.16g", in->s.time);
         return why;
@@ -496,12 +505,30 @@ static fmi2Status update_outputs(rt_instance *in, const char *fn)
     return fmi2OK;
 }
 
+/* Brings the local algebraic variables up to date with der(x) and the outputs (update_outputs
+   first).  Status as update_outputs. */
+static fmi2Status update_locals(rt_instance *in, const char *fn)
+{
+    if (!COSIM_MODEL.eval_locals || !in->s.locals_dirty) return fmi2OK;
+    if (COSIM_MODEL.eval_locals(in->s.time, XV(in), UE(in), PV(in), ZV(in)) != 0) {
+        if (in->type == fmi2ModelExchange && (M_ME_RUNNING & BIT(in->s.state))) {
+            log_discard(in, "%s: evaluation of the local variables failed at t = %.16g", fn, in->s.time);
+            return fmi2Discard;
+        }
+        fail(in, "%s: evaluation of the local variables failed at t = %.16g", fn, in->s.time);
+        return fmi2Error;
+    }
+    in->s.locals_dirty = 0;
+    return fmi2OK;
+}
+
 /* Checks a Get call and brings the requested values up to date. */
 static fmi2Status prepare_get(rt_instance *in, const char *fn, const fmi2ValueReference vr[], size_t nvr,
                               const void *value, cosim_type type)
 {
     size_t i;
-    int need_eval = 0;
+    int need_eval = 0, need_locals = 0;
+    fmi2Status status;
 
     if (nvr == 0) return fmi2OK;
     if (!not_null(in, fn, "vr", vr) || !not_null(in, fn, "value", value)) return fmi2Error;
@@ -510,10 +537,14 @@ static fmi2Status prepare_get(rt_instance *in, const char *fn, const fmi2ValueRe
         if (!check_vr(in, fn, vr[i], type)) return fmi2Error;
         b = block_of(in, vr[i]);
         if (b == B_DX || b == B_Z) need_eval = 1;
+        if (b == B_Z && jvp_slot(in, vr[i]) < 0) need_locals = 1;
     }
     /* In the error state report the values as they were when the error occurred. */
     if (in->s.state == ST_ERROR) return fmi2OK;
-    if (need_eval) return update_outputs(in, fn);
+    if (need_eval) {
+        status = update_outputs(in, fn);
+        return status == fmi2OK && need_locals ? update_locals(in, fn) : status;
+    }
     return update_parameters(in, fn) ? fmi2OK : fmi2Error;
 }
 
@@ -612,6 +643,7 @@ static void vars_copy(const rt_instance *in, rt_vars *dst, const rt_vars *src)
     dst->h_next = src->h_next;
     dst->params_dirty = src->params_dirty;
     dst->eval_dirty = src->eval_dirty;
+    dst->locals_dirty = src->locals_dirty;
     memcpy(dst->v, src->v, in->nv * sizeof(double));
     if (in->nu > 0) memcpy(dst->ue, src->ue, in->nu * sizeof(double));
     if (in->nu > 0) memcpy(dst->du, src->du, in->nu * sizeof(double));
@@ -637,6 +669,7 @@ static void vars_reset(rt_instance *in)
     s->h_next = 0.0;
     s->params_dirty = 1;
     s->eval_dirty = 1;
+    s->locals_dirty = 1;
     memcpy(s->v, COSIM_MODEL.start, in->nv * sizeof(double));
     if (in->nu > 0) memcpy(s->ue, COSIM_MODEL.start + in->o_u, in->nu * sizeof(double));
     if (in->nu > 0) memset(s->du, 0, in->nu * sizeof(double));
@@ -1317,6 +1350,7 @@ static const char *deserialize(const rt_instance *in, const unsigned char *bytes
     s->state = (rt_state)flags[0];
     s->params_dirty = flags[1] != 0;
     s->eval_dirty = flags[2] != 0;
+    s->locals_dirty = 1; /* not serialized: recomputed when read */
     s->stop_defined = flags[3] != 0;
     s->n_steps = (long)n_steps;
     s->time = scalars[0];
@@ -1397,6 +1431,12 @@ RT_EXPORT fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2Val
                       vUnknown_ref[i]);
             return fmi2Error;
         }
+        if (b == B_Z && jvp_slot(in, vUnknown_ref[i]) < 0) {
+            log_error(in, "%s: unknown value reference %u (%s) is a local variable: directional derivatives "
+                      "are provided for the derivatives and the outputs (the ModelStructure unknowns)", fn,
+                      vUnknown_ref[i], COSIM_MODEL.names ? COSIM_MODEL.names[vUnknown_ref[i]] : "?");
+            return fmi2Error;
+        }
     }
 
     /* Seed direction: the knowns' increments scattered into (dx, du, dp). */
@@ -1419,7 +1459,7 @@ RT_EXPORT fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2Val
     }
     for (i = 0; i < nUnknown; i++) {
         const fmi2ValueReference vr = vUnknown_ref[i];
-        dvUnknown[i] = block_of(in, vr) == B_DX ? in->jdx[vr - in->o_dx] : in->jz[vr - in->o_z];
+        dvUnknown[i] = block_of(in, vr) == B_DX ? in->jdx[vr - in->o_dx] : in->jz[jvp_slot(in, vr)];
     }
     return fmi2OK;
 }
@@ -1848,6 +1888,7 @@ static fmi2Status integrate(rt_instance *in, double t_end)
     memcpy(DXV(in), in->k[0], nx * sizeof(double));
     memcpy(ZV(in), in->zs, in->nz * sizeof(double));
     in->s.eval_dirty = 0;
+    in->s.locals_dirty = 1;
     in->s.time = t_end;
     if (h_fix <= 0.0) in->s.h_next = h;
     return fmi2OK;

@@ -120,5 +120,7 @@ const cosim_model COSIM_MODEL = {
     eval,
     jvp,
     names,
-    0 /* no initial equations */
+    0, /* no initial equations */
+    0, /* dz of jvp: all algebraic variables */
+    0  /* eval computes all of z */
 };

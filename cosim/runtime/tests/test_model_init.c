@@ -82,5 +82,7 @@ const cosim_model COSIM_MODEL = {
     eval,
     jvp,
     names,
-    "theta"
+    "theta",
+    0, /* dz of jvp: all algebraic variables */
+    0  /* eval computes all of z */
 };

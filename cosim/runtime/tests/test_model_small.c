@@ -50,5 +50,7 @@ const cosim_model COSIM_MODEL = {
     eval,
     jvp,
     0, /* no names: messages give value references */
-    0  /* no initial equations */
+    0, /* no initial equations */
+    0, /* dz of jvp: all algebraic variables */
+    0  /* eval computes all of z */
 };
