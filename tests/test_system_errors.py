@@ -87,7 +87,7 @@ def test_gauss_seidel_loop_through_transport_delay_is_fine(fmus):
 @pytest.mark.parametrize("text,message", [
     ('[system]\nstep = -1\n[components.a]\npython = "Step"\n', "[system] step: must be > 0, got -1"),
     ('[system]\nalgorithm = "rk4"\n[components.a]\npython = "Step"\n',
-     "[system] algorithm: must be one of jacobi, gauss-seidel, got 'rk4'"),
+     "[system] algorithm: must be one of jacobi, gauss-seidel, model-exchange, got 'rk4'"),
     ('[components.a]\npython = "Nope"\n', "unknown Python block 'Nope'"),
     ('[components.a]\npython = "Step"\nparameters = { amplitud = 1 }\n', "unknown parameter(s) amplitud"),
     ('[components.a]\npython = "Step"\nconnections = ["a.y -> a.y"]\n', "'connections' ended up inside"),
@@ -107,7 +107,7 @@ STEP = '[components.a]\npython = "Step"\n'
 # (TOML text, the one problem it has: key and expected type)
 WRONG_TYPES = {
     "algorithm-integer": (f"[system]\nalgorithm = 5\n{STEP}",
-                          "[system] algorithm: expected a string ('jacobi' or 'gauss-seidel'), got an integer (5)"),
+                          "[system] algorithm: expected a string ('jacobi' or 'gauss-seidel' or 'model-exchange'), got an integer (5)"),
     "fall-integer": (f"[system]\nfall = 3\n{STEP}", "[system] fall: expected a table { signal = "),
     "fall-limit-string": (f'[system]\nfall = {{ signal = "a.y", limit = "1" }}\n{STEP}',
                           "[system] fall.limit: expected a number, got a string ('1')"),

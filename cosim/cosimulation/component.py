@@ -193,8 +193,21 @@ class FMUComponent(Component):
             raise SimulationError(f"{self.name}: {what} failed" + (f": {said}" if said else f" ({exc})")) from None
 
     def setup(self, start_time: float) -> None:
+        self.enter_initialization(start_time)
+        # The raw C functions (argument types already declared by FMPy): no wrapper per call.
+        functions = self.instance._functions
+        self._component = self.instance.component
+        self._set_real, self._get_real = functions["fmi2SetReal"], functions["fmi2GetReal"]
+        self._do_step = functions["fmi2DoStep"]
+
+    def enter_initialization(self, start_time: float, kind: str = "cs") -> None:
+        """A fresh instance (``kind`` 'cs' or 'me') with the parameters set, in initialization
+        mode at ``start_time`` [s]: the set-up both couplings share (see model_exchange)."""
         self.status = 0
-        self._instantiate()
+        if kind == "cs":
+            self._instantiate()
+        else:
+            self.instance = self.fmu.instantiate(kind, name=self.name)
         try:
             self.fmu.set(self.instance, self.parameters)
         except KeyError as exc:
@@ -205,12 +218,6 @@ class FMUComponent(Component):
         self._call("fmi2SetupExperiment", lambda: self.instance.setupExperiment(tolerance=self.tolerance,
                                                                                startTime=start_time))
         self._call("fmi2EnterInitializationMode", self.instance.enterInitializationMode)
-
-        # The raw C functions (argument types already declared by FMPy): no wrapper per call.
-        functions = self.instance._functions
-        self._component = self.instance.component
-        self._set_real, self._get_real = functions["fmi2SetReal"], functions["fmi2GetReal"]
-        self._do_step = functions["fmi2DoStep"]
 
     def end_initialization(self) -> None:
         self._call("fmi2ExitInitializationMode", self.instance.exitInitializationMode)

@@ -1,4 +1,5 @@
-"""The co-simulation master: fixed-step Jacobi or Gauss-Seidel over components.
+"""The co-simulation master: fixed-step Jacobi or Gauss-Seidel over components (and, under
+``algorithm = "model-exchange"``, one ODE integrated by RK4: :mod:`cosim.cosimulation.model_exchange`).
 
 Signals travel through one preallocated vector holding every component output; each
 component reads its inputs from it with a precomputed index array, so a step involves no
@@ -135,6 +136,11 @@ class System:
                 raise SystemError_(f"{where}: fall signal '{spec.fall_signal}' is not a component output")
             self.fall_index = self.offset[comp] + components[comp].outputs.index(var)
         self.record = self._record_indices(where)
+        self.coupling = None
+        if spec.algorithm == "model-exchange":  # one ODE, not stepped components: its own module
+            from cosim.cosimulation.model_exchange import ModelExchange
+
+            self.coupling = ModelExchange(self)
 
     def _check(self, c: Connection, where: str) -> None:
         for comp, var, kind, attr in ((c.source, c.output, "output", "outputs"), (c.target, c.input, "input", "inputs")):
@@ -229,6 +235,8 @@ class System:
         RunFailed
             If an FMU failed a step (fmi2Discard or worse); it carries the RunResult so far.
         """
+        if self.coupling is not None:
+            return self.coupling.run()
         spec = self.spec
         grid = step_grid(spec.start, spec.stop, spec.step)
         n_steps = len(grid) - 1

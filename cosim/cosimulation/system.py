@@ -9,7 +9,7 @@ Example (``connections`` stands before the first table, as TOML requires of top-
     start = 0.0
     stop = 10.0
     step = 0.01                 # base communication step [s]
-    algorithm = "jacobi"        # or "gauss-seidel"
+    algorithm = "jacobi"        # or "gauss-seidel", or "model-exchange" (one ODE, RK4 at step)
     initialize = true           # propagate outputs to inputs before the first step
     sampling = "after-step"     # or "after-transfer": when outputs are recorded
     fall = { signal = "bike.phi", limit = 1.0 }   # stop with "fell at t = ..." beyond |limit|
@@ -34,7 +34,9 @@ from pathlib import Path
 from cosim.errors import ParameterError
 from cosim.outputs import read_text_file
 
-ALGORITHMS = ("jacobi", "gauss-seidel")
+# Co-simulation with a zero-order hold (jacobi, gauss-seidel), or every component integrated
+# together as one ODE by RK4 at the communication step (cosim.cosimulation.model_exchange).
+ALGORITHMS = ("jacobi", "gauss-seidel", "model-exchange")
 # When outputs are recorded: right after the step (libcosim's observers) or after the connected
 # inputs were updated, so direct-feedthrough outputs already see the new inputs (Ecos).
 SAMPLINGS = ("after-step", "after-transfer")
@@ -383,6 +385,11 @@ def system_from_dict(data: dict, path: Path | None = None) -> SystemSpec:
             connections.append(parse_connection(text, where))
         except SystemError_ as exc:
             problems.add("", str(exc).removeprefix(f"{where}: "))
+    if settings.get("algorithm") == "model-exchange":  # one ODE: every part moves with the same step
+        for component in components.values():
+            if component.step_multiple != 1:
+                problems.add(f"[components.{component.name}] step_multiple",
+                             f"must be 1 under algorithm = \"model-exchange\", got {component.step_multiple}")
     problems.raise_if_any()
     return SystemSpec(
         name=settings.get("name") or (path.stem if path else "system"), path=path, components=components,

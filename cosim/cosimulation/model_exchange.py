@@ -1,0 +1,477 @@
+"""Model-exchange coupling: every component integrated together as one ODE by classic Runge-Kutta 4.
+
+The co-simulation algorithms of :mod:`cosim.cosimulation.master` (``jacobi``, ``gauss-seidel``)
+hold every input over a communication step, so a feedback loop through the master is a
+sampled-data system and differs from the compiled composed model to first order in the step.
+Under ``algorithm = "model-exchange"`` the master instead integrates the states of all
+components as one ODE ``X' = F(t, X)`` with the fixed-step classic Runge-Kutta scheme (four
+stages, order 4) at the communication step, so the coupled signals are continuous in time as
+in one Modelica model that connects the same parts:
+
+* an FMU takes part through its FMI 2.0 Model Exchange interface (``fmi2SetTime``,
+  ``fmi2SetContinuousStates``, ``fmi2SetReal`` of its inputs, ``fmi2GetReal`` of its outputs,
+  ``fmi2GetDerivatives``); the coupling handles no events, so an FMU with event indicators or
+  time events is refused;
+* a Python block takes part through its continuous-time linear model ``x' = A x + B u``,
+  ``y = C x + D u + r(t)`` (:meth:`~cosim.cosimulation.registry.Block.linear` and
+  :meth:`~cosim.cosimulation.registry.Block.exogenous`); a block that is no finite-dimensional
+  ODE (the exact transport delay reads its input history) is refused.
+
+``F(t, X)``: each component gets its time and states; then the outputs are evaluated in an
+order in which every output comes after the outputs it depends on without a state in between
+(the FMUs' ModelStructure, the blocks' D matrices), each component's inputs set from the
+connected outputs before its outputs are read; then every component's inputs are final and its
+derivatives are read. A cycle of such dependencies (an algebraic loop) has no such order and is
+refused, naming its connections. Outputs are recorded at the communication points, consistent
+with the inputs there (under model-exchange both samplings of the co-simulation algorithms give
+the same values).
+
+Jumps of sources (``Pulse``, ``Step``, ``Bicycle.Sources.*``) are seen where the stages evaluate
+them: one on a communication point is already on at the last stage of the step that ends there,
+so with a jump the scheme is first order in the step (smooth systems: fourth order).
+"""
+from __future__ import annotations
+
+from ctypes import POINTER, byref, c_double, c_int, c_uint
+from dataclasses import dataclass
+
+import numpy as np
+
+from cosim.errors import SimulationError
+from cosim.cosimulation.component import STATUS_NAMES, Component, FMUComponent, StepFailed
+from cosim.cosimulation.registry import Block
+from cosim.cosimulation.system import Connection, SystemError_
+
+ALGORITHM = "model-exchange"
+
+
+class _FMUModel:
+    """An FMU of the system driven through Model Exchange.
+
+    The co-simulation component (:class:`FMUComponent`) is kept: its FMU, parameters, tolerance,
+    inputs, outputs and dependencies are used as they are, and the Model Exchange instance is
+    stored as its ``instance``, so the master's closing of the components terminates and frees
+    it with the same rules as a Co-Simulation instance.
+    """
+
+    def __init__(self, component: FMUComponent, where: str):
+        self.component = comp = component
+        self.name = comp.name
+        md = comp.fmu.description
+        if md.modelExchange is None:
+            raise SystemError_(f"{where}: component '{comp.name}': {comp.fmu.path.name} has no Model Exchange "
+                               f"interface, which algorithm = \"{ALGORITHM}\" needs")
+        if md.numberOfEventIndicators:
+            # Without root finding a fixed-step scheme would step over the state events silently.
+            raise SystemError_(f"{where}: component '{comp.name}': the FMU has {md.numberOfEventIndicators} event "
+                               f"indicator(s) (state events); algorithm = \"{ALGORITHM}\" handles no events")
+        self.inputs, self.outputs = list(comp.inputs), list(comp.outputs)
+        self.nx = len(md.derivatives)
+        vr = comp.fmu.vr
+        # Value references from the names (not the component's own arrays): the outputs listed
+        # may be any Real variables of the FMU (a test observes local variables this way).
+        self._in_vr = (c_uint * max(1, len(self.inputs)))(*[vr[n] for n in self.inputs])
+        self._out_vr = (c_uint * max(1, len(self.outputs)))(*[vr[n] for n in self.outputs])
+        self._u, self._y = np.zeros(len(self.inputs)), np.zeros(len(self.outputs))
+        self._x, self._dx = np.zeros(self.nx), np.zeros(self.nx)
+        self._ptr = {k: getattr(self, k).ctypes.data_as(POINTER(c_double)) for k in ("_u", "_y", "_x", "_dx")}
+        self.t = 0.0
+
+    def feedthrough(self, output: str) -> set[str]:
+        return self.component.feedthrough(output)
+
+    # ------------------------------------------------------------------ start
+
+    def setup(self, start_time: float) -> None:
+        """Instantiate for Model Exchange, set the parameters and enter initialization mode
+        (what :meth:`FMUComponent.setup` does for Co-Simulation)."""
+        comp = self.component
+        comp.enter_initialization(start_time, "me")
+        functions = comp.instance._functions  # the raw C functions: no FMPy wrapper per call
+        self._c = comp.instance.component
+        self._f = {k: functions[f"fmi2{k}"] for k in ("SetReal", "GetReal", "SetTime", "SetContinuousStates",
+                                                     "GetDerivatives", "CompletedIntegratorStep")}
+        self.t = float(start_time)
+
+    def initial_inputs(self) -> np.ndarray:
+        if self.inputs:
+            self._check(self._f["GetReal"](self._c, self._in_vr, len(self.inputs), self._ptr["_u"]), "fmi2GetReal")
+        return self._u.copy()
+
+    def end_initialization(self) -> np.ndarray:
+        """Leave initialization, settle the event mode FMI 2.0 enters then, switch to
+        continuous time; the initial states.
+
+        Raises
+        ------
+        SimulationError
+            If the FMU asks for a time event or to terminate: the coupling handles no events.
+        """
+        comp, instance = self.component, self.component.instance
+        comp._call("fmi2ExitInitializationMode", instance.exitInitializationMode)
+        for _ in range(100):  # event iteration at the start (these models need none)
+            needed, terminate, _, _, time_event, next_time = comp._call("fmi2NewDiscreteStates",
+                                                                        instance.newDiscreteStates)
+            if terminate:
+                raise SimulationError(f"{self.name}: the FMU asks to terminate at the start (t = {self.t:g} s)")
+            if time_event:
+                raise SimulationError(f"{self.name}: the FMU announces a time event at t = {next_time:g} s; "
+                                      f"algorithm = \"{ALGORITHM}\" handles no events")
+            if not needed:
+                break
+        else:
+            raise SimulationError(f"{self.name}: the FMU's event iteration at the start does not settle")
+        comp._call("fmi2EnterContinuousTimeMode", instance.enterContinuousTimeMode)
+        if self.nx:
+            comp._call("fmi2GetContinuousStates", lambda: instance.getContinuousStates(self._ptr["_x"], self.nx))
+        return self._x.copy()
+
+    # ------------------------------------------------------------------ F(t, X)
+
+    def _check(self, status: int, what: str) -> None:
+        if status > 1:  # fmi2Discard or worse: record it for close(), quote the FMU
+            comp = self.component
+            comp.status = max(comp.status, int(status))
+            said = comp.fmu_said()
+            raise StepFailed(f"{self.name}: {what} failed at t = {self.t:g} s (status "
+                             f"{STATUS_NAMES.get(status, status)})" + (f": {said}" if said else ""),
+                             self.name, self.t, int(status), None, said)
+
+    def set_point(self, t: float, x: np.ndarray) -> None:
+        self.t = t
+        self._check(self._f["SetTime"](self._c, t), "fmi2SetTime")
+        if self.nx:
+            self._x[:] = x
+            self._check(self._f["SetContinuousStates"](self._c, self._ptr["_x"], self.nx), "fmi2SetContinuousStates")
+
+    def feed(self, u: np.ndarray) -> None:
+        self._u[:] = u
+        self._check(self._f["SetReal"](self._c, self._in_vr, len(self.inputs), self._ptr["_u"]), "fmi2SetReal")
+
+    def read(self) -> np.ndarray:
+        if self.outputs:
+            self._check(self._f["GetReal"](self._c, self._out_vr, len(self.outputs), self._ptr["_y"]), "fmi2GetReal")
+        return self._y
+
+    def derivatives(self) -> np.ndarray:
+        if self.nx:
+            self._check(self._f["GetDerivatives"](self._c, self._ptr["_dx"], self.nx), "fmi2GetDerivatives")
+        return self._dx
+
+    def completed_step(self) -> None:
+        """``fmi2CompletedIntegratorStep`` at the accepted point (FMI 2.0 requires the call);
+        a step event it reports cannot be handled and ends the run."""
+        event, terminate = c_int(0), c_int(0)
+        self._check(self._f["CompletedIntegratorStep"](self._c, 1, byref(event), byref(terminate)),
+                    "fmi2CompletedIntegratorStep")
+        if event.value or terminate.value:
+            what = "a step event" if event.value else "to terminate"
+            raise StepFailed(f"{self.name}: the FMU asks for {what} at t = {self.t:g} s; algorithm = "
+                             f"\"{ALGORITHM}\" handles no events", self.name, self.t, 0)
+
+
+class _BlockModel:
+    """A Python block as its continuous-time linear model ``x' = A x + B u``,
+    ``y = C x + D u + r(t)`` (the same matrices the block steps with, so nothing is approximated)."""
+
+    def __init__(self, block: Block, where: str):
+        self.block, self.name = block, block.name
+        kind = type(block).__name__
+        try:
+            model = block.linear({})
+        except NotImplementedError:
+            raise SystemError_(f"{where}: component '{block.name}' ({kind}) has no continuous-time model, "
+                               f"which algorithm = \"{ALGORITHM}\" needs") from None
+        if model.interpolates:
+            # Its linear model is a Pade approximation: integrating that would change the system.
+            raise SystemError_(f"{where}: component '{block.name}' ({kind}) reads its input history (an exact "
+                               f"delay is no ODE) and cannot take part in algorithm = \"{ALGORITHM}\"; "
+                               "use a PadeDelay block, or algorithm = \"jacobi\"")
+        if list(model.inputs) != list(block.inputs) or list(model.outputs) != list(block.outputs):
+            raise SystemError_(f"{where}: component '{block.name}' ({kind}): its linear model's signals "
+                               f"{model.inputs} -> {model.outputs} are not the block's {block.inputs} -> "
+                               f"{block.outputs}")
+        self.model = model
+        self.inputs, self.outputs, self.nx = list(block.inputs), list(block.outputs), model.states
+        self._u, self._x, self.t = np.zeros(len(self.inputs)), np.zeros(self.nx), 0.0
+
+    def feedthrough(self, output: str) -> set[str]:
+        row = self.model.D[self.outputs.index(output)]
+        return {name for name, d in zip(self.inputs, row) if d != 0}
+
+    def setup(self, start_time: float) -> None:
+        self.block.setup(start_time)
+        self.t = float(start_time)
+        self._x[:] = self._initial_state()  # the outputs read while initializing see it
+
+    def _initial_state(self) -> np.ndarray:
+        # A block with states starts where its Python stepping starts it (Linear.x0).
+        x0 = np.asarray(getattr(self.block, "x", np.zeros(self.nx)), float).reshape(-1)
+        if x0.size != self.nx:
+            raise SimulationError(f"{self.name}: {x0.size} initial states, its linear model has {self.nx}")
+        return x0
+
+    def initial_inputs(self) -> np.ndarray:
+        return np.zeros(len(self.inputs))
+
+    def end_initialization(self) -> np.ndarray:
+        return self._initial_state().copy()
+
+    def set_point(self, t: float, x: np.ndarray) -> None:
+        self.t = t
+        self._x[:] = x
+
+    def feed(self, u: np.ndarray) -> None:
+        self._u[:] = u
+
+    def read(self) -> np.ndarray:
+        m = self.model
+        return m.C @ self._x + m.D @ self._u + self.block.exogenous(self.t)
+
+    def derivatives(self) -> np.ndarray:
+        m = self.model
+        return m.A @ self._x + m.B @ self._u
+
+    def completed_step(self) -> None:
+        """Nothing to tell a block."""
+
+
+@dataclass
+class _Edge:
+    """Output ``target`` depends on output ``source`` through ``connection`` without a state."""
+
+    source: int
+    target: int
+    connection: Connection
+
+
+class ModelExchange:
+    """The model-exchange coupling of an assembled :class:`~cosim.cosimulation.master.System`.
+
+    Created when the system is assembled, so a system it cannot integrate (an algebraic loop, a
+    block without an ODE, an FMU with events) is refused before anything runs.
+
+    Parameters
+    ----------
+    system : System
+        The assembled system (components, connections, signal vector, recording).
+
+    Raises
+    ------
+    SystemError_
+        For a component that cannot take part, or an algebraic loop (the message names the
+        connections around it).
+    """
+
+    def __init__(self, system):
+        self.system = system
+        where = str(system.spec.path or system.spec.name)
+        self.parts = [self._part(system.components[n], where) for n in system.names]
+        # States of part i in X[self.slices[i]].
+        sizes = np.cumsum([0] + [p.nx for p in self.parts])
+        self.slices = [slice(int(a), int(b)) for a, b in zip(sizes[:-1], sizes[1:])]
+        self.nx = int(sizes[-1])
+        self.schedule, self.final_feeds = self._schedule(where)
+
+    @staticmethod
+    def _part(component: Component, where: str):
+        if isinstance(component, FMUComponent):
+            return _FMUModel(component, where)
+        if isinstance(component, Block):
+            return _BlockModel(component, where)
+        raise SystemError_(f"{where}: component '{component.name}' ({type(component).__name__}) has neither a "
+                           f"Model Exchange interface nor a linear model, which algorithm = \"{ALGORITHM}\" needs")
+
+    # ------------------------------------------------------------------ evaluation order
+
+    def _schedule(self, where: str) -> tuple[list[int], list[int]]:
+        """Which part to evaluate (feed its inputs, read its outputs) when, so every output is
+        read after the outputs it depends on without a state; and the parts whose inputs must
+        be fed once more afterwards (their last evaluation had inputs that were not final).
+
+        The graph has one node per output (global signal index), an edge from an output to each
+        output that depends on the input it is connected to. Kahn's algorithm orders it by
+        evaluations: one evaluation of a part reads every output of it whose dependencies are
+        already read. Parts' outputs, not parts, are ordered (unlike the Gauss-Seidel order of the
+        master): at a point (t, X) a bicycle's roll angle, which depends on its state only, must
+        be read before the controller it feeds, whose steer angle the bicycle then takes.
+        """
+        system = self.system
+        owner = np.empty(len(system.signals), dtype=int)
+        for i, name in enumerate(system.names):
+            owner[system.offset[name]:system.offset[name] + len(self.parts[i].outputs)] = i
+        link = {(c.target, c.input): c for c in system.connections}
+        edges: list[_Edge] = []
+        for i, (name, part) in enumerate(zip(system.names, self.parts)):
+            source_of = {part.inputs[k]: int(s) for k, s in zip(system.targets[name], system.sources[name])}
+            for j, output in enumerate(part.outputs):
+                for input_ in sorted(part.feedthrough(output) & set(source_of)):
+                    edges.append(_Edge(source_of[input_], system.offset[name] + j, link[(name, input_)]))
+        n = len(system.signals)
+        after = [[] for _ in range(n)]
+        waiting = np.zeros(n, dtype=int)
+        for e in edges:
+            after[e.source].append(e)
+            waiting[e.target] += 1
+        ready = [k for k in range(n) if waiting[k] == 0]
+        done_at = np.full(n, -1)  # position in the schedule of the evaluation that reads an output
+        schedule: list[int] = []
+        while ready:
+            # One evaluation of a part reads every output of it whose dependencies are read.
+            part = int(owner[min(ready)])
+            batch = [k for k in ready if owner[k] == part]
+            ready = [k for k in ready if owner[k] != part]
+            schedule.append(part)
+            for k in batch:
+                done_at[k] = len(schedule) - 1
+                for e in after[k]:
+                    waiting[e.target] -= 1
+                    if waiting[e.target] == 0:
+                        ready.append(e.target)
+        if np.any(done_at < 0):
+            raise SystemError_(f"{where}: {self._loop_message(edges, done_at >= 0)}")
+        # An input is final once the output it comes from is read: a part whose last
+        # evaluation was not after that is fed once more before its derivatives are read.
+        last = {part: position for position, part in enumerate(schedule)}
+        final_feeds = [i for i, name in enumerate(system.names) if system.sources[name].size
+                       and any(done_at[int(s)] >= last.get(i, -1) for s in system.sources[name])]
+        return schedule, final_feeds
+
+    def _loop_message(self, edges: list[_Edge], done: np.ndarray) -> str:
+        """One algebraic loop among the outputs that could not be ordered, as its connections."""
+        # Every output left waits for another output left: walking back along those
+        # dependencies must repeat an output, which closes a loop.
+        before: dict[int, _Edge] = {}
+        for e in edges:
+            if not done[e.source] and not done[e.target]:
+                before.setdefault(e.target, e)
+        node = next(iter(before))
+        path, seen = [], {}
+        while node not in seen:
+            seen[node] = len(path)
+            path.append(before[node])
+            node = before[node].source
+        cycle = path[seen[node]:][::-1]
+        links = ", ".join(f"'{e.connection}'" for e in cycle)
+        names = sorted({e.connection.source for e in cycle} | {e.connection.target for e in cycle},
+                       key=self.system.names.index)
+        return (f"algebraic loop under algorithm = \"{ALGORITHM}\" through {', '.join(names)}: {links} (each "
+                "output depends on the connected input without a state in between, so the coupled system is "
+                "no explicit ODE); break it with a component whose output depends on its state only (no direct "
+                "feedthrough), or use algorithm = \"jacobi\", which holds the inputs over a step")
+
+    # ------------------------------------------------------------------ F(t, X)
+
+    def _evaluate_outputs(self) -> None:
+        """Read every output in schedule order (times and states already set), then feed the
+        parts whose inputs were not final at their last reading."""
+        system, parts = self.system, self.parts
+        names, signals = system.names, system.signals
+        for i in self.schedule:
+            name = names[i]
+            self._feed(i)
+            start = system.offset[name]
+            signals[start:start + len(parts[i].outputs)] = parts[i].read()
+        for i in self.final_feeds:
+            self._feed(i)
+
+    def _feed(self, i: int) -> None:
+        name = self.system.names[i]
+        targets = self.system.targets[name]
+        if targets.size:
+            u = self._inputs[i]
+            u[targets] = self.system.signals[self.system.sources[name]]
+            self.parts[i].feed(u)
+
+    def derivatives(self, t: float, x: np.ndarray, out: np.ndarray) -> np.ndarray:
+        """``F(t, X)`` into ``out``; afterwards the system's signal vector holds the outputs at
+        ``(t, X)``."""
+        for part, where in zip(self.parts, self.slices):
+            part.set_point(t, x[where])
+        self._evaluate_outputs()
+        for part, where in zip(self.parts, self.slices):
+            if part.nx:
+                out[where] = part.derivatives()
+        return out
+
+    # ------------------------------------------------------------------ the run
+
+    def run(self):
+        """Initialize, integrate over the communication grid with RK4, record.
+
+        Returns
+        -------
+        RunResult
+            As :meth:`System.run`: the recorded outputs at every communication point and the
+            outcome (completed, fell, diverged; failed raises).
+
+        Raises
+        ------
+        RunFailed
+            If an FMU call failed (fmi2Discard or worse) or an FMU asked for an event; it
+            carries the rows up to the last completed communication point.
+        """
+        from cosim.cosimulation.master import (MAX_RECORD_BYTES, Outcome, RunFailed, RunResult, _complete_message,
+                                               step_grid)
+
+        system, spec = self.system, self.system.spec
+        grid = step_grid(spec.start, spec.stop, spec.step)
+        n_steps = len(grid) - 1
+        record_names, record_idx = system.record
+        size = (n_steps + 1) * (1 + len(record_idx)) * 8
+        if size > MAX_RECORD_BYTES:
+            raise SystemError_(f"{spec.path or spec.name}: recording {len(record_idx)} signals over {n_steps:,} "
+                               f"steps would take {size / 1024**3:.1f} GiB; use a larger step or record fewer "
+                               "signals ([system] record = [...])")
+        data = np.empty((n_steps + 1, 1 + len(record_idx)))
+        parts, signals = self.parts, system.signals
+        rows, outcome = 1, Outcome("completed", spec.stop, _complete_message(spec.stop, n_steps, grid))
+        try:
+            for part in parts:
+                part.setup(spec.start)
+            self._inputs = [part.initial_inputs() for part in parts]
+            if spec.initialize:  # the initial outputs reach the connected inputs, as in the other algorithms
+                self._evaluate_outputs()
+            x = np.concatenate([np.zeros(0)] + [part.end_initialization() for part in parts])
+            k1, k2, k3, k4 = (np.zeros(self.nx) for _ in range(4))
+            t = float(grid[0])
+            try:
+                self.derivatives(t, x, k1)
+                data[0, 0], data[0, 1:] = t, signals[record_idx]
+                stop = system._check_outcome(t)
+                if stop is not None:
+                    outcome, n_steps = stop, 0
+                for k in range(n_steps):
+                    t, h = float(grid[k]), float(grid[k + 1] - grid[k])
+                    # Classic RK4; k1 is F at the point reached (evaluated when it was recorded).
+                    self.derivatives(t + h / 2, x + h / 2 * k1, k2)
+                    self.derivatives(t + h / 2, x + h / 2 * k2, k3)
+                    self.derivatives(t + h, x + h * k3, k4)
+                    x = x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+                    t = float(grid[k + 1])
+                    if not np.all(np.isfinite(x)):
+                        bad = int(np.flatnonzero(~np.isfinite(x))[0])
+                        name = next(p.name for p, s in zip(parts, self.slices) if s.start <= bad < s.stop)
+                        outcome = Outcome("diverged", t, f"a state of {name} is not finite at t = {t:g} s")
+                        break
+                    self.derivatives(t, x, k1)  # the outputs at the new point, and the next k1
+                    for part in parts:
+                        part.completed_step()
+                    data[k + 1, 0], data[k + 1, 1:] = t, signals[record_idx]
+                    rows = k + 2
+                    stop = system._check_outcome(t)
+                    if stop is not None:
+                        outcome = stop
+                        break
+            except StepFailed as exc:
+                outcome = system._failed_outcome(exc.component, exc.time, str(exc))
+        finally:
+            system._close_all()
+        dtype = [("time", float)] + [(n, float) for n in record_names]
+        table = np.empty(rows, dtype=dtype)
+        for j, name in enumerate(["time"] + list(record_names)):
+            table[name] = data[:rows, j]
+        result = RunResult(table, outcome, rows - 1)
+        if outcome.status == "failed":
+            raise RunFailed(result)
+        return result
