@@ -87,6 +87,19 @@ def _complete_message(t: float, steps: int, grid: np.ndarray) -> str:
     return text
 
 
+def finished(data: np.ndarray, rows: int, record_names, outcome: Outcome) -> RunResult:
+    """The result of a run: the first ``rows`` rows of ``data`` (time, then the recorded signals) as
+    a named table with its outcome; a failed run is raised as :class:`RunFailed` carrying it."""
+    dtype = [("time", float)] + [(n, float) for n in record_names]
+    table = np.empty(rows, dtype=dtype)
+    for j, name in enumerate(["time"] + list(record_names)):
+        table[name] = data[:rows, j]
+    result = RunResult(table, outcome, rows - 1)
+    if outcome.status == "failed":
+        raise RunFailed(result)
+    return result
+
+
 class System:
     """Components wired by connections, ready to run.
 
@@ -310,14 +323,7 @@ class System:
                     break
         finally:
             self._close_all()
-        dtype = [("time", float)] + [(n, float) for n in record_names]
-        table = np.empty(rows, dtype=dtype)
-        for j, name in enumerate(["time"] + list(record_names)):
-            table[name] = data[:rows, j]
-        result = RunResult(table, outcome, rows - 1)
-        if outcome.status == "failed":
-            raise RunFailed(result)
-        return result
+        return finished(data, rows, record_names, outcome)
 
     def _close_all(self) -> None:
         """Close every component; the first error of a close is raised after all were closed."""

@@ -411,8 +411,7 @@ class ModelExchange:
             If an FMU call failed (fmi2Discard or worse) or an FMU asked for an event; it
             carries the rows up to the last completed communication point.
         """
-        from cosim.cosimulation.master import (MAX_RECORD_BYTES, Outcome, RunFailed, RunResult, _complete_message,
-                                               step_grid)
+        from cosim.cosimulation.master import MAX_RECORD_BYTES, Outcome, _complete_message, finished, step_grid
 
         system, spec = self.system, self.system.spec
         grid = step_grid(spec.start, spec.stop, spec.step)
@@ -467,11 +466,4 @@ class ModelExchange:
                 outcome = system._failed_outcome(exc.component, exc.time, str(exc))
         finally:
             system._close_all()
-        dtype = [("time", float)] + [(n, float) for n in record_names]
-        table = np.empty(rows, dtype=dtype)
-        for j, name in enumerate(["time"] + list(record_names)):
-            table[name] = data[:rows, j]
-        result = RunResult(table, outcome, rows - 1)
-        if outcome.status == "failed":
-            raise RunFailed(result)
-        return result
+        return finished(data, rows, record_names, outcome)
