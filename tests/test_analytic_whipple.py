@@ -349,14 +349,19 @@ def test_astrom_table1_inertias_violate_triangle_inequality():
         W.matrices(p)  # IByy, IHyy do not enter the model
 
 
-def test_astrom_copy_loaded_by_path_needs_waiver(tmp_path):
+def test_astrom_copy_loaded_by_path_carries_its_waiver(tmp_path):
+    """The waiver is in the file: a copy loads as the bundled set, the same values without the
+    waiver lines are refused unless the caller waives the checks."""
     src = Path(P.__file__).resolve().parents[1] / "params" / "astrom2005.toml"
-    assert P.load_parameters(src) == P.load_parameters("astrom2005")  # bundled file: waivers apply
     copy = tmp_path / "mine.toml"
     shutil.copy(src, copy)
+    assert P.load_parameters(copy) == P.load_parameters(src) == P.load_parameters("astrom2005")
+    stripped = tmp_path / "stripped.toml"
+    stripped.write_text("".join(line for line in src.read_text().splitlines(True)
+                                if not line.startswith((P.WAIVER_KEY, P.REASON_KEY))))
     with pytest.raises(ValueError, match=r"^IByy:"):
-        P.load_parameters(copy)
-    assert P.load_parameters(copy, waive=["IByy", "IHyy"]) == P.load_parameters("astrom2005")
+        P.load_parameters(stripped)
+    assert P.load_parameters(stripped, waive=["IByy", "IHyy"]) == P.load_parameters("astrom2005")
 
 
 # --------------------------------------------------------------------------- property test

@@ -121,7 +121,7 @@ CASES = {
         ["bicycle.phi", "bicycle.psi", "bicycle.eta"]),
     "RearSteeredSteerFeedback": Case(
         "RearSteeredSteerFeedback", "Bicycle.Bicycles.RearSteered", "bicycle",
-        {"V": -5.0, "frame.phi": 0.01}, {"controller": ("SteerAngleFeedback", {"k2": 0.8})},
+        {"V": 5.0, "phi0": 0.01}, {"controller": ("SteerAngleFeedback", {"k2": 0.8})},
         ["bicycle.phi -> controller.phi", "controller.delta -> bicycle.delta"], 3.0,
         ["bicycle.phi", "bicycle.psi", "bicycle.eta"]),
     "WhippleLinearRiderP": Case(

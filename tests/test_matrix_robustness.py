@@ -259,8 +259,8 @@ def test_malformed_scheduler_address_is_one_line(tmp_path, address):
 def _rear_steered(stop: float | None) -> dict:
     study = {"name": "rear", "observe": "bike.phi",
              "connections": ["bike.phi -> rider.phi", "rider.delta -> bike.delta"],
-             "components": {"bike": {"model": "Bicycle.Bicycles.RearSteered", "parameters": {"V": "=-U"},
-                                     "initial": {"frame.phi": 0.01}},
+             "components": {"bike": {"model": "Bicycle.Bicycles.RearSteered",
+                                     "parameters": {"V": "=U", "phi0": 0.01}},
                             "rider": {"python": "SteerAngleFeedback", "parameters": {"k2": "=k2"}}},
              "axes": {"U": [10.0], "k2": [0.1]}}
     if stop is not None:

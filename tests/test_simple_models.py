@@ -49,7 +49,7 @@ SPEEDS = {
     "SelfStabilizingGyro": [0.8, 1.5, 2.5, 4.0, 6.0, 10.0, -3.0],
     "LeaningRider": [0.8, 1.5, 2.5, 4.0, 6.0, 10.0, -3.0],
     "InvertedPendulum": [0.5, 1.0, 2.5, 5.0, 10.0, -4.0],
-    "RearSteered": [-0.5, -1.0, -2.5, -5.0, -10.0],
+    "RearSteered": [0.5, 1.0, 2.5, 5.0, 10.0, -4.0],
     "CrownedRoller": [0.5, 1.0, 2.5, 5.0, 10.0],
 }
 #: Further parameter variations per model (each combined with every speed).
@@ -67,7 +67,7 @@ SIM_CASES = {
     "SelfStabilizingGyro": ({"V": 4.0, "k3": 0.1}, {"T": 1.0}),
     "LeaningRider": ({"V": 6.0}, {"T": 0.5, "theta": 0.05}),
     "InvertedPendulum": ({"V": 5.0}, {"delta": 0.01}),
-    "RearSteered": ({"V": -5.0}, {"delta": 0.01}),
+    "RearSteered": ({"V": 5.0}, {"delta": 0.01}),
     "CrownedRoller": ({"V": 3.0, "R": 1.3}, {"delta": 0.01}),
 }
 MODELS = [PKG + name for name in SPEEDS]  # the simple bicycles of the paper
@@ -159,14 +159,14 @@ def test_twin_matches_fmu_interface(fmus, model):
 
 @pytest.mark.parametrize("model", MODELS, ids=IDS)
 def test_parameters_are_bounded(fmus, model):
-    """Every top-level parameter except the speed carries a minimum; lambda is at most 90 deg;
-    the rear-steered bicycle's speed is at most 0."""
+    """Every top-level parameter except the speed and an initial value carries a minimum; lambda is
+    at most 90 deg; no speed has a bound (negative: ridden backwards, the rear-steered bicycle too)."""
     from fmpy import read_model_description
 
     md = read_model_description(str(fmus[model]))
     params = {v.name: v for v in md.modelVariables if v.causality == "parameter" and "." not in v.name}
     for name, v in params.items():
-        if name == "V":
+        if name in ("V", "phi0"):
             continue
         assert v.min is not None and float(v.min) >= 0, f"{model}.{name} has no minimum"
     for name in ("m", "a", "h", "b", "c", "J", "D", "g", "m_r", "J_r"):
@@ -174,17 +174,16 @@ def test_parameters_are_bounded(fmus, model):
             assert float(params[name].min) > 0, f"{model}.{name} must be strictly positive"
     if "lambda" in params:
         assert float(params["lambda"].max) == pytest.approx(math.pi / 2, rel=1e-15)
-    if model.endswith("RearSteered"):
-        assert float(params["V"].max) == 0
+    assert params["V"].min is None and params["V"].max is None, f"{model}.V is bounded"
 
 
 @pytest.mark.parametrize("model,name,value,word", [
     (PKG + "SelfStabilizing", "b", "0", "minimum"),
     (PKG + "SelfStabilizing", "lambda", "2", "maximum"),
-    (PKG + "RearSteered", "V", "3", "maximum"),
+    (PKG + "RearSteered", "D", "0", "minimum"),
     (PKG + "CrownedRoller", "R", "-0.1", "minimum"),
     (PKG + "LeaningRider", "J_r", "0", "minimum"),
-], ids=["b=0", "lambda=2", "rear-V=3", "R<0", "J_r=0"])
+], ids=["b=0", "lambda=2", "rear-D=0", "R<0", "J_r=0"])
 def test_cli_refuses_out_of_range_parameters(fmus, tmp_path, model, name, value, word):
     result = run_cli("simulate", str(fmus[model]), "--stop-time", "0.1", "--param", f"{name}={value}",
                      "-o", str(tmp_path / "out.csv"))
@@ -205,8 +204,9 @@ def test_twins_are_the_papers_transfer_functions(V):
     ip = analytic_system(PKG + "InvertedPendulum", {"V": V})
     assert _at(points, ip["phi", "delta"], simple.roll_steer_tf(bike, V, "eq1")) < 1e-12
     assert _at(points, ip["eta", "delta"], simple.path_steer_tf(bike, V, "eq1")) < 1e-12
-    rs = analytic_system(PKG + "RearSteered", {"V": -V})
+    rs = analytic_system(PKG + "RearSteered", {"V": V})  # (18) at the forward speed V, the rider's signs
     assert _at(points, rs["phi", "delta"], simple.rear_steer_roll_steer_tf(bike, V)) < 1e-12
+    assert _at(points, rs["eta", "delta"], simple.path_steer_tf(bike, V, "eq1")) < 1e-12
     ss = analytic_system(PKG + "SelfStabilizing", {"V": V})
     assert _at(points, ss["phi", "T"], simple.self_stabilizing_tf(bike, V)) < 1e-12
     assert _at(points, ss["delta", "T"], simple.steer_torque_tf(bike, V, "eq14")) < 1e-12
@@ -305,13 +305,44 @@ def test_eq15_to_17_self_stabilization(fmus):
 
 
 def test_eq19_rear_steering_is_unstable(fmus):
-    """(19): the rear-steered bicycle with delta = -k2 phi is unstable for every k2 > 0, V > 0
-    (the model's V is negative)."""
+    """(19): the rear-steered bicycle with delta = -k2 phi is unstable for every k2 > 0 at every
+    forward speed V > 0 (the model's own V)."""
     fmu = fmus[PKG + "RearSteered"]
     for speed in (0.5, 2.0, 5.0, 10.0, 20.0):
         for k2 in np.logspace(-3, 3, 13):
-            poles = steer_feedback_poles(fmu, -speed, k2)
+            poles = steer_feedback_poles(fmu, speed, k2)
             assert np.max(poles.real) > 0, (speed, k2, poles)
+
+
+@pytest.mark.parametrize("V", [1.0, 3.0, 5.0, 9.0], ids=lambda v: f"V={v}")
+def test_eq18_rear_steering_in_the_riders_signs(fmus, V):
+    """(18) from the FMU at the forward speed V > 0, with the numbers written out from the paper's
+    formulas: the right-half-plane pole sqrt(m g h / J) = 3.055 1/s and zero m V h / D, the gain
+    -V D / (b J) (a left steer step first rolls the bicycle to the rider's left), the ratio z/p
+    printed after (19); the path turns to the rider's left: G_psi_delta = V / (b s),
+    G_eta_delta = V^2 / (b s^2)."""
+    m, h, b, J, D, g = (PAPER[k] for k in ("m", "h", "b", "J", "D", "g"))
+    lin = lin_ss(fmus[PKG + "RearSteered"], {"V": V})
+    z, p, k = minimal_zpk(lin["phi", "delta"])
+    pole, zero = math.sqrt(m * g * h / J), m * V * h / D
+    assert pole == pytest.approx(3.055, abs=5e-4)
+    assert root_error(p, [pole, -pole]) < 1e-12 and root_error(z, [zero]) < 1e-12
+    assert k == pytest.approx(-V * D / (b * J), rel=1e-12)
+    assert zero / pole == pytest.approx(simple.rear_steer_zero_pole_ratio(simple.SimpleBicycle(), V), rel=1e-12)
+    for name, order, gain in (("psi", 1, V / b), ("eta", 2, V**2 / b)):
+        z, p, k = minimal_zpk(lin[name, "delta"])
+        assert len(z) == 0 and len(p) == order and np.all(np.abs(p) < 1e-12), (name, z, p)
+        assert k == pytest.approx(gain, rel=1e-12), name
+
+
+@pytest.mark.parametrize("V", [2.0, 5.0], ids=lambda v: f"V={v}")
+def test_rear_steered_ridden_backwards_is_model_1(fmus, V):
+    """Reversing the velocity once more: the rear-steered bicycle at V < 0 rolls as the front-steered
+    bicycle (1) at -V (InvertedPendulum FMU), FMU against FMU; its forward speed is what makes it hard."""
+    rear = minimal_zpk(lin_ss(fmus[PKG + "RearSteered"], {"V": -V})["phi", "delta"])
+    front = minimal_zpk(lin_ss(fmus[PKG + "InvertedPendulum"], {"V": V})["phi", "delta"])
+    assert root_error(rear[0], front[0]) < 1e-12 and root_error(rear[1], front[1]) < 1e-12
+    assert rear[2] == pytest.approx(front[2], rel=1e-12) and front[0][0] < 0  # zero -m V h / D (3)
 
 
 @pytest.mark.parametrize("h", [1.0, 0.4], ids=["h=1", "h=0.4"])

@@ -40,6 +40,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 def analytic_report(params_name: str, speeds: list[float]) -> dict:
     """Everything `cosim analytic` prints, as a JSON-ready dict."""
     from cosim.analytic import whipple as W
+    from cosim.fmu.parameters import parameter_set_waiver
     from cosim.fmu.stability import parameters_for_model
 
     for v in speeds:
@@ -48,12 +49,14 @@ def analytic_report(params_name: str, speeds: list[float]) -> dict:
 
             raise ParameterError(f"--speed must be finite, got {v}")
     params = parameters_for_model(params_name)
+    waiver = parameter_set_waiver(params_name)  # the checks the set's file waives, reported with it
     M, C1, K0, K2 = W.matrices(params)
     weave = W.weave_speed(params)
     capsize = W.capsize_speed(params)
     return {
         "params": str(params_name),
         "parameters": params,
+        "waiver": None if waiver is None else {"checks": list(waiver.checks), "reason": waiver.reason},
         "conventions": "Meijaard et al. (2007): q = [phi, delta], roll positive leaning right, "
                        "steer positive to the right; M q'' + v C1 q' + (g K0 + v^2 K2) q = [T_phi, T_delta]",
         "M": M.tolist(), "C1": C1.tolist(), "K0": K0.tolist(), "K2": K2.tolist(),
@@ -83,6 +86,11 @@ def format_report(report: dict) -> str:
     lines = [f"Linearized Whipple bicycle (Meijaard et al. 2007), parameters: {report['params']}",
              "  M q'' + v C1 q' + (g K0 + v^2 K2) q = [T_phi, T_delta],  q = [phi, delta] "
              "(roll right, steer right positive)"]
+    if report.get("waiver"):
+        from cosim.analytic.parameters import Waiver
+
+        waiver = report["waiver"]
+        lines.append(f"  {Waiver(tuple(waiver['checks']), waiver['reason']).describe()}")
     for name in ("M", "C1", "K0", "K2"):
         lines += _matrix_lines(name, report[name])
     for entry in report["eigenvalues"]:

@@ -11,7 +11,11 @@ elements about each body's own centre of mass (``I*xz`` = -integral(x z dm));
 wheels are axisymmetric (``IRzz = IRxx``, ``IFzz = IFxx``).  Units are SI.
 
 Bundled sets live in ``cosim/params/<name>.toml`` (one ``key = value`` line per
-symbol, comments document source and conversion).  The same folder holds the
+symbol, comments document source and conversion).  A set whose published values are
+not physically plausible says so in the file itself (:data:`WAIVER_KEY`,
+:data:`REASON_KEY`, see :func:`load_parameter_set`): the same rule holds for the
+bundled files and for any copy or user file, and the waiver is reported wherever
+the set is used.  The same folder holds the
 rider's upper body (``rider/``, :func:`load_upper_body`, :func:`rider_parameters`)
 and the lumped bicycle of the simple second-order models (``second-order/``,
 :func:`load_second_order`).  These files are the one source of the parameter
@@ -22,8 +26,10 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import tomllib
 from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 
@@ -31,8 +37,12 @@ __all__ = [
     "PARAMETER_NAMES",
     "UNITS",
     "WAIVABLE",
-    "BUNDLED_WAIVERS",
+    "WAIVER_KEY",
+    "REASON_KEY",
+    "Waiver",
+    "ParameterSet",
     "bundled_parameter_sets",
+    "load_parameter_set",
     "load_parameters",
     "validate_parameters",
     "UPPER_BODY_UNITS",
@@ -66,18 +76,52 @@ UNITS: dict[str, str] = {
 #: under this key).  Positivity and positive-(semi)definiteness never can.
 WAIVABLE: frozenset[str] = frozenset({"IRyy", "IByy", "IHyy", "IFyy"})
 
-_TRIANGLE_WAIVER_REASON = (
-    "Astrom, Klein & Lennartsson (2005), Table 1 prints frame inertias that violate the "
-    "triangle inequality of principal moments (rear frame by more than its rounding); "
-    "IByy and IHyy do not enter the linearized model, so the printed values are kept"
-)
+#: TOML key of a parameter file listing the checks (keys of :data:`WAIVABLE`) the set
+#: is allowed to fail, e.g. ``allow_nonphysical = ["IByy", "IHyy"]``.
+WAIVER_KEY = "allow_nonphysical"
+#: TOML key of the reason for :data:`WAIVER_KEY` (a non-empty string, required with it).
+REASON_KEY = "nonphysical_reason"
 
-#: Checks waived for bundled sets, ``{name: {key: reason}}``.  Applied when a
-#: bundled set is loaded by name or by the path of its bundled file.
-BUNDLED_WAIVERS: dict[str, dict[str, str]] = {
-    "astrom2005": {"IByy": _TRIANGLE_WAIVER_REASON, "IHyy": _TRIANGLE_WAIVER_REASON},
-    "astrom2005-riderless": {"IByy": _TRIANGLE_WAIVER_REASON, "IHyy": _TRIANGLE_WAIVER_REASON},
-}
+
+@dataclass(frozen=True)
+class Waiver:
+    """Checks a parameter file declares it fails, and why (:data:`WAIVER_KEY`, :data:`REASON_KEY`).
+
+    Attributes
+    ----------
+    checks : tuple of str
+        Keys of :data:`WAIVABLE` whose triangle-inequality check is skipped, in
+        :data:`PARAMETER_NAMES` order.
+    reason : str
+        The file's reason (``nonphysical_reason``).
+    """
+
+    checks: tuple[str, ...]
+    reason: str
+
+    def describe(self) -> str:
+        """One line: which checks are waived and why (the same for a file and for its copy)."""
+        return (f"non-physical values accepted: triangle inequality of {', '.join(self.checks)} not checked "
+                f"({WAIVER_KEY}); reason: {self.reason}")
+
+
+@dataclass(frozen=True)
+class ParameterSet:
+    """A loaded, validated Meijaard parameter set (:func:`load_parameter_set`).
+
+    Attributes
+    ----------
+    values : dict of str to float
+        The 26 symbols in :data:`PARAMETER_NAMES` order [SI].
+    waiver : Waiver or None
+        The checks the file waives, None if it waives none.
+    path : Path
+        The file read.
+    """
+
+    values: dict[str, float]
+    waiver: Waiver | None
+    path: Path
 
 # Relative slack for the (semi)definiteness and triangle inequalities: thin
 # discs (IRyy = 2 IRxx) satisfy them with equality up to rounding.
@@ -219,8 +263,8 @@ def validate_parameters(params: Mapping[str, object], *, waive: Iterable[str] = 
     return p
 
 
-def _resolve(name_or_path: str | os.PathLike[str]) -> tuple[Path, str | None]:
-    """File to read and, if it is a bundled file, its bundled name."""
+def _resolve(name_or_path: str | os.PathLike[str]) -> Path:
+    """The file of a bundled name, or the path given."""
     bundled = {p.stem: p for p in _params_dir().glob("*.toml")}
     text = os.fspath(name_or_path)
     looks_like_path = isinstance(name_or_path, os.PathLike) or text.endswith(".toml") or os.sep in text \
@@ -229,33 +273,145 @@ def _resolve(name_or_path: str | os.PathLike[str]) -> tuple[Path, str | None]:
         if text not in bundled:
             raise ValueError(f"unknown bundled parameter set {text!r}; bundled: "
                              f"{', '.join(sorted(bundled))} (or pass a path to a .toml file)")
-        return bundled[text], text
+        return bundled[text]
     path = Path(text).expanduser()
     if not path.is_file():
         raise FileNotFoundError(f"parameter file not found: {path}")
-    resolved = path.resolve()
-    for name, bundled_path in bundled.items():
-        if bundled_path.resolve() == resolved:
-            return path, name
-    return path, None
+    return path
 
 
-def load_parameters(name_or_path: str | os.PathLike[str], *, waive: Iterable[str] = ()) -> dict[str, float]:
-    """Load and validate a parameter set.
+def _line(text: str, key: str, item: str | None = None) -> int | None:
+    """1-based line of the top-level ``key = ...`` in a TOML text (of ``"item"`` after it if given)."""
+    match = re.search(rf"^[ \t]*{re.escape(key)}[ \t]*=", text, re.MULTILINE)
+    if match is None:
+        return None
+    at = match.start()
+    if item is not None:
+        found = re.compile(rf"[\"']{re.escape(item)}[\"']").search(text, at)
+        at = found.start() if found else at
+    return text.count("\n", 0, at) + 1
+
+
+def _read_waiver(data: dict, text: str, path: Path) -> Waiver | None:
+    """The waiver a parameter file declares (:data:`WAIVER_KEY`, :data:`REASON_KEY`), checked.
+
+    Raises
+    ------
+    ValueError
+        ``"<file>:<line>: <key>: ..."`` for a waiver that is not a list of distinct keys of
+        :data:`WAIVABLE`, an empty list, a reason that is missing, empty or not a string, or a
+        reason without a waiver.
+    """
+    def refuse(key: str, why: str, item: str | None = None) -> ValueError:
+        line = _line(text, key, item)
+        return ValueError(f"{path}{f':{line}' if line else ''}: {key}: {why}")
+
+    checks, reason = data.get(WAIVER_KEY), data.get(REASON_KEY)
+    if checks is None:
+        if reason is not None:
+            raise refuse(REASON_KEY, f"a reason without a waiver: add {WAIVER_KEY} = [...] (the checks it "
+                                     f"explains) or remove {REASON_KEY}")
+        return None
+    waivable = ", ".join(k for k in PARAMETER_NAMES if k in WAIVABLE)
+    if not isinstance(checks, list) or not all(isinstance(k, str) for k in checks):
+        raise refuse(WAIVER_KEY, f"must be a list of parameter names, e.g. {WAIVER_KEY} = [\"IByy\"], "
+                                 f"got {checks!r}")
+    if not checks:
+        raise refuse(WAIVER_KEY, f"the list is empty; name the checks to waive or remove {WAIVER_KEY}")
+    for k in checks:
+        if k not in PARAMETER_NAMES:
+            raise refuse(WAIVER_KEY, f"{k!r} is not a parameter; only the triangle-inequality checks of "
+                                     f"{waivable} can be waived", k)
+        if k not in WAIVABLE:
+            raise refuse(WAIVER_KEY, f"the checks of {k} cannot be waived; only the triangle-inequality "
+                                     f"checks of {waivable} can", k)
+        if checks.count(k) > 1:
+            raise refuse(WAIVER_KEY, f"{k} is listed twice", k)
+    if not isinstance(reason, str) or not reason.strip():
+        got = "it is missing" if reason is None else f"got {reason!r}"
+        raise refuse(REASON_KEY if reason is not None else WAIVER_KEY,
+                     f"{WAIVER_KEY} needs {REASON_KEY} = \"...\", a non-empty string saying why the set "
+                     f"keeps non-physical values ({got})")
+    return Waiver(tuple(k for k in PARAMETER_NAMES if k in checks), " ".join(reason.split()))
+
+
+def _read_file(path: Path) -> tuple[dict, Waiver | None, str]:
+    """The parameter entries (waiver keys removed), the waiver and the text of a parameter file."""
+    try:
+        text = path.read_bytes().decode("utf-8")
+        data = tomllib.loads(text)
+    except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise ValueError(f"{path}: not valid TOML: {exc}") from exc
+    waiver = _read_waiver(data, text, path)
+    return {k: v for k, v in data.items() if k not in (WAIVER_KEY, REASON_KEY)}, waiver, text
+
+
+def load_parameter_set(name_or_path: str | os.PathLike[str]) -> ParameterSet:
+    """Load and validate a parameter set with the waiver its file declares.
+
+    A file may keep values that fail a triangle-inequality check (a published table's
+    rounding, say) only if it says so itself::
+
+        allow_nonphysical = ["IByy", "IHyy"]     # keys of WAIVABLE
+        nonphysical_reason = "why the values are kept"
+
+    Bundled files and any other file follow this one rule: a byte-identical copy of a
+    bundled file loads exactly as the bundled set.  Each waived check must actually fail
+    (a stale waiver is refused), and every other check still applies.
 
     Parameters
     ----------
     name_or_path : str or path-like
-        A bundled name (see :func:`bundled_parameter_sets`, e.g.
-        ``"benchmark"``, ``"astrom2005"``, ``"astrom2005-riderless"``) or the
-        path of a TOML file with one top-level ``key = number`` entry per
-        symbol of :data:`PARAMETER_NAMES` (SI units).  Strings ending in
+        A bundled name (see :func:`bundled_parameter_sets`, e.g. ``"benchmark"``,
+        ``"astrom2005"``, ``"astrom2005-riderless"``) or the path of a TOML file with one
+        top-level ``key = number`` entry per symbol of :data:`PARAMETER_NAMES` (SI units)
+        and optionally :data:`WAIVER_KEY` with :data:`REASON_KEY`.  Strings ending in
         ``.toml`` or containing a path separator are treated as paths.
+
+    Returns
+    -------
+    ParameterSet
+        Values, waiver (None if none) and the file read.
+
+    Raises
+    ------
+    ValueError
+        Unknown bundled name, malformed TOML, a malformed waiver (``"<file>:<line>: <key>:
+        ..."``, see :data:`WAIVABLE`), a waived check that holds, or any failure of
+        :func:`validate_parameters` (message starts with the offending key, ends with
+        ``[in <file>]``).
+    FileNotFoundError
+        A path that does not exist.
+    """
+    path = _resolve(name_or_path)
+    values, waiver, text = _read_file(path)
+    checks = set(waiver.checks) if waiver else set()
+    try:
+        params = validate_parameters(values, waive=checks)
+    except ValueError as exc:
+        raise ValueError(f"{exc} [in {path}]") from exc
+    for k in sorted(checks):  # a stale waiver would hide a later error: each waived check must fail
+        try:
+            validate_parameters(params, waive=checks - {k})
+        except ValueError:
+            continue
+        line = _line(text, WAIVER_KEY, k)
+        raise ValueError(f"{path}{f':{line}' if line else ''}: {WAIVER_KEY}: the triangle inequality of {k} "
+                         f"holds, there is nothing to waive; remove {k} from {WAIVER_KEY}")
+    return ParameterSet(params, waiver, path)
+
+
+def load_parameters(name_or_path: str | os.PathLike[str], *, waive: Iterable[str] = ()) -> dict[str, float]:
+    """Load and validate a parameter set: the values of :func:`load_parameter_set`.
+
+    Parameters
+    ----------
+    name_or_path : str or path-like
+        A bundled name or a TOML file, as for :func:`load_parameter_set` (the file's own
+        waiver, :data:`WAIVER_KEY`, applies).
     waive : iterable of str, optional
-        Extra triangle-inequality checks to skip (keys from
-        :data:`WAIVABLE`).  Bundled sets get their documented waivers
-        (:data:`BUNDLED_WAIVERS`) automatically, also when loaded by the path
-        of the bundled file.
+        Further triangle-inequality checks to skip (keys from :data:`WAIVABLE`), for
+        callers that need only what a model uses (e.g. values that never enter it).
 
     Returns
     -------
@@ -264,21 +420,16 @@ def load_parameters(name_or_path: str | os.PathLike[str], *, waive: Iterable[str
 
     Raises
     ------
-    ValueError
-        Unknown bundled name, malformed TOML, or any failure of
-        :func:`validate_parameters` (message starts with the offending key).
-    FileNotFoundError
-        A path that does not exist.
+    ValueError, FileNotFoundError
+        As :func:`load_parameter_set`; also for keys in ``waive`` not in :data:`WAIVABLE`.
     """
-    path, bundled_name = _resolve(name_or_path)
+    extra = set(waive)
+    if not extra:
+        return load_parameter_set(name_or_path).values
+    path = _resolve(name_or_path)
+    values, waiver, _ = _read_file(path)
     try:
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"{path}: not valid TOML: {exc}") from exc
-    waived = set(waive) | set(BUNDLED_WAIVERS.get(bundled_name or "", {}))
-    try:
-        return validate_parameters(data, waive=waived)
+        return validate_parameters(values, waive=extra | set(waiver.checks if waiver else ()))
     except ValueError as exc:
         raise ValueError(f"{exc} [in {path}]") from exc
 

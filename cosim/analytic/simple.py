@@ -43,8 +43,8 @@ governing equations imply and says so where it matters):
 * Figure 5 quotes steady values φ = 0.14 rad, δ = -0.14 rad but not the speed
   or torque.  The steady ratio is φ/δ = -V²/(bg) for (1)+(11) and
   -(V²h - acg) sin λ/(bgh) for (14)+(11), so |φ| = |δ| needs V ≈ 3.1 m/s
-  resp. 3.3 m/s for the Table 1 bicycle; only the signs (φ > 0, δ < 0 for
-  T > 0) are checked here.
+  resp. 3.29 m/s for the Table 1 bicycle: ``cosim.figures.fig5.operating_point``
+  solves for V and T and the figure is drawn there (tests/test_fig5_fig15.py).
 """
 from __future__ import annotations
 
@@ -266,6 +266,12 @@ def rear_steer_roll_steer_tf(bike: SimpleBicycle, V: float) -> control.TransferF
 
     G(s) = (-V D s + m V² h) / (b (J s² - m g h)); for V > 0 it has the pole
     +sqrt(mgh/J) and the zero +m V h / D in the right half plane.
+
+    V is the rear-steered bicycle's forward speed [m/s] and φ, δ are the rider's (φ positive
+    leaning to the rider's right, δ positive steering the bicycle to the left): the
+    ``delta -> phi`` map of ``Bicycle.Bicycles.RearSteered`` at its ``V``.  Turning the axes of
+    model (1) half a revolution about the vertical changes the signs of both φ and δ, so G is
+    (4) at -V in either set of axes.
     """
     return roll_steer_tf(bike, -_speed(V))
 

@@ -16,7 +16,7 @@ model                              inputs -> outputs         analytic model
 ``SelfStabilizing``                T -> phi delta psi eta    (14) + (11), ``frame="eq14"``
 ``SelfStabilizingGyro``            T -> phi delta psi eta    (14) + (11) with k3 ("Gyroscopic Effects")
 ``InvertedPendulum``               delta -> phi psi eta      (1)/(4), ``frame="eq1"``
-``RearSteered``                    delta -> phi psi eta      (18): (4) at V < 0
+``RearSteered``                    delta -> phi psi eta      (18): (4) at -V, the rider's signs
 ``LeaningRider``                   T theta -> phi delta      (22) + (11) = (23), ``frame="eq14"``
                                    psi eta
 ``CrownedRoller``                  delta -> phi psi eta      (4) with the poles (27)
@@ -25,8 +25,9 @@ model                              inputs -> outputs         analytic model
 The path (yaw psi, deviation eta) is ``der(psi) = V*delta_f/b``, ``der(eta) = V*psi`` with the
 effective steer angle ``delta_f = delta*sin(lambda)`` (8) for the models with a head angle (as
 ``path_steer_tf(frame="eq14")``) and ``delta_f = delta`` for the models with a vertical steer axis
-(``frame="eq1"``).  For ``RearSteered`` the speed V is negative (the model's own convention), so
-its twin is ``rear_steer_roll_steer_tf(bike, -V)``.
+(``frame="eq1"``).  ``RearSteered`` takes its forward speed V > 0 with the rider's signs of phi,
+delta, psi and eta; in these variables its twin is (18) as printed, ``rear_steer_roll_steer_tf(bike,
+V)``, with the ordinary path (a negative V rides it backwards: (4) at -V).
 
 The nonlinear bicycles have twins of their linearization about upright straight running
 (:data:`STEADY_MOTION_TWINS`, :class:`SteadyMotionTwin`): the FMU's linearization is reduced exactly
@@ -219,10 +220,11 @@ def _inverted_pendulum(p: Mapping[str, float], V: float) -> control.StateSpace:
 
 
 def _rear_steered(p: Mapping[str, float], V: float) -> control.StateSpace:
-    if V > 0:
-        raise ValueError(f"RearSteered: V must be <= 0 (rear-wheel steering at forward speed -V), got {V!r}")
+    """(18) at the forward speed V in the rider's variables: model (1) at -V turned half a
+    revolution about the vertical (phi, delta and eta change sign), so the roll transfer function is
+    (4) at -V and the path is the ordinary der(psi) = V delta / b, der(eta) = V psi."""
     bike = bicycle(p)
-    return _steer_angle_model(simple.rear_steer_roll_steer_tf(bike, -V), bike, V)
+    return _steer_angle_model(simple.rear_steer_roll_steer_tf(bike, V), bike, V)
 
 
 def _leaning_rider(p: Mapping[str, float], V: float) -> control.StateSpace:
@@ -272,8 +274,8 @@ TWINS: dict[str, Twin] = {t.model: t for t in (
          _TORQUE_OUT, equations="(14) + (11) with delta = k1 T - k2 phi - k3 dphi/dt"),
     Twin("Bicycle.Bicycles.InvertedPendulum", _inverted_pendulum, dict(_PENDULUM), ("delta",), _ANGLE_OUT,
          equations="(1), (4); path der(psi) = V delta / b, der(eta) = V psi"),
-    Twin("Bicycle.Bicycles.RearSteered", _rear_steered, {**_PENDULUM, "V": -_SECOND_ORDER["V"]}, ("delta",), _ANGLE_OUT,
-         equations="(18): (4) at negative V"),
+    Twin("Bicycle.Bicycles.RearSteered", _rear_steered, {**_PENDULUM, "phi0": 0.0}, ("delta",), _ANGLE_OUT,
+         equations="(18) at forward speed V, the rider's signs; path der(psi) = V delta / b, der(eta) = V psi"),
     Twin("Bicycle.Bicycles.LeaningRider", _leaning_rider,
          {**_PAPER, **{k: _SECOND_ORDER[k] for k in ("m_r", "J_r", "h_r")}}, ("T", "theta"), _TORQUE_OUT,
          equations="(22) + (11) = (23) with the frame (14)"),

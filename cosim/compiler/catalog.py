@@ -1,13 +1,16 @@
-"""What the library offers: models with their interface (for `cosim list` and `cosim info MODEL`)."""
+"""What the library offers: models with their interface (for `cosim list` and `cosim info MODEL`),
+and what a model says about itself in its ``__Cosim`` annotation beyond ``export`` (its singular
+configurations, :func:`singular_configurations`)."""
 from __future__ import annotations
 
+import math
 import sys
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 
 from cosim.compiler.flatten import flatten
 from cosim.compiler.library import Library, load_library
-from cosim.errors import CosimError
+from cosim.errors import CosimError, ModelicaError
 
 
 #: Longest parameter value `cosim list` prints in full; longer ones (expressions) are shortened.
@@ -119,3 +122,156 @@ def catalog(library: Library | None = None, exported_only: bool = False,
         models = f"; not listed: {', '.join(left_out[file])}" if left_out[file] else ""
         warn(f"{str(error).splitlines()[0]}{models}")
     return summaries
+
+
+# --------------------------------------------------------------------------- singular configurations
+
+@dataclass(frozen=True)
+class Singularity:
+    """A configuration where a model's equations are singular, as the model declares it::
+
+        annotation(__Cosim(singular(delta(angle_deg = 90, tolerance_deg = 15,
+                                          description = "..."))))
+
+    The variable (an angle) is singular at ``+-angle`` (modulo a full turn); a run that fails
+    with the variable within ``tolerance`` of it has reached the singularity (the exact singular
+    value may depend on the other coordinates, hence the band).
+
+    Attributes
+    ----------
+    model : str
+        The class whose annotation declares it (the model itself or a class it extends).
+    variable : str
+        Name of the angle in the model (e.g. ``delta``).
+    angle, tolerance : float
+        Singular angle and band [rad].
+    description : str
+        What happens there (one sentence).
+    quantity : str
+        What the variable is, from its declaration's description (``"steer angle"`` from
+        ``"Steer angle delta, positive steering right"``); empty if it has none.
+    """
+
+    model: str
+    variable: str
+    angle: float
+    tolerance: float
+    description: str
+    quantity: str = ""
+
+    def distance(self, value: float) -> float:
+        """How far ``value`` [rad] is from ``+-angle`` (modulo 2 pi) [rad]; inf for a non-finite value."""
+        if not math.isfinite(value):
+            return math.inf
+        wrapped = abs(math.remainder(value, 2.0 * math.pi))  # in [0, pi]
+        return abs(wrapped - self.angle)
+
+    def reached(self, value: float) -> bool:
+        """True where ``value`` [rad] lies within the band of the singular angle."""
+        return self.distance(value) <= self.tolerance
+
+
+_SINGULAR_KEYS = {"angle_deg", "tolerance_deg", "description"}
+_SINGULAR_PATTERN = r"\bsingular\b"
+
+
+def singular_configurations(name: str, library: Library | None = None) -> tuple[Singularity, ...]:
+    """The singular configurations a model declares (``__Cosim(singular(...))``), its own and those
+    of the classes it extends (a variant ``extends Bicycle.Bicycles.Whipple(...)`` has the
+    Whipple model's singularities); empty if it declares none.
+
+    Raises
+    ------
+    UnknownModelError
+        ``name`` is not a model of the library.
+    ModelicaError
+        A malformed annotation (``file:line``): each entry must be ``VARIABLE(angle_deg = A,
+        tolerance_deg = T, description = "...")`` with literal numbers ``0 < A <= 180`` and
+        ``0 < T < 90`` and a non-empty description.
+    """
+    library = library or load_library()
+    library.entry(name)  # UnknownModelError for a name that is no model
+    found: dict[str, Singularity] = {}
+    classes = _self_and_bases(library, name)
+    for cls in classes:
+        entry = library.entries[cls]
+        cosim = entry.annotation.get("__Cosim")
+        declared = cosim.get("singular") if isinstance(cosim, dict) else None
+        if declared is None:
+            continue
+
+        def refuse(why: str, entry=entry, cls=cls) -> ModelicaError:
+            where = entry._where(_SINGULAR_PATTERN)
+            return ModelicaError(f"{where}: {cls}: annotation __Cosim(singular(...)): {why}")
+
+        if not isinstance(declared, dict) or not declared:
+            raise refuse("expected singular(VARIABLE(angle_deg = ..., tolerance_deg = ..., "
+                         "description = \"...\"), ...)")
+        for variable, spec in declared.items():
+            if not isinstance(spec, dict) or set(spec) != _SINGULAR_KEYS:
+                got = sorted(spec) if isinstance(spec, dict) else spec
+                raise refuse(f"{variable}(...) must give exactly {', '.join(sorted(_SINGULAR_KEYS))}; got {got!r}")
+            angle, tolerance, text = spec["angle_deg"], spec["tolerance_deg"], spec["description"]
+            for key, value, bounds in (("angle_deg", angle, "0 < angle_deg <= 180"),
+                                       ("tolerance_deg", tolerance, "0 < tolerance_deg < 90")):
+                number = not isinstance(value, bool) and isinstance(value, (int, float))
+                if not number or not (0 < value <= 180 if key == "angle_deg" else 0 < value < 90):
+                    raise refuse(f"{variable}({key} = ...) must be a literal number of degrees, "
+                                 f"{bounds}, got {value!r}")
+            if not isinstance(text, str) or not text.strip():
+                raise refuse(f"{variable}(description = ...) must be a non-empty string")
+            # the model's own declaration wins over an extended class's
+            found.setdefault(variable, Singularity(cls, variable, math.radians(angle), math.radians(tolerance),
+                                                   " ".join(text.split()), _quantity(library, classes, variable)))
+    return tuple(found.values())
+
+
+def _class_node(library: Library, name: str):
+    node = library.tree
+    for part in name.split("."):
+        node = node.classes[part]
+    return node
+
+
+def _quantity(library: Library, classes: list[str], variable: str) -> str:
+    """What ``variable`` is, from the description of its declaration in the nearest of ``classes``:
+    the words before the variable's name in the first clause ("Steer angle delta, ..." -> "steer
+    angle"), else the whole first clause; empty if it is declared without a description."""
+    for cls in classes:
+        symbol = getattr(_class_node(library, cls), "symbols", {}).get(variable)
+        if symbol is None:
+            continue
+        clause = (symbol.comment or "").split(",", 1)[0].strip()
+        words = clause.split()
+        if variable in words:
+            words = words[:words.index(variable)]
+        text = " ".join(words)
+        return text[:1].lower() + text[1:]
+    return ""
+
+
+def _self_and_bases(library: Library, name: str) -> list[str]:
+    """``name`` and the library classes it extends, nearest first (each once)."""
+    order, todo = [], [name]
+    while todo:
+        current = todo.pop(0)
+        if current in order or current not in library.entries:
+            continue
+        order.append(current)
+        try:
+            node = _class_node(library, current)
+        except KeyError:
+            continue
+        scope = current.split(".")[:-1]
+        for clause in getattr(node, "extends", []) or []:
+            parts, ref = [], getattr(clause, "component", None)
+            while ref is not None:
+                parts.append(ref.name)
+                ref = ref.child[0] if getattr(ref, "child", None) else None
+            # Modelica lookup: the enclosing scopes from the innermost outwards
+            for depth in range(len(scope), -1, -1):
+                candidate = ".".join(scope[:depth] + parts)
+                if candidate in library.entries:
+                    todo.append(candidate)
+                    break
+    return order

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import math
 import numbers
+import sys
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from cosim.errors import ParameterError
@@ -173,12 +175,16 @@ def check(values: dict, declared: dict[str, Declared], input_hint: str | None = 
 
 def from_command_line(target: str, assignments: list[str], extra: dict | None = None,
                       parameter_set: str | None = None, input_hint: str | None = SIMULATE_INPUT_HINT,
-                      speed: float | None = None, declared: dict[str, Declared] | None = None) -> dict:
+                      speed: float | None = None, declared: dict[str, Declared] | None = None,
+                      report: Callable[[str], None] | None = None) -> dict:
     """``--params`` set, then ``--param`` strings, then ``extra`` values, then the forward speed
     ``speed`` [m/s] (``--speed``, see :func:`forward_speed`), checked for ``target``.
 
     ``parameter_set`` is a Meijaard parameter set (bundled name or TOML file) for models whose
-    parameters carry the Meijaard names, such as ``Bicycle.Bicycles.WhippleLinear``.
+    parameters carry the Meijaard names, such as ``Bicycle.Bicycles.WhippleLinear``. A set whose
+    file waives checks (``allow_nonphysical``, see
+    :func:`cosim.analytic.parameters.load_parameter_set`) is reported by one line to ``report``
+    (default: stderr), since the nonlinear models use such values as they are.
     ``declared`` (from :func:`declarations`) saves reading the model again."""
     values = {}
     if parameter_set:
@@ -186,11 +192,14 @@ def from_command_line(target: str, assignments: list[str], extra: dict | None = 
 
         try:
             values.update(parameters_for_model(parameter_set))
+            waiver = parameter_set_waiver(parameter_set)
         except FileNotFoundError:
             raise ParameterError(f"--params {parameter_set}: no such bundled set or file") from None
         declared = declarations(target) if declared is None else declared
         if "mU" in declared:
-            values = _split_rider(values, parameter_set)
+            values = _split_rider(values, parameter_set, waiver.checks if waiver else ())
+        if waiver is not None:
+            (report or _note_on_stderr)(f"--params {parameter_set}: {waiver.describe()}")
     values.update(dict(split_assignment(a) for a in assignments))  # a repeated name: the last wins
     values.update(extra or {})
     if not values and speed is None:
@@ -208,15 +217,31 @@ def from_command_line(target: str, assignments: list[str], extra: dict | None = 
     return check(values, declared, input_hint)
 
 
-def _split_rider(values: dict[str, float], parameter_set: str) -> dict[str, float]:
+def parameter_set_waiver(parameter_set: str):
+    """The waiver (:class:`cosim.analytic.parameters.Waiver`) a ``--params`` set's file declares,
+    None if it declares none; ParameterError for a set that does not load."""
+    from cosim.analytic.parameters import load_parameter_set
+
+    try:
+        return load_parameter_set(parameter_set).waiver
+    except ValueError as exc:
+        raise ParameterError(f"--params {parameter_set}: {exc}") from None
+
+
+def _note_on_stderr(message: str) -> None:
+    print(f"cosim: note: {message}", file=sys.stderr)
+
+
+def _split_rider(values: dict[str, float], parameter_set: str, waived=()) -> dict[str, float]:
     """A Meijaard set's rear frame B holds the whole (rigid) rider. For a model with the rider's upper
     body on a hip hinge (parameters mU, xU, ...), the bundled upper body is split off B, so that with
-    the hinge locked the bicycle is the set's bicycle (not one carrying a second upper body)."""
+    the hinge locked the bicycle is the set's bicycle (not one carrying a second upper body). The
+    checks the set's file waives (``waived``) stay waived for the split rear frame."""
     from cosim.analytic.parameters import load_upper_body, split_upper_body, validate_parameters
 
     try:
         split = split_upper_body(values, load_upper_body())
-        validate_parameters({k: split[k] for k in values})
+        validate_parameters({k: split[k] for k in values}, waive=waived)
     except ValueError as exc:
         raise ParameterError(f"--params {parameter_set}: the rear frame of the set cannot carry the rider's "
                              f"upper body of this model: {exc}") from None
@@ -240,7 +265,7 @@ class ForwardSpeed:
     """How the forward speed ``V`` [m/s] of a model is set.
 
     * ``V`` (simple models) or ``v`` (``WhippleLinear``): the speed parameter itself (any finite
-      value its declaration allows; ``RearSteered`` runs at ``V <= 0``);
+      value its declaration allows);
     * ``u_R0`` with ``rR`` (the nonlinear bicycles ``Whipple``, ``WhippleRider``): upright straight
       running at forward speed ``V >= 0``, i.e. the initial rear wheel rate ``u_R0 = -V/rR``
       (pitch 0 when upright with zero steer, so the rear contact moves at ``-u_R rR``).

@@ -9,8 +9,10 @@ What the command promises (see ``cosim simulate --help``):
   header row, then one row per output time) or ``.npy`` (a NumPy structured array);
 - when the solver fails part-way, the rows computed up to the failure are kept: they are written
   to ``NAME.incomplete.csv`` (``.npy``) beside the requested ``NAME.csv`` and the message names
-  the physical cause where the model's outputs show one (roll or steer angle near ±π/2, the
-  constraint residual growing), see :func:`physical_cause`.
+  the physical cause where the model's outputs show one: a singular configuration the model
+  declares in its ``__Cosim(singular(...))`` annotation (the nonlinear Whipple bicycles: steer
+  or roll angle at ±π/2, see :func:`cosim.compiler.catalog.singular_configurations`), or the
+  constraint residual growing; see :func:`physical_cause`.
 """
 from __future__ import annotations
 
@@ -34,17 +36,7 @@ MAX_ROWS = 10_000_000
 #: Where a result that stopped early goes: ``out.csv`` -> ``out.incomplete.csv``.
 INCOMPLETE_TAG = "incomplete"
 
-# Angles whose magnitude approaches pi/2 make the bicycle models meaningless or singular: a roll
-# of pi/2 lays the bicycle on the ground, a steer angle of pi/2 turns the front wheel across the
-# direction of travel, where the rolling constraints of the Whipple model are singular. A value
-# beyond this fraction of pi/2 at the end of a failed run is named as the cause.
-ANGLE_FRACTION = 0.6
 RESIDUAL_LIMIT = 1e-6  # m: holonomic constraint residual of the nonlinear Whipple models
-ANGLE_LIMITS = {
-    "phi": ("roll angle", "the bicycle falls over (lying on the ground at |phi| = pi/2)"),
-    "delta": ("steer angle", "the front wheel turns across the direction of travel (the rolling "
-                             "constraints are singular at |delta| = pi/2)"),
-}
 
 
 class IncompleteResult(SimulationError):
@@ -358,8 +350,9 @@ def simulate(fmu: str | Path, stop_time: float | None = None, step: float | None
     if result.size and result["time"][-1] < t1 - 1e-9 * max(1.0, abs(t1)):
         # The FMU ended the run itself (fmi2Discard + fmi2Terminated): FMPy returns what it has.
         said = log.last_error()
-        cause = physical_cause(_last_values(result))
-        text = f"{cause} (solver: {said})" if cause and said else cause or said or "the FMU ended the run early"
+        cause = _cause(md, result)
+        text = f"{cause} (solver: {_first_clause(said)})" if cause and said else \
+            cause or said or "the FMU ended the run early"
         raise IncompleteResult(f"{fmu}: the simulation stopped at t = {result['time'][-1]:.6g} s of "
                                f"{t1:g} s: {text}", result, float(result["time"][-1]), cause or text)
     return result
@@ -402,11 +395,35 @@ def _failure(fmu: Path, md, exc: Exception, log, rows, t1: float) -> SimulationE
     text, when = _solver_message(exc, log)
     if rows is None or len(rows) == 0:
         return SimulationError(f"{fmu}: simulation failed before the first step: {text}")
-    cause = physical_cause(_last_values(rows))
+    cause = _cause(md, rows)
     when = when if when is not None else float(rows["time"][-1])
     message = f"{fmu}: the solver failed at t = {when:.6g} s of {t1:g} s"
-    message += f": {cause} (solver: {text})" if cause else f": {text}"
+    message += f": {cause} (solver: {_first_clause(text)})" if cause else f": {text}"
     return IncompleteResult(message, rows, when, cause or text)
+
+
+def _first_clause(text: str) -> str:
+    """The solver's message up to its first ``;`` (the rest repeats what the cause says)."""
+    return text.split(";", 1)[0].strip()
+
+
+def model_singularities(model_name: str):
+    """The singular configurations ``model_name`` declares (:func:`cosim.compiler.catalog.
+    singular_configurations`); empty for a model the library does not have (an FMU from
+    elsewhere) or whose annotation cannot be read (the failure is reported without it)."""
+    from cosim.compiler.catalog import singular_configurations
+    from cosim.errors import CosimError
+
+    try:
+        return singular_configurations(model_name)
+    except CosimError:
+        return ()
+
+
+def _cause(md, rows) -> str | None:
+    """:func:`physical_cause` of a failed run of the FMU described by ``md``, with the singular
+    configurations its model declares."""
+    return physical_cause(_last_values(rows), model_singularities(md.modelName))
 
 
 def _last_values(rows) -> dict[str, float]:
@@ -415,34 +432,67 @@ def _last_values(rows) -> dict[str, float]:
     return {n: float(rows[n][-1]) for n in rows.dtype.names if n != "time"}
 
 
-def physical_cause(values: dict[str, float]) -> str | None:
+def physical_cause(values: dict[str, float], singular=None) -> str | None:
     """The physical reason a bicycle run broke down, read from its last output values.
 
     Parameters
     ----------
     values : dict
-        Output name -> last value; names may carry a component prefix (``bike.phi``).
-        Recognized: ``phi`` (roll angle, rad), ``delta`` (steer angle, rad), ``residual``
-        (holonomic constraint residual of the nonlinear Whipple models, m).
+        Output name -> last value; names may carry a component prefix (``bike.delta``).
+    singular : sequence of Singularity, optional
+        The singular configurations of the model that ran
+        (:func:`cosim.compiler.catalog.singular_configurations`, read from its
+        ``__Cosim(singular(...))`` annotation); an output whose name (without prefix) is a
+        declared variable and whose value lies in the declared band is named. None (the model is
+        not known, e.g. a component of a system) takes those of every model of the library that
+        declares any, matched by variable name.
+
+    Also recognized: ``residual`` (holonomic constraint residual of the nonlinear Whipple models,
+    m) above :data:`RESIDUAL_LIMIT`.
 
     Returns
     -------
     str or None
-        E.g. "steer angle delta = 1.48 rad, near pi/2: the front wheel turns across ..."; None
-        if no output shows a known limit.
+        E.g. "steer angle delta = 1.607 rad (92.1 deg) reached +-pi/2 (+-90 deg), a singular
+        configuration of Bicycle.Bicycles.Whipple: the front wheel ..."; None if no output shows a
+        known limit.
     """
+    declared = _library_singularities() if singular is None else tuple(singular)
     found = []
     for name, value in values.items():
         short = name.rpartition(".")[2]
-        if short in ANGLE_LIMITS and math.isfinite(value) and abs(value) >= ANGLE_FRACTION * math.pi / 2:
-            what, why = ANGLE_LIMITS[short]
-            found.append((abs(value) / (math.pi / 2), f"{what} {name} = {value:.3g} rad, "
-                                                      f"{'past' if abs(value) >= math.pi / 2 else 'near'} "
-                                                      f"+-pi/2: {why}"))
-        elif short == "residual" and (not math.isfinite(value) or abs(value) > RESIDUAL_LIMIT):
-            found.append((math.inf, f"the constraint residual {name} grew to {value:.3g} m "
-                                    f"(more than {RESIDUAL_LIMIT:g} m): the solution left the constraint"))
-    return "; ".join(text for _, text in sorted(found, reverse=True)) if found else None
+        for s in declared:
+            if s.variable == short and s.reached(value):
+                degrees = math.degrees(s.angle)
+                at = "+-pi/2 (+-90 deg)" if abs(degrees - 90.0) < 1e-9 else f"+-{degrees:g} deg"
+                what = f"{s.quantity} {name}" if s.quantity else name
+                found.append((s.distance(value) / s.tolerance,
+                              f"{what} = {value:.4g} rad ({math.degrees(value):.1f} deg) reached {at}, "
+                              f"a singular configuration of {s.model}: {s.description}"))
+                break
+        if short == "residual" and (not math.isfinite(value) or abs(value) > RESIDUAL_LIMIT):
+            found.append((-math.inf, f"the constraint residual {name} grew to {value:.3g} m "
+                                     f"(more than {RESIDUAL_LIMIT:g} m): the solution left the constraint"))
+    return "; ".join(text for _, text in sorted(found)) if found else None
+
+
+def _library_singularities():
+    """Every singular configuration declared in the library, for :func:`physical_cause` without a
+    model (one per model and variable; the first model that declares a variable names it)."""
+    from cosim.compiler.library import load_library
+    from cosim.errors import CosimError
+
+    try:
+        library = load_library()
+    except CosimError:
+        return ()
+    found = {}
+    for name, entry in library.entries.items():
+        cosim = entry.annotation.get("__Cosim")
+        if isinstance(cosim, dict) and cosim.get("singular") is not None:
+            for s in model_singularities(name):
+                found.setdefault(s.variable, s)
+    return tuple(found.values())
 
 
 # --------------------------------------------------------------------------- writing results

@@ -15,17 +15,86 @@ Stability of an equilibrium: the eigenvalues of the FMU's Jacobian on the constr
 ``(phi, delta, u_phi, u_delta, u_R)``. One of them is 0 with the curve's tangent as eigenvector
 (the family of turns); the other four decide: stable when all have negative real part.
 The upright branch ``phi = delta = 0`` is treated the same way (there the family is the speed).
+
+Search window: the turns are looked for in ``|phi| < pi/2``, ``-pi < delta <= pi`` (the steer
+may exceed 90 degrees), ``0 < v < v_max`` (:class:`Window`). Start points come from grids in
+``(phi, delta)`` at fixed speeds (:meth:`SteadyTurns.find_turns_at_speeds`): every curve that
+crosses one of these speeds is found. Where the FMU cannot make the pitch consistent (the
+bicycle nearly flat on the ground), its initialization fails; such points count as outside.
+
+Saddle-node folds: points where the speed ``v`` (the FMU's output, the rear contact point's
+forward speed) is extremal along a curve, so that two turns at speeds on one side merge and
+vanish. There the Jacobian of ``G = 0, v(z) = v`` in ``z`` is singular;
+:meth:`SteadyTurns.refine_fold` solves ``G = 0`` and ``det [dG/dz; dv/dz] = 0`` by Newton.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
 import numpy as np
+from fmpy.fmi1 import FMICallException
 
+from cosim.errors import SimulationError
 from cosim.nonlinear.model import Bicycle, reduced_jacobian
 
 #: Scale of the continuation variables (phi [rad], delta [rad], speed -u_R rR [m/s]).
 SPEED_SCALE = 10.0
+
+
+@dataclass(frozen=True)
+class Window:
+    """The region searched for steady turns: ``0 < phi < phi_max`` (the mirror turns
+    ``(-phi, -delta)`` cover negative roll), ``-delta_max < delta <= delta_max`` and
+    ``v_min < -u_R rR < v_max`` (the rear rim speed: the contact point's speed for a knife-edge
+    wheel, slightly more than it for a crowned wheel leaning).
+
+    Attributes
+    ----------
+    phi_max : float
+        Largest roll angle [rad]; pi/2 is the bicycle lying on the ground.
+    delta_max : float
+        Largest steer angle magnitude [rad]; pi is the front wheel turned backwards.
+    v_min, v_max : float
+        Speed range of the rear contact point [m/s].
+    """
+
+    phi_max: float = np.pi / 2
+    delta_max: float = np.pi
+    v_min: float = 0.0
+    v_max: float = 15.0
+
+    def contains(self, z) -> bool:
+        """Whether the continuation point ``z = (phi, delta, -u_R rR / SPEED_SCALE)`` is inside."""
+        return bool(0.0 < z[0] < self.phi_max and -self.delta_max < z[1] <= self.delta_max
+                    and self.v_min < z[2] * SPEED_SCALE < self.v_max)
+
+    def describe(self) -> str:
+        return (f"0 < phi < {self.phi_max:.4g} rad (and mirror), |delta| <= {self.delta_max:.4g} rad, "
+                f"{self.v_min:g} < v < {self.v_max:g} m/s")
+
+
+@dataclass
+class Fold:
+    """A saddle-node (fold) point of a curve of steady turns: the speed is extremal along the
+    curve and ``dG/d(phi, delta)`` is singular.
+
+    Attributes
+    ----------
+    v : float
+        Speed of the rear contact point [m/s].
+    phi, delta : float
+        Roll and steer angle [rad].
+    kind : str
+        ``"min"`` (turns exist only above ``v`` near the fold) or ``"max"`` (only below).
+    residual : float
+        Largest component of ``G`` at the refined point [rad/s^2].
+    """
+
+    v: float
+    phi: float
+    delta: float
+    kind: str
+    residual: float
 
 
 @dataclass
@@ -68,8 +137,16 @@ class SteadyTurns:
         return {"phi0": z[0], "delta0": z[1], "u_R0": -z[2] * SPEED_SCALE / self.rR}
 
     def residual(self, z) -> np.ndarray:
+        """``G(z) = (du_phi/dt, du_delta/dt)`` [rad/s^2]; raises ``FMICallException`` where the
+        FMU cannot make the pitch consistent."""
         self.bike.initialize(self._start(z))
         return self.bike.derivatives()[self.rows]
+
+    def _residual_or_nan(self, z) -> np.ndarray:
+        try:
+            return self.residual(z)
+        except FMICallException:
+            return np.full(2, np.nan)
 
     def linearization(self, z):
         """G(z), dG/dz (2x3) and the reduced Jacobian (5x5, its names)."""
@@ -102,7 +179,10 @@ class SteadyTurns:
         """Newton on G = 0 (plus the arclength condition when ``tangent`` is given)."""
         z = np.asarray(z, float).copy()
         for k in range(max_iter):
-            G, DG, _, _ = self.linearization(z)
+            try:
+                G, DG, _, _ = self.linearization(z)
+            except FMICallException:  # outside the configurations the FMU can assemble
+                return None, k
             if tangent is None:
                 # minimum-norm step in (phi, delta) with fixed speed
                 step = np.linalg.lstsq(DG[:, :2], -G, rcond=None)[0]
@@ -110,23 +190,28 @@ class SteadyTurns:
             else:
                 F = np.concatenate([G, [tangent @ (z - z_pred)]])
                 Jf = np.vstack([DG, tangent])
-                step = np.linalg.solve(Jf, -F)
+                try:
+                    step = np.linalg.solve(Jf, -F)
+                except np.linalg.LinAlgError:
+                    return None, k
                 z += step
+            if not np.all(np.isfinite(z)):
+                return None, k
             if np.abs(step).max() < tol and np.abs(G).max() < 1e-7:
                 return z, k + 1
-        G = self.residual(z)
+        G = self._residual_or_nan(z)
         if np.abs(G).max() < 1e-8:
             return z, max_iter
         return None, max_iter
 
     def trace(self, z0, direction: float = 1.0, *, ds: float = 0.02, ds_max: float = 0.05,
-              ds_min: float = 1e-5, max_points: int = 2000, v_max: float = 15.0, phi_max: float = 1.45,
-              delta_max: float = 1.45) -> Branch:
-        """Continue the curve through ``z0`` in one direction until it leaves the domain
-        ``0 < phi < phi_max``, ``|delta| < delta_max``, ``0 < v < v_max``."""
+              ds_min: float = 1e-5, max_points: int = 2000, window: Window = Window()) -> Branch:
+        """Continue the curve through ``z0`` in one direction (+1: growing speed at ``z0``) until
+        it leaves ``window``, the FMU cannot assemble the bicycle, or the step falls below
+        ``ds_min``."""
         z, _ = self.correct(z0)
         if z is None:
-            raise RuntimeError(f"no steady turn near {z0}")
+            raise SimulationError(f"no steady turn near {z0}")
         _, DG, _, _ = self.linearization(z)
         t = _null(DG) * direction
         branch = Branch([self.equilibrium(z, t)])
@@ -144,16 +229,17 @@ class SteadyTurns:
                 tn = -tn
             z, t = zn, tn
             point = self.equilibrium(z, t)
-            if not (0.0 < z[0] < phi_max and abs(z[1]) < delta_max and 0.0 < z[2] * SPEED_SCALE < v_max):
+            if not window.contains(z):
                 break
             branch.points.append(point)
             if iters <= 3:
                 ds = min(ds * 1.3, ds_max)
         return branch
 
-    def upright(self, speeds) -> Branch:
-        """The upright straight-running branch phi = delta = 0."""
-        return Branch([self.equilibrium(np.array([0.0, 0.0, v / SPEED_SCALE]), np.array([0.0, 0.0, 1.0]))
+    def upright(self, speeds, delta: float = 0.0) -> Branch:
+        """The upright straight-running branch ``phi = 0, delta = 0`` (or ``delta = pi``: the front
+        wheel turned backwards) at ``speeds`` [m/s]."""
+        return Branch([self.equilibrium(np.array([0.0, delta, v / SPEED_SCALE]), np.array([0.0, 0.0, 1.0]))
                        for v in speeds])
 
     def upright_stable_interval(self, v_lo: float = 0.0, v_hi: float = 15.0, num: int = 301):
@@ -177,35 +263,116 @@ class SteadyTurns:
         high = brentq(max_real, speeds[j], speeds[j + 1], xtol=1e-13) if j + 1 < len(speeds) else np.inf
         return float(low), float(high)
 
-    def find_turns(self, phis, deltas, speeds) -> list[np.ndarray]:
-        """Steady turns at fixed roll angles: sign changes of both components of G on a
-        (speed, steer) grid, polished by Newton in (delta, s) at fixed phi."""
+    def find_turns_at_speeds(self, speeds, phis, deltas, window: Window = Window()) -> list[np.ndarray]:
+        """Steady turns at fixed speeds: cells of a ``(phi, delta)`` grid where both components of
+        ``G`` change sign, polished by damped Newton in ``(phi, delta)`` at the cell's speed.
+
+        Parameters
+        ----------
+        speeds : array_like
+            Speeds of the rear contact point [m/s].
+        phis, deltas : array_like
+            Grid of roll and steer angles [rad]; points the FMU cannot assemble are skipped.
+        window : Window
+            Only turns inside are returned.
+
+        Returns
+        -------
+        list of ndarray
+            Continuation points ``(phi, delta, v / SPEED_SCALE)``, distinct to 1e-6.
+        """
+        phis, deltas = np.asarray(phis, float), np.asarray(deltas, float)
         found = []
-        for phi in phis:
-            G = np.array([[self.residual(np.array([phi, d, v / SPEED_SCALE])) for d in deltas] for v in speeds])
-            for i in range(len(speeds) - 1):
+        for v in speeds:
+            s = v / SPEED_SCALE
+            G = np.array([[self._residual_or_nan(np.array([a, d, s])) for d in deltas] for a in phis])
+            for i in range(len(phis) - 1):
                 for j in range(len(deltas) - 1):
                     cell = G[i:i + 2, j:j + 2]
+                    if np.isnan(cell).any():
+                        continue
                     if all(cell[..., k].min() < 0.0 < cell[..., k].max() for k in range(2)):
-                        z = self._polish_fixed_phi(np.array([phi, deltas[j], speeds[i] / SPEED_SCALE]))
-                        if z is not None and not any(np.linalg.norm(z - f) < 1e-6 for f in found):
+                        mid = np.array([0.5 * (phis[i] + phis[i + 1]), 0.5 * (deltas[j] + deltas[j + 1]), s])
+                        z = self._polish_fixed_speed(mid)
+                        # phi = 0 with delta = 0 or pi (straight running) solves G = 0 at every
+                        # speed: those branches are not turns (see upright()).
+                        if (z is not None and window.contains(z) and z[0] > 1e-8
+                                and not any(np.linalg.norm(z - f) < 1e-6 for f in found)):
                             found.append(z)
         return found
 
-    def _polish_fixed_phi(self, z, max_iter: int = 20):
+    def _polish_fixed_speed(self, z, max_iter: int = 30):
         z = z.copy()
         for _ in range(max_iter):
-            G, DG, _, _ = self.linearization(z)
-            J = DG[:, 1:]
             try:
-                step = np.linalg.solve(J, -G)
-            except np.linalg.LinAlgError:
+                G, DG, _, _ = self.linearization(z)
+                step = np.linalg.solve(DG[:, :2], -G)
+            except (FMICallException, np.linalg.LinAlgError):
                 return None
-            scale = min(1.0, 0.2 / max(1e-12, np.abs(step).max()))
-            z[1:] += scale * step
-            if np.abs(step).max() < 1e-12 or np.abs(G).max() < 1e-11:
+            # damped: a cell is small, a long step would jump to another turn
+            z[:2] += min(1.0, 0.1 / max(1e-12, np.abs(step).max())) * step
+            if np.abs(step).max() < 1e-12:
                 break
-        return z if np.abs(self.residual(z)).max() < 1e-9 and z[2] > 0 else None
+        G = self._residual_or_nan(z)
+        return z if np.abs(G).max() < 1e-9 else None
+
+    def speed(self, z) -> float:
+        """The FMU's forward speed ``v`` of the rear contact point [m/s] at ``z``; it differs from
+        ``-u_R rR`` for a crowned rear wheel leaning (the contact point moves round the crown)."""
+        self.bike.initialize(self._start(z))
+        return float(self.bike.get(["v"])[0])
+
+    def fold_function(self, z, h: float = 1e-7) -> tuple[np.ndarray, float, np.ndarray]:
+        """``G(z)``, the fold function ``det [dG/dz; dv/dz]`` and ``dG/dz``.
+
+        The steady turns at a prescribed speed ``v`` solve ``G = 0, v(z) = v``; where the Jacobian
+        of these three equations in ``z`` is singular, the speed is extremal along the curve (its
+        tangent ``dG[0] x dG[1]`` is orthogonal to ``dv/dz``). ``dv/dz`` by central differences
+        (``v`` is a smooth output of the FMU); for knife-edge wheels it is ``(0, 0, SPEED_SCALE)``.
+        """
+        G, DG, _, _ = self.linearization(z)
+        grad_v = np.array([(self.speed(z + h * e) - self.speed(z - h * e)) / (2 * h) for e in np.eye(3)])
+        return G, float(np.linalg.det(np.vstack([DG, grad_v]))), DG
+
+    def refine_fold(self, z, tol: float = 1e-9, max_iter: int = 30, h: float = 1e-6) -> Fold:
+        """The fold near ``z``: Newton on ``(G, fold function) = 0`` in ``z`` (the fold function's
+        gradient by central differences), until the step is below ``tol`` (the differences of
+        the speed make the fold function noisy at about 1e-11 in ``z``).
+
+        Raises
+        ------
+        SimulationError
+            If Newton does not converge (no fold near ``z``).
+        """
+        z = np.asarray(z, float).copy()
+        for _ in range(max_iter):
+            G, f, DG = self.fold_function(z)
+            grad = np.array([(self.fold_function(z + h * e)[1] - self.fold_function(z - h * e)[1]) / (2 * h)
+                             for e in np.eye(3)])
+            step = np.linalg.solve(np.vstack([DG, grad]), -np.concatenate([G, [f]]))
+            z += step
+            if np.abs(step).max() < tol:
+                break
+        else:
+            raise SimulationError(f"no fold near phi = {z[0]:.6g}, delta = {z[1]:.6g}, u_R = {self._start(z)['u_R0']:.6g}")
+        G = self.residual(z)
+        v = self.speed(z)
+        # kind: on which side of the fold speed the pair of turns lies
+        _, _, DG = self.fold_function(z)
+        t = _null(DG)
+        z_side, _ = self.correct(z + 1e-3 * t, t, z + 1e-3 * t)
+        kind = "min" if z_side is not None and self.speed(z_side) > v else "max"
+        return Fold(v, float(z[0]), float(z[1]), kind, float(np.abs(G).max()))
+
+    def folds(self, branch: Branch) -> list[Fold]:
+        """The folds of a traced curve: every interior local extremum of the speed, refined."""
+        v = branch.array("v")
+        out = []
+        for k in range(1, len(v) - 1):
+            if (v[k] - v[k - 1]) * (v[k + 1] - v[k]) < 0:
+                p = branch.points[k]
+                out.append(self.refine_fold(np.array([p.phi, p.delta, -p.u_R * self.rR / SPEED_SCALE])))
+        return out
 
 
 def _null(DG: np.ndarray) -> np.ndarray:

@@ -66,7 +66,10 @@ equation
   connect(T_beta, hip.tau_in);
   annotation(
     experiment(StartTime = 0, StopTime = 10, Tolerance = 1e-10, Interval = 0.01),
-    __Cosim(export = true),
+    __Cosim(export = true,
+      singular(
+        delta(angle_deg = 90, tolerance_deg = 15, description = "the front wheel stands across the rear frame, where the rolling constraints of the two wheels lose rank (near +-90 deg: the exact steer angle moves with lean and pitch)"),
+        phi(angle_deg = 90, tolerance_deg = 15, description = "the wheels lie flat on the ground, where their contact points are undefined"))),
     Documentation(info = "<html>
 <p>The nonlinear Whipple bicycle of <a href=\"modelica://Bicycle.Bicycles.Whipple\">Whipple</a> with
 the rider's upper body U as a fifth body, hinged to the rear frame B about the longitudinal axis

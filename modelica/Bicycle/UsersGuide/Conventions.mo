@@ -18,7 +18,9 @@ Meijaard et al. 2007)</th></tr>
 <tr><td>vertical coordinates</td><td>heights h positive up</td><td>z of a centre of mass negative above the ground</td></tr>
 </table>
 <p>So a steer angle (and a steer torque) of the Whipple family is minus the one of the second-order
-models; roll angles agree.</p>
+models; roll angles agree. <code>RearSteered</code> is model (1) driven backwards, seen by its rider:
+x points in the direction of motion, so its forward speed is <code>V &gt; 0</code> and the table holds
+for it as for the other second-order models (<code>V &lt; 0</code>: ridden backwards).</p>
 <h4>Head angle and steer-axis tilt</h4>
 <p>The paper's head angle <code>lambda</code> (Figure 1) is the angle between the steer axis and the
 ground, about 70&deg;. The Whipple family uses Meijaard's steer-axis tilt <code>lam</code>, the angle
