@@ -416,7 +416,8 @@ def load_parameters(name_or_path: str | os.PathLike[str], *, waive: Iterable[str
     Returns
     -------
     dict of str to float
-        Validated parameters in :data:`PARAMETER_NAMES` order.
+        Validated parameters in :data:`PARAMETER_NAMES` order, in SI units (lengths [m], masses
+        [kg], inertias [kg m^2], angles [rad], g [m/s^2]; see :data:`UNITS`).
 
     Raises
     ------
