@@ -54,7 +54,10 @@ environment variables:
   COSIM_FMU_DIR        folder where model names are built to FMUs (default: ./fmus)
   COSIM_MODELICA_PATH  Modelica library folder used to resolve model names (default: the one
                        shipped with the package); --library DIR of a command overrides it
-  COSIM_DEBUG          1: an internal error prints its traceback (default: one line)"""
+  COSIM_DEBUG          1: an internal error prints its traceback (default: one line)
+  XDG_CACHE_HOME       cache folder (default: ~/.cache): pymoca's parse cache and the library
+                       index cosim/library-index-*.json (what `list` and `info MODEL` print,
+                       rebuilt when a .mo file or the compiler changes; safe to delete)"""
 
 RESULTS = """\
 results: -o NAME.csv writes CSV (a header row, then one row per output time); -o NAME.npy a
@@ -105,7 +108,16 @@ coordinates x, y, psi, thetaR, thetaF. Numerically A's zero eigenvalues are defe
 integrates psi), which is why the lateral ones are reported separately. --lock-hinge holds the
 rider's hinge at beta = 0 by its reaction torque (the direction of the lean torque T_beta):
 exact, independent of the hinge stiffness kU and damping cU. Off upright straight running the
-reduction is refused ("steady_motion": null with "steady_motion_note")."""
+reduction is refused ("steady_motion": null with "steady_motion_note").
+
+speed sweep: --speeds A:B:STEP (B included) or V1,V2,... linearizes at each speed with one FMU
+instance (re-initialized per speed: the same numbers as --speed V one speed at a time). Text: one
+line of eigenvalues per speed (the lateral ones for the nonlinear bicycles). --json (one line):
+"speeds", the common fields (model, parameters, states, inputs, outputs, method, and for the
+nonlinear bicycles "steady_motion" with its states, inputs, hinge and zero_eigenvalues) and
+"points": per speed "speed", the speed parameter's value, "eigenvalues" of A and "steady_motion"
+(A, B, eigenvalues, path A and B; null with "steady_motion_note" where refused); --matrices adds
+A, B, C, D per speed."""
 
 MAIN_EPILOG = f"""\
 Run `cosim VERB --help` for the options of a command.
@@ -157,9 +169,9 @@ def _cmd_build(args) -> int:
 
 def _cmd_list(args) -> int:
     from cosim.compiler.catalog import catalog, shorten
-    from cosim.compiler.library import load_library
 
-    summaries = catalog(load_library(), exported_only=args.exported,
+    # the library of --library / $COSIM_MODELICA_PATH, from its index unless a file changed
+    summaries = catalog(exported_only=args.exported,
                         warn=lambda message: print(f"cosim list: warning: {message}", file=sys.stderr))
     if args.json:
         print(json.dumps([s.to_dict() for s in summaries], indent=2))
@@ -306,6 +318,12 @@ def _cmd_linearize(args) -> int:
     from cosim.fmu.parameters import from_command_line
     from cosim.fmu.target import resolve_fmu
 
+    if args.speeds is not None:
+        if args.speed is not None:
+            raise ParameterError("give either --speed V or --speeds A:B:STEP|V1,V2,..., not both")
+        return _linearize_sweep(args)
+    if args.matrices:
+        raise ParameterError("--matrices applies to a sweep (--speeds) only; the single-speed output has them")
     params = from_command_line(args.target, args.param, parameter_set=args.params, speed=args.speed,
                                input_hint="give its operating-point value with --input {name}=VALUE")
     inputs = _operating_point(args.target, args.input)
@@ -349,6 +367,59 @@ def _cmd_linearize(args) -> int:
             print(f"  {state}: {reason}")
     elif note:
         print(f"no lateral reduction: {note}")
+    return EXIT_OK
+
+
+def _linearize_sweep(args) -> int:
+    """``cosim linearize MODEL --speeds ...``: :func:`cosim.fmu.linearize.linearize_speeds`."""
+    from cosim.fmu.linearize import NotSteadyMotion, linearize_speeds, parse_speeds
+    from cosim.fmu.parameters import declarations, forward_speed, from_command_line
+    from cosim.fmu.target import resolve_fmu
+
+    speeds = parse_speeds(args.speeds)
+    if not speeds:
+        raise ParameterError(f"--speeds {args.speeds}: no speeds")
+    fmu = resolve_fmu(args.target)
+    declared = declarations(str(fmu))
+    fs = forward_speed(str(fmu), declared)
+    hint = "give its operating-point value with --input {name}=VALUE"
+    params = from_command_line(str(fmu), args.param, parameter_set=args.params, input_hint=hint, declared=declared)
+    for v in (min(speeds), max(speeds)):  # the speeds' declared bounds (an interval: the extremes decide)
+        try:
+            from_command_line(str(fmu), args.param, parameter_set=args.params, input_hint=hint, speed=v,
+                              declared=declared, report=lambda message: None)
+        except ParameterError as exc:
+            raise ParameterError(f"--speeds {args.speeds}: {exc}") from None
+    if fs.parameter in params:
+        raise ParameterError(f"--param {fs.parameter}: the speed parameter is set by --speeds")
+    inputs = _operating_point(str(fmu), args.input) if args.input else {}
+    try:
+        sweep = linearize_speeds(fmu, speeds, params, inputs or None, lock_hinge=args.lock_hinge)
+    except NotSteadyMotion as exc:
+        raise ParameterError(f"--lock-hinge: {exc}") from None
+    if args.json:
+        print(json.dumps(sweep.to_dict(matrices=args.matrices)))  # one line: 1000 speeds print fast
+        return EXIT_OK
+    lateral = sweep.steady is not None
+    ev = sweep.lateral_eigenvalues if lateral else sweep.eigenvalues
+    print(f"{sweep.model} linearized ({sweep.method}) at {len(sweep)} speeds"
+          + (f", {params}" if params or inputs else "") + (f", inputs {inputs}" if inputs else ""))
+    if lateral:
+        first = next((s for s in sweep.steady if not isinstance(s, NotSteadyMotion)), None)
+        print("eigenvalues [1/s] of the lateral dynamics about upright straight running"
+              + (f" ({', '.join(first.states)}; rider hinge {first.hinge})" if first and first.hinge else
+                 f" ({', '.join(first.states)})" if first else "")
+              + "; the other eigenvalues are exact zeros (see cosim linearize --help)")
+    else:
+        print(f"eigenvalues [1/s] of A ({', '.join(sweep.states)})")
+    print(f"{fs.label + ' [m/s]':>10}{'eigenvalues':>22}")
+    for k, v in enumerate(sweep.speeds):
+        row = ev[k]
+        if lateral and isinstance(sweep.steady[k], NotSteadyMotion):
+            text = f"no lateral reduction: {sweep.steady[k]}"
+        else:
+            text = "".join(f"{f'{e.real:.6g}{e.imag:+.6g}j' if e.imag else f'{e.real:.6g}':>22}" for e in row)
+        print(f"{v:>10.6g}{text}")
     return EXIT_OK
 
 
@@ -541,6 +612,11 @@ def parser() -> argparse.ArgumentParser:
     lin.add_argument("--speed", type=_finite, default=None, metavar="V",
                      help="forward speed [m/s]: sets V or v; nonlinear bicycles: upright straight running, "
                           "u_R0 = -V/rR (V >= 0)")
+    lin.add_argument("--speeds", default=None, metavar="A:B:STEP|V1,V2,...",
+                     help="a speed sweep [m/s] (a range, B included, or a list): one FMU instance, per speed "
+                          "the eigenvalues (and --json: the lateral reduction); not with --speed")
+    lin.add_argument("--matrices", action="store_true",
+                     help="with --speeds --json: also A, B, C, D per speed")
     lin.add_argument("--lock-hinge", action="store_true",
                      help="WhippleRider: lock the rider's hip hinge (exactly, by its reaction torque) in the "
                           "lateral linearization")

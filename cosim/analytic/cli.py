@@ -11,8 +11,6 @@ import argparse
 import json
 import math
 
-import numpy as np
-
 __all__ = ["add_parser", "run", "analytic_report", "format_report"]
 
 MATRIX_UNITS = {"M": "kg m^2", "C1": "kg m (times v)", "K0": "kg m (times g)", "K2": "kg (times v^2)"}
@@ -70,6 +68,8 @@ def analytic_report(params_name: str, speeds: list[float]) -> dict:
 
 
 def _matrix_lines(name: str, m) -> list[str]:
+    import numpy as np  # here, not at the top: `cosim VERB` for every verb builds this parser
+
     m = np.asarray(m)
     rows = [" ".join(f"{x:22.14f}" for x in row) for row in m]
     return [f"{name} [{MATRIX_UNITS[name]}]:"] + [f"  {r}" for r in rows]

@@ -13,10 +13,10 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from cosim.errors import CosimError, ParameterError
+from cosim.fmu.linearize import MAX_SPEEDS, parse_speeds  # noqa: F401 (the grammar of --speeds, one place)
 
 ORIGIN = 1e-6  # roots with |r| <= ORIGIN * max(1, max |roots|) are roots at the origin (integrators)
 REDUCTION_TOL = 1e-10  # relative tolerance of the Krylov reduction to a minimal realization
-MAX_SPEEDS = 10_000  # operating points one `cosim compare` linearizes
 
 
 def _krylov_basis(A: np.ndarray, v: np.ndarray, tol: float) -> np.ndarray:
@@ -177,42 +177,6 @@ def compare_systems(model: str, parameters: dict, found, expected) -> Comparison
                 root_set_error(p, ep), root_set_error(z, ez),
                 0.0 if k == ek else abs(k - ek) / scale))
     return result
-
-
-def parse_speeds(text: str) -> list[float]:
-    """``A:B:STEP`` (inclusive) or a comma-separated list of speeds in m/s.
-
-    Raises
-    ------
-    ParameterError
-        For malformed text, non-finite values, STEP <= 0, B < A or more than :data:`MAX_SPEEDS`.
-    """
-    from cosim.errors import ParameterError
-
-    def numbers(parts):
-        try:
-            values = [float(v) for v in parts]
-        except ValueError:
-            raise ParameterError(f"--speeds expects A:B:STEP or V1,V2,... [m/s], got '{text}'") from None
-        if not all(math.isfinite(v) for v in values):
-            raise ParameterError(f"--speeds {text}: the speeds must be finite")
-        return values
-
-    if ":" in text:
-        parts = text.split(":")
-        if len(parts) != 3:
-            raise ParameterError(f"--speeds expects A:B:STEP, got '{text}'")
-        start, stop, step = numbers(parts)
-        if step <= 0 or stop < start:
-            raise ParameterError(f"--speeds {text}: need STEP > 0 and B >= A")
-        n = int(np.floor((stop - start) / step + 1e-9)) + 1
-        if n > MAX_SPEEDS:
-            raise ParameterError(f"--speeds {text}: {n} speeds (at most {MAX_SPEEDS}); use a larger STEP")
-        return [round(start + k * step, 12) for k in range(n)]
-    values = numbers(text.split(","))
-    if len(values) > MAX_SPEEDS:
-        raise ParameterError(f"--speeds: {len(values)} speeds (at most {MAX_SPEEDS})")
-    return values
 
 
 def format_table(comparisons: list[Comparison], speed_name: str) -> str:

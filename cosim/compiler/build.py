@@ -15,7 +15,6 @@ import contextlib
 import hashlib
 import json
 import os
-import platform
 import shutil
 import signal
 import tempfile
@@ -24,17 +23,17 @@ import uuid
 from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
-from functools import lru_cache
 from pathlib import Path
 
-from cosim import __version__
 from cosim.errors import BuildError, CosimError, ModelicaError, OutputError, ParameterError
 from cosim.outputs import check_output_folder
 from cosim.processes import die_with_parent
 from cosim.compiler import fmu as fmu_files
-from cosim.compiler.codegen import RUNTIME_DIR, casadi_functions, generated_sources, write_sources
+from cosim.compiler.library import compiler_digest  # noqa: F401 (cosim.compiler.build.compiler_digest)
+from cosim.compiler.library import tool_versions as _tool_versions
+from cosim.compiler.codegen import casadi_functions, generated_sources, write_sources
 from cosim.compiler.description import describe
-from cosim.compiler.flatten import flatten
+from cosim.compiler.flatten import fewer_collections, flatten
 from cosim.compiler.fmu import MANIFEST, compile_binary, pack, platform_folder, read_manifest
 from cosim.compiler.library import Library, load_library
 from cosim.compiler.model_description import model_description_xml
@@ -44,6 +43,9 @@ from cosim.compiler.ode import make_explicit
 # directory (never the installed package), or the folder named by COSIM_FMU_DIR (the tests point
 # it to a temporary folder).
 DEFAULT_OUTPUT = Path(os.environ.get("COSIM_FMU_DIR") or Path.cwd() / "fmus").absolute()
+# Folder of the output folder that holds the compiled runtime, one object per runtime source,
+# compiler and flags (cosim.compiler.fmu.load_runtime_object): compiled once, not per FMU.
+RUNTIME_CACHE = ".cosim-cache"
 
 
 @dataclass
@@ -54,25 +56,6 @@ class BuildResult:
     fmu: Path
     rebuilt: bool
     seconds: float = 0.0
-
-
-def _tool_versions() -> dict:
-    import casadi
-    import pymoca
-
-    return {"cosim": __version__, "pymoca": pymoca.__version__, "casadi": casadi.__version__,
-            "python": platform.python_version()}
-
-
-@lru_cache(maxsize=1)
-def compiler_digest() -> str:
-    """Changes whenever the compiler, the runtime or the tools behind them change."""
-    h = hashlib.sha256(json.dumps(_tool_versions(), sort_keys=True).encode())
-    here = Path(__file__).resolve().parent
-    for path in sorted(list(here.glob("*.py")) + list(RUNTIME_DIR.glob("*.[ch]"))):
-        h.update(path.name.encode())
-        h.update(path.read_bytes())
-    return h.hexdigest()
 
 
 def _fingerprint(flat, entry) -> str:
@@ -192,7 +175,7 @@ def build_model(model_name: str, output: str | Path = DEFAULT_OUTPUT, library: L
     target = fmu_path(model_name, output)
     if target.is_dir():
         raise OutputError(f"cannot write the FMU '{target}': a folder of that name is in the way")
-    with _build_lock(target):
+    with _build_lock(target), fewer_collections():
         return _build_locked(model_name, target, library, entry, force, started)
 
 
@@ -220,12 +203,12 @@ def _build_locked(model_name, target, library, entry, force, started) -> BuildRe
     with _scratch_folder() as tmp:
         staging = Path(tmp) / "fmu"
         sources = staging / "sources"
-        files = write_sources(info, model, sources)
+        files = write_sources(info, model, sources, functions)
         (staging / "modelDescription.xml").write_bytes(model_description_xml(info, tool))
         binaries = staging / "binaries" / platform_folder()
         binaries.mkdir(parents=True)
         compile_binary(sources, info.identifier, binaries / f"{info.identifier}.so", generated=tuple(generated_sources(info)),
-                       objects=Path(tmp) / "objects")
+                       objects=Path(tmp) / "objects", cache=target.parent / RUNTIME_CACHE)
         source_hashes = {name: hashlib.sha256((sources / name).read_bytes()).hexdigest() for name in files}
         (staging / MANIFEST).parent.mkdir(parents=True, exist_ok=True)
         (staging / MANIFEST).write_text(json.dumps({

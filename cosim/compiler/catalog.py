@@ -3,13 +3,18 @@ and what a model says about itself in its ``__Cosim`` annotation beyond ``export
 configurations, :func:`singular_configurations`)."""
 from __future__ import annotations
 
+import hashlib
+import json
 import math
+import os
 import sys
+import tempfile
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
+from pathlib import Path
 
-from cosim.compiler.flatten import flatten
-from cosim.compiler.library import Library, load_library
+from cosim.compiler.library import (Library, compiler_digest, library_digest, library_paths,
+                                    load_library)
 from cosim.errors import CosimError, ModelicaError
 
 
@@ -54,17 +59,34 @@ class ModelSummary:
         """JSON-ready: full values, ``None`` (JSON ``null``) where a value is unknown."""
         return asdict(self)
 
+    @classmethod
+    def from_dict(cls, data: dict) -> ModelSummary:
+        """The summary :meth:`to_dict` made (as read back from the library index)."""
+        groups = {key: [Signal(**signal) for signal in data[key]] for key in ("inputs", "outputs", "parameters")}
+        return cls(data["name"], data["description"], data["exported"], dict(data["experiment"]), **groups)
+
 
 def summarize(name: str, library: Library | None = None) -> ModelSummary:
     """Flatten ``name`` and list its top-level inputs, outputs and parameters, each with its
     declared type (Real, Integer or Boolean, also behind a derived type such as
     ``Bicycle.Units.Angle``), unit, description, ``min``/``max`` and, for parameters, value.
 
+    Without ``library``, the model of the default library (``$COSIM_MODELICA_PATH``, else the
+    shipped one) is taken from the library index if it is there and up to date (no parse, no
+    pymoca or CasADi), else flattened and added to the index.
+
     Raises
     ------
     UnknownModelError, ModelicaError
+        The same errors, with the same messages, whether or not the index is used.
     """
-    library = library or load_library()
+    if library is None:
+        cached = _index_summary(name)
+        if cached is not None:
+            return cached
+        library = load_library()
+    from cosim.compiler.flatten import flatten  # pymoca and CasADi: only where the library is parsed
+
     entry = library.entry(name)
     flat = flatten(library, name)
     values = {v.symbol.name(): v.value for v in flat.casadi.parameters}
@@ -101,27 +123,169 @@ def catalog(library: Library | None = None, exported_only: bool = False,
 
     Parameters
     ----------
+    library : Library, optional
+        A parsed library. Default: the library of ``$COSIM_MODELICA_PATH`` (else the shipped
+        one), answered from its index (:func:`load_index`) unless a file or the compiler changed
+        since the index was written, without importing pymoca or CasADi.
+    exported_only : bool
+        Only the models that `cosim build` exports.
     warn : callable, optional
         Called with each warning (default: printed as one line on stderr).
+
+    Raises
+    ------
+    ModelicaError
+        If the library folder does not exist or holds no ``.mo`` file.
     """
-    library = library or load_library()
-    warn = warn or _warn_on_stderr
-    left_out: dict = {file: [] for file in library.errors}
-    summaries = []
+    if library is None:
+        index = load_index()
+    else:
+        index = _records(library, exported_only)
+    return _assemble(index, exported_only, warn or _warn_on_stderr)
+
+
+def _records(library: Library, exported_only: bool = False) -> dict:
+    """What `cosim list` reports of the library, JSON-ready: per model (library order) its
+    summary, or the first line of why it cannot be summarized, or the file whose parse error
+    leaves it out; per file that did not parse, the first line of its error."""
+    models = []
     for entry in library.models(exported_only=exported_only):
+        record = {"name": entry.name, "exported": entry.exported}
         try:
-            summaries.append(summarize(entry.name, library))
+            record["summary"] = summarize(entry.name, library).to_dict()
         except CosimError as exc:
             text = str(exc)
             file = next((f for f, error in library.errors.items() if text.startswith(str(error))), None)
             if file is not None:
-                left_out[file].append(entry.name)
+                record["broken_file"] = str(file)
             else:
-                warn(f"{entry.name} is not listed: {text.splitlines()[0]}")
-    for file, error in library.errors.items():
+                record["problem"] = text.splitlines()[0]
+        models.append(record)
+    errors = [[str(file), str(error).splitlines()[0]] for file, error in library.errors.items()]
+    return {"models": models, "errors": errors}
+
+
+def _assemble(index: dict, exported_only: bool, warn: Callable[[str], None]) -> list[ModelSummary]:
+    """The summaries of :func:`catalog` from :func:`_records`, warning about the others."""
+    left_out: dict = {file: [] for file, _ in index["errors"]}
+    summaries = []
+    for record in index["models"]:
+        if exported_only and not record["exported"]:
+            continue
+        if "summary" in record:
+            summaries.append(ModelSummary.from_dict(record["summary"]))
+        elif "broken_file" in record:
+            left_out[record["broken_file"]].append(record["name"])
+        else:
+            warn(f"{record['name']} is not listed: {record['problem']}")
+    for file, error in index["errors"]:
         models = f"; not listed: {', '.join(left_out[file])}" if left_out[file] else ""
-        warn(f"{str(error).splitlines()[0]}{models}")
+        warn(f"{error}{models}")
     return summaries
+
+
+# --------------------------------------------------------------------------- the library index
+# Summarizing a model flattens it (pymoca, CasADi): seconds per model, minutes for `cosim list`
+# of the whole library. The summaries are therefore kept in an index file beside pymoca's parse
+# cache, valid for exactly one state of the library's files and of the compiler.
+
+#: Bumped whenever the layout of the index file changes.
+INDEX_FORMAT = 1
+
+
+def cache_folder() -> Path:
+    """``$XDG_CACHE_HOME/cosim`` (default ``~/.cache/cosim``): where the library index is kept,
+    beside pymoca's parse cache (``$XDG_CACHE_HOME/pymoca``)."""
+    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "cosim"
+
+
+def index_key(path=None) -> tuple[Path, str]:
+    """``(index file, key)`` of the library at ``path`` (as for :func:`library_paths`).
+
+    The file is named after the library folders (one index per library, overwritten when it
+    changes); the key is the digest of the folders, of every ``.mo`` file (name and content), of
+    the compiler and of the tools behind it (:func:`cosim.compiler.library.compiler_digest`).
+    """
+    paths = library_paths(path)
+    folders = os.pathsep.join(map(str, paths))
+    name = hashlib.sha256(folders.encode()).hexdigest()[:16]
+    key = hashlib.sha256("\0".join([str(INDEX_FORMAT), folders, library_digest(paths),
+                                      compiler_digest()]).encode()).hexdigest()
+    return cache_folder() / f"library-index-{name}.json", key
+
+
+def _read_index(file: Path, key: str) -> dict | None:
+    """The index stored in ``file`` if it is valid for ``key``; None if it is absent, stale or
+    damaged in any way (then the library is parsed again)."""
+    try:
+        data = json.loads(file.read_text(encoding="utf-8"))
+        if not isinstance(data, dict) or data.get("key") != key:
+            return None
+        index = {"models": list(data["models"]), "errors": [(str(f), str(e)) for f, e in data["errors"]],
+                 "complete": data["complete"] is True}
+        for record in index["models"]:  # check what _assemble and _index_summary rely on
+            if not (isinstance(record["name"], str) and isinstance(record["exported"], bool)):
+                return None
+            if "summary" in record:
+                ModelSummary.from_dict(record["summary"])
+            elif "broken_file" not in record and not isinstance(record.get("problem"), str):
+                return None
+        return index
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return None
+
+
+def _write_index(file: Path, key: str, index: dict) -> None:
+    """Store ``index`` atomically (a temporary file renamed over the old one, so a concurrent
+    reader sees the old or the new index, never half of one); silently skipped where the cache
+    folder cannot be written (the index only saves time)."""
+    try:
+        file.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{file.name}.", dir=file.parent)
+        try:
+            with os.fdopen(fd, "w", encoding="utf-8") as out:
+                json.dump({"key": key, **index}, out)
+            os.replace(tmp, file)
+        except BaseException:
+            os.unlink(tmp)
+            raise
+    except OSError:
+        pass
+
+
+def load_index(path=None) -> dict:
+    """The summaries of every model of the library at ``path`` (see :func:`_records`), from the
+    index if it is up to date and complete, else by parsing the library (then stored as the
+    index)."""
+    file, key = index_key(path)
+    index = _read_index(file, key)
+    if index is None or not index["complete"]:
+        index = {**_records(load_library(path)), "complete": True}
+        _write_index(file, key, index)
+    return index
+
+
+def _index_summary(name: str) -> ModelSummary | None:
+    """The summary of ``name`` from the index of the default library (``$COSIM_MODELICA_PATH``,
+    else the shipped one); if the index lacks it, the model alone is parsed and summarized and
+    its summary added to the index (so that `cosim info MODEL` after an edit costs one model, not
+    the whole library). None where the parse path must decide: no such model, a partial class,
+    a model that cannot be flattened (it raises the error there), an unusable library folder."""
+    try:
+        file, key = index_key()
+    except CosimError:  # e.g. a library folder that does not exist: reported by the parse
+        return None
+    index = _read_index(file, key)
+    record = next((r for r in index["models"] if r["name"] == name), None) if index else None
+    if record is not None:
+        return ModelSummary.from_dict(record["summary"]) if "summary" in record else None
+    if index is not None and index["complete"]:
+        return None  # not a model that can be summarized: the parse path reports why
+    summary = summarize(name, load_library())  # raises for a name without a summary
+    index = index or {"models": [], "errors": [], "complete": False}
+    index["models"].append({"name": name, "exported": summary.exported, "summary": summary.to_dict()})
+    _write_index(file, key, index)
+    return summary
 
 
 # --------------------------------------------------------------------------- singular configurations

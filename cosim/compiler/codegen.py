@@ -286,10 +286,13 @@ def _start_wrapper(info: ModelInfo, start: ca.Function) -> str:
     )
 
 
-def write_sources(info: ModelInfo, model: ExplicitModel, folder: Path) -> list[str]:
-    """Write every C source and header of the FMU into ``folder``; returns the file names."""
+def write_sources(info: ModelInfo, model: ExplicitModel, folder: Path,
+                  functions: list[ca.Function] | None = None) -> list[str]:
+    """Write every C source and header of the FMU into ``folder``; returns the file names.
+    ``functions``: those of :func:`casadi_functions` if the caller has them already (building
+    them again costs a second symbolic differentiation of the model)."""
     folder.mkdir(parents=True, exist_ok=True)
-    functions = casadi_functions(model)
+    functions = functions if functions is not None else casadi_functions(model)
     calc, start, evaluate, jvp, *chunks = functions
     for file, group in zip(generated_sources(model), ([calc, start, evaluate], [jvp], *([c] for c in chunks))):
         generator = ca.CodeGenerator(file, {"with_header": True, "casadi_real": "double"})

@@ -11,6 +11,8 @@ positions, so the line is that of the first use of the name inside the class).
 """
 from __future__ import annotations
 
+import contextlib
+import gc
 import re
 from dataclasses import dataclass, field
 
@@ -72,14 +74,32 @@ class _Declarations:
 
     def __init__(self, library: Library):
         self.library = library
+        # Look-ups are memoized (one flatten asks once per flat variable: scanning the members of
+        # the model for each was quadratic in its size); the tree does not change meanwhile.
+        self._classes: dict[str, object] = {}
+        self._members: dict[str, dict] = {}
 
     def _class(self, name: str):
+        if name in self._classes:
+            return self._classes[name]
         node = self.library.tree
         for part in name.split("."):
             node = node.classes.get(part)
             if node is None:
-                return None
+                break
+        self._classes[name] = node
         return node
+
+    def members(self, class_name: str) -> dict:
+        """``name -> (symbol, declaring class)`` of the components of a class, own and inherited
+        (the first of :meth:`symbols` for a name that occurs twice)."""
+        found = self._members.get(class_name)
+        if found is None:
+            found = {}
+            for name, symbol, owner in self.symbols(class_name):
+                found.setdefault(name, (symbol, owner))
+            self._members[class_name] = found
+        return found
 
     def resolve(self, type_name: str, scope: str) -> str | None:
         parts = scope.split(".")
@@ -105,14 +125,14 @@ class _Declarations:
         """The declaring symbol of ``flat_name`` inside ``class_name`` and the class that
         declares it (``(None, None)`` if not found)."""
         head, _, rest = flat_name.partition(".")
-        for name, symbol, owner in self.symbols(class_name):
-            if name != head:
-                continue
-            if not rest:
-                return symbol, owner
-            type_name = self.resolve(str(symbol.type), owner)
-            return self.find(type_name, rest) if type_name else (None, None)
-        return None, None
+        member = self.members(class_name).get(head)
+        if member is None:
+            return None, None
+        symbol, owner = member
+        if not rest:
+            return symbol, owner
+        type_name = self.resolve(str(symbol.type), owner)
+        return self.find(type_name, rest) if type_name else (None, None)
 
     def composition(self, class_name: str) -> list[str]:
         """``class_name``, its base classes and the classes of its components, recursively."""
@@ -140,7 +160,7 @@ class _Declarations:
         cls = self._class(class_name)
         if cls is not None and name in cls.classes:
             return True
-        return any(n == name for n, _, _ in self.symbols(class_name))
+        return name in self.members(class_name)
 
     def base_prefixes(self, symbol, owner: str) -> list[str]:
         """The prefixes (``input``, ``output``, ...) that the short class definitions behind a
@@ -515,6 +535,25 @@ def _check_declared_values(flat: FlatModel) -> None:
                                 f"'{decl.name}' is outside its declared range {bounds}")
 
 
+# Python's cyclic garbage collector, at its default thresholds (a collection of the young
+# generation every 700 allocations), ran thousands of times over the million live objects of
+# pymoca's trees of a large model: a third of flatten at 1000 states, two thirds of
+# make_explicit at 2000. The objects of a build live until it ends, so collections find little.
+COLLECTION_THRESHOLDS = (50_000, 20, 100)
+
+
+@contextlib.contextmanager
+def fewer_collections():
+    """Run the block with the garbage collector's thresholds raised to
+    ``COLLECTION_THRESHOLDS`` (never lowered); the previous thresholds are restored after."""
+    old = gc.get_threshold()
+    gc.set_threshold(*(max(a, b) for a, b in zip(old, COLLECTION_THRESHOLDS)))
+    try:
+        yield
+    finally:
+        gc.set_threshold(*old)
+
+
 def flatten(library: Library, model_name: str) -> FlatModel:
     """Flatten ``model_name`` and generate its CasADi form.
 
@@ -526,6 +565,11 @@ def flatten(library: Library, model_name: str) -> FlatModel:
         If the model (or a class it uses) is in a file that did not parse, or pymoca cannot
         flatten or translate it: an undeclared name, an unknown class, an undefined function.
     """
+    with fewer_collections():
+        return _flatten(library, model_name)
+
+
+def _flatten(library: Library, model_name: str) -> FlatModel:
     from pymoca import ast, tree
     from pymoca.backends.casadi._options import _merge_default_options
     from pymoca.backends.casadi.generator import Generator, GeneratorWalker

@@ -263,10 +263,7 @@ class Library:
 
         self.paths = library_paths(path)
         self.path = self.paths[0]
-        self._roots: dict[Path, Path] = {}  # file -> the library folder it lies in
-        for root in self.paths:
-            for file in sorted(p for p in root.rglob("*.mo") if p.is_file()):
-                self._roots.setdefault(file, root)  # a folder nested in another listed folder: the outer one
+        self._roots = library_files(self.paths)  # file -> the library folder it lies in
         self.files = list(self._roots)
         if not self.files:
             raise ModelicaError(f"{os.pathsep.join(map(str, self.paths))}: no .mo files in the Modelica "
@@ -356,26 +353,13 @@ class Library:
         """SHA-256 over every source file (name and content): changes when any source changes."""
         if getattr(self, "_digest", None):
             return self._digest
-        h = hashlib.sha256()
-        for file in self.files:
-            h.update(self.relative_name(file).encode())
-            h.update(b"\0")
-            try:
-                h.update(file.read_bytes())
-            except OSError:  # recorded in self.errors; an unreadable file still changes the digest
-                h.update(b"\0unreadable")
-        self._digest = h.hexdigest()
+        self._digest = _files_digest(self.paths, self._roots)
         return self._digest
 
     def relative_name(self, file: Path) -> str:
         """The name of a library file relative to its library folder; prefixed by the folder's
         position (``1:BicycleOracle/Whipple.mo``) for every folder after the first."""
-        root = self._roots.get(Path(file))
-        if root is None:
-            return str(file)
-        index = self.paths.index(root)
-        relative = str(Path(file).relative_to(root))
-        return f"{index}:{relative}" if index else relative
+        return _relative_name(self.paths, self._roots, file)
 
     def _file_of(self, name: str) -> Path:
         parts = name.split(".")
@@ -485,6 +469,115 @@ class Library:
         known = "\n  ".join(e.name for e in self.models())
         where = os.pathsep.join(map(str, self.paths))
         raise UnknownModelError(f"{problem}; the library at {where} has:\n  {known}")
+
+
+
+# --------------------------------------------------------------------------- without parsing
+# `cosim list`, `cosim info MODEL` and the up-to-date check of an FMU need the library's digest,
+# not its parse: these functions read the files only (no pymoca, no CasADi is imported).
+
+def library_files(paths: list[Path]) -> dict[Path, Path]:
+    """Every ``.mo`` file of the library folders ``paths`` (sorted per folder) -> its folder; a
+    folder nested in another listed folder counts as part of the outer one."""
+    roots: dict[Path, Path] = {}
+    for root in paths:
+        for file in sorted(p for p in root.rglob("*.mo") if p.is_file()):
+            roots.setdefault(file, root)
+    return roots
+
+
+def _relative_name(paths: list[Path], roots: dict[Path, Path], file) -> str:
+    root = roots.get(Path(file))
+    if root is None:
+        return str(file)
+    index = paths.index(root)
+    relative = str(Path(file).relative_to(root))
+    return f"{index}:{relative}" if index else relative
+
+
+def _files_digest(paths: list[Path], roots: dict[Path, Path]) -> str:
+    h = hashlib.sha256()
+    for file in roots:
+        h.update(_relative_name(paths, roots, file).encode())
+        h.update(b"\0")
+        try:
+            h.update(file.read_bytes())
+        except OSError:  # recorded in Library.errors; an unreadable file still changes the digest
+            h.update(b"\0unreadable")
+    return h.hexdigest()
+
+
+def library_digest(path=None) -> str:
+    """:meth:`Library.digest` of the library at ``path`` (as for :func:`library_paths`),
+    computed from the files alone, without parsing them.
+
+    Raises
+    ------
+    ModelicaError
+        If a folder does not exist or is a file.
+    """
+    paths = library_paths(path)
+    return _files_digest(paths, library_files(paths))
+
+
+def tool_versions() -> dict:
+    """Versions of cosim, pymoca, CasADi and Python, from the installed distributions' metadata
+    (importing pymoca and CasADi to ask them would take most of a second)."""
+    import platform
+    from importlib import metadata
+
+    from cosim import __version__
+
+    def version(name: str) -> str:
+        try:
+            return metadata.version(name)
+        except metadata.PackageNotFoundError:
+            return "missing"
+
+    return {"cosim": __version__, "pymoca": version("pymoca"), "casadi": version("casadi"),
+            "python": platform.python_version()}
+
+
+@lru_cache(maxsize=1)
+def compiler_digest() -> str:
+    """Changes whenever the compiler (``cosim/compiler/*.py``), the FMU runtime
+    (``cosim/runtime/*.[ch]``) or the tools behind them (:func:`tool_versions`) change; the same
+    value as :func:`cosim.compiler.build.compiler_digest`, without importing pymoca or CasADi."""
+    import json
+
+    h = hashlib.sha256(json.dumps(tool_versions(), sort_keys=True).encode())
+    here = Path(__file__).resolve().parent
+    runtime = here.parent / "runtime"
+    for path in sorted(list(here.glob("*.py")) + list(runtime.glob("*.[ch]"))):
+        h.update(path.name.encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()
+
+
+def sources_digest(path=None) -> str:
+    """What the manifest of an FMU built by cosim records as ``sources_digest``: the digest of
+    the library's files and of the compiler (:func:`library_digest`, :func:`compiler_digest`)."""
+    return hashlib.sha256((library_digest(path) + compiler_digest()).encode()).hexdigest()
+
+
+def fmu_up_to_date(model_name: str, fmu: Path, path=None) -> bool:
+    """True if ``fmu`` was built by cosim from ``model_name`` and the library at ``path`` and
+    compiler exactly as they are now (no source file, no part of the compiler changed): the fast
+    path of :func:`cosim.compiler.build.build_model`, answered without parsing the library and
+    without importing pymoca or CasADi. False means "not known to be up to date" (the build
+    decides), never an error.
+    """
+    import json
+    import zipfile
+
+    try:
+        with zipfile.ZipFile(fmu) as archive:
+            manifest = json.loads(archive.read("documentation/build.json"))
+        expected = sources_digest(path)
+    except (OSError, KeyError, zipfile.BadZipFile, ValueError):
+        return False
+    return (isinstance(manifest, dict) and manifest.get("model") == model_name
+            and manifest.get("sources_digest") == expected)
 
 
 def load_library(path=None) -> Library:

@@ -20,7 +20,7 @@ import casadi as ca
 import numpy as np
 
 from cosim.errors import ModelicaError, ModelStructureError, ParameterError
-from cosim.compiler.flatten import FlatModel
+from cosim.compiler.flatten import FlatModel, fewer_collections
 
 
 @dataclass
@@ -158,6 +158,11 @@ def make_explicit(flat: FlatModel) -> ExplicitModel:
     ParameterError
         A parameter without value.
     """
+    with fewer_collections():
+        return _make_explicit(flat)
+
+
+def _make_explicit(flat: FlatModel) -> ExplicitModel:
     m = flat.casadi
     name = flat.name
     if getattr(m, "delay_states", None):
@@ -228,20 +233,25 @@ def make_explicit(flat: FlatModel) -> ExplicitModel:
     xdot = solution[: len(xd)]
     zsol = solution[len(xd):]
 
-    x0, state_starts = [], []
+    x0, state_starts, expressions = [], [], []
     for v in m.states:
         numbers = _numbers(v.start, v.symbol.numel())
         if numbers is not None:
             x0 += [ca.SX(n) for n in numbers]
             state_starts += numbers
         else:
-            x0 += ca.vertsplit(known(tr([v.start])))
+            x0 += [None] * v.symbol.numel()  # filled in below
+            expressions.append(v.start)
             state_starts += [None] * v.symbol.numel()
+    if expressions:  # translated at once: each translation is a function of all the symbols
+        values = iter(ca.vertsplit(known(tr(expressions))))
+        x0 = [e if e is not None else next(values) for e in x0]
     P = _column(p)
     x0 = ca.vertcat(*x0) if x0 else ca.SX(0, 1)
+    parameter_ids = {q.element_hash() for q in p}  # a set: comparing with each of p is quadratic
     for label, expr in (("start values of states", x0), ("calculated parameters", cexpr)):
         free = ca.symvar(expr)
-        bad = [s.name() for s in free if not any(ca.is_equal(s, q) for q in p)]
+        bad = [s.name() for s in free if s.element_hash() not in parameter_ids]
         if bad:
             raise ModelStructureError(f"{name}: {label} depend on non-parameters: {', '.join(bad)}")
 
@@ -451,16 +461,20 @@ def _solve_blocks(name, residual, W, w, sp):
     nb, rowperm, colperm, rowblock, colblock, _, _ = sp.btf()
     blocks = [(rowperm[rowblock[b]:rowblock[b + 1]], colperm[colblock[b]:colblock[b + 1]]) for b in range(nb)]
     solved = {}  # column -> SX expression in terms of knowns only
-    remaining = list(blocks)
     rows_of = {}
     for r, c in zip(*sp.get_triplet()):
         rows_of.setdefault(r, set()).add(c)
+    # The block-triangular form lists the blocks in an order in which each needs only earlier
+    # ones: one pass solves them all. (Blocks whose unknowns are not all known yet would wait
+    # for a further pass; rescanning the list of blocks for each one was quadratic in the size.)
+    remaining = blocks
     while remaining:
-        progress = False
-        for block in list(remaining):
+        waiting = []
+        for block in remaining:
             brows, bcols = block
             needed = set().union(*(rows_of.get(r, set()) for r in brows)) - set(bcols)
-            if not needed.issubset(solved):
+            if not all(c in solved for c in needed):  # (set.issubset(dict) copies the dict)
+                waiting.append(block)
                 continue
             expr = residual[brows]
             if needed:
@@ -472,8 +486,6 @@ def _solve_blocks(name, residual, W, w, sp):
                 isolated = _isolated(expr, w[bcols[0]])
                 if isolated is not None:
                     solved[bcols[0]] = isolated
-                    remaining.remove(block)
-                    progress = True
                     continue
             wb = ca.vertcat(*[w[c] for c in bcols])
             jb = ca.jacobian(expr, wb)
@@ -486,8 +498,7 @@ def _solve_blocks(name, residual, W, w, sp):
             sol = -r0 / jb if len(bcols) == 1 else -ca.solve(jb, r0)
             for k, c in enumerate(bcols):
                 solved[c] = ca.simplify(sol[k]) if len(bcols) == 1 else sol[k]
-            remaining.remove(block)
-            progress = True
-        if not progress:  # cannot happen for a block-triangular form; guard against endless loops
+        if len(waiting) == len(remaining):  # cannot happen for a block-triangular form; no endless loop
             raise ModelStructureError(f"{name}: could not order the equations into solvable blocks")
+        remaining = waiting
     return [solved[c] for c in range(len(w))]

@@ -191,9 +191,20 @@ def _builtin_connector(connector_class, builtin_types) -> bool:
 
 
 def _scalar_connectors(add_connector_symbols, builtin_types):
+    depth = 0
+
     def patched_add_connector_symbols(instance, flat_class, prefix):
+        # pymoca recurses through nested connectors: snapshot and restore in the outermost call
+        # only (a copy of all symbols per call made flattening quadratic in the model's size)
+        nonlocal depth
+        if depth:
+            return add_connector_symbols(instance, flat_class, prefix)
         before = dict(flat_class.symbols)
-        add_connector_symbols(instance, flat_class, prefix)
+        depth += 1
+        try:
+            add_connector_symbols(instance, flat_class, prefix)
+        finally:
+            depth -= 1
         for name, symbol in list(flat_class.symbols.items()):
             if name in before and symbol is not before[name] \
                     and _builtin_connector(getattr(symbol, "_connector_type", None), builtin_types):

@@ -105,7 +105,7 @@ def compute(fmu=None):
 
     fmu = fmu or WP.whipple_fmu()
     params = adapted_parameters()
-    systems = [WP.state_space(fmu, params, v) for v in SPEEDS]  # one FMU linearization per speed
+    systems = WP.state_spaces(fmu, params, SPEEDS)  # one FMU linearization per speed (one sweep)
     out = {}
     for R in (0.0,) + ROLLER_RADII:
         k = roller_stiffness(params, R)

@@ -234,24 +234,7 @@ def in_coordinates(lin: Linearization, names) -> tuple[np.ndarray, np.ndarray, n
         A name that is neither, an output that depends on the inputs, or names that are not
         coordinates of the whole state (wrong number, linearly dependent).
     """
-    index = {n: k for k, n in enumerate(lin.states)}
-    rows = []
-    for name in names:
-        if name in index:
-            row = np.zeros(len(lin.states))
-            row[index[name]] = 1.0
-        elif name in lin.outputs:
-            k = lin.outputs.index(name)
-            if np.any(lin.D[k] != 0.0):
-                raise ValueError(f"{lin.model}: output {name} depends on the inputs; it is not a state coordinate")
-            row = lin.C[k]
-        else:
-            raise ValueError(f"{lin.model}: no state or output named {name}")
-        rows.append(row)
-    T = np.array(rows, float).reshape(len(rows), len(lin.states))
-    if T.shape[0] != T.shape[1] or np.linalg.matrix_rank(T) < T.shape[0]:
-        raise ValueError(f"{lin.model}: {', '.join(names)} are not coordinates of its {len(lin.states)} states "
-                         f"({', '.join(lin.states)})")
+    T = _coordinates(lin.model, lin.states, lin.outputs, lin.C, lin.D, names)
     A = np.linalg.solve(T.T, (T @ lin.A).T).T  # T A T^-1
     z0 = T @ lin.x0 if lin.x0 is not None else np.full(len(names), np.nan)
     zdot0 = T @ lin.xdot0 if lin.xdot0 is not None else np.full(len(names), np.nan)
@@ -284,8 +267,12 @@ STRUCTURE_TOL = 1e-12
 def is_bicycle(lin: Linearization) -> bool:
     """Whether the FMU has the quantities of the nonlinear bicycles (:data:`IGNORABLE` etc.) as
     states or outputs, so that :func:`steady_motion` applies."""
-    have = set(lin.states) | set(lin.outputs)
-    return {*IGNORABLE, PITCH, FORWARD_SPEED, *LATERAL_COORDINATES, *LATERAL_SPEEDS} <= have
+    return names_of_bicycle() <= set(lin.states) | set(lin.outputs)
+
+
+def names_of_bicycle() -> set[str]:
+    """The states or outputs a nonlinear bicycle has (see :func:`is_bicycle`)."""
+    return {*IGNORABLE, PITCH, FORWARD_SPEED, *LATERAL_COORDINATES, *LATERAL_SPEEDS}
 
 
 class NotSteadyMotion(ValueError):
@@ -351,14 +338,15 @@ class SteadyMotion:
         }
 
 
-def _eliminate(A, B, names, gone: str, coefficients: dict[str, float]):
-    """Substitute ``gone = sum coefficients[n] * n`` and drop the state ``gone``."""
+def _eliminate(A, B, names, gone: str, coefficients: dict):
+    """Substitute ``gone = sum coefficients[n] * n`` and drop the state ``gone``, on stacks
+    ``A`` (N, n, n), ``B`` (N, n, m) with one coefficient per matrix (arrays of shape (N,))."""
     k = names.index(gone)
     A = A.copy()
     for name, a in coefficients.items():
-        A[:, names.index(name)] += A[:, k] * a
+        A[..., names.index(name)] += A[..., k] * np.asarray(a, float).reshape(-1, 1)
     keep = [j for j in range(len(names)) if j != k]
-    return A[np.ix_(keep, keep)], B[keep], [names[j] for j in keep]
+    return A[:, keep][:, :, keep], B[:, keep], [names[j] for j in keep]
 
 
 def steady_motion(lin: Linearization, lock_hinge: bool = False) -> SteadyMotion:
@@ -389,78 +377,453 @@ def steady_motion(lin: Linearization, lock_hinge: bool = False) -> SteadyMotion:
     ValueError
         The FMU lacks the bicycle's quantities.
     """
-    free_hinge = all(n in lin.states or n in lin.outputs for n in HINGE[:2]) and HINGE[2] in lin.inputs
+    (result,) = _steady_motions(lin.model, lin.states, lin.inputs, lin.outputs, lin.C, lin.D, lin.A[None],
+                                lin.B[None], _point(lin.x0, len(lin.states))[None],
+                                _point(lin.xdot0, len(lin.states))[None], lin.method, lock_hinge)
+    if isinstance(result, NotSteadyMotion):
+        raise result
+    return result
+
+
+def _point(x, n: int) -> np.ndarray:
+    """An operating-point vector, NaN where it is unknown (a Linearization built by hand)."""
+    return np.full(n, np.nan) if x is None else np.asarray(x, float)
+
+
+def _coordinates(model: str, states, outputs, C, D, names) -> np.ndarray:
+    """The matrix ``T`` of :func:`in_coordinates` (see there; ValueError as there)."""
+    index = {n: k for k, n in enumerate(states)}
+    rows = []
+    for name in names:
+        if name in index:
+            row = np.zeros(len(states))
+            row[index[name]] = 1.0
+        elif name in outputs:
+            k = outputs.index(name)
+            if np.any(D[k] != 0.0):
+                raise ValueError(f"{model}: output {name} depends on the inputs; it is not a state coordinate")
+            row = C[k]
+        else:
+            raise ValueError(f"{model}: no state or output named {name}")
+        rows.append(row)
+    T = np.array(rows, float).reshape(len(rows), len(states))
+    if T.shape[0] != T.shape[1] or np.linalg.matrix_rank(T) < T.shape[0]:
+        raise ValueError(f"{model}: {', '.join(names)} are not coordinates of its {len(states)} states "
+                         f"({', '.join(states)})")
+    return T
+
+
+def _steady_motions(model, states, inputs, outputs, C, D, A, B, x0, xdot0, method, lock_hinge=False):
+    """:func:`steady_motion` of N linearizations of one model at once (stacks ``A`` (N, nx, nx),
+    ``B`` (N, nx, nu), ``x0``, ``xdot0`` (N, nx); ``C``, ``D`` the same for all, as the outputs
+    that alias states do not depend on the operating point): one vectorized pass, the same
+    arithmetic for one and for many. Returns per linearization a :class:`SteadyMotion` or the
+    :class:`NotSteadyMotion` that refuses it; raises what applies to all (no hinge to lock,
+    ValueError for a model without the bicycle's quantities)."""
+    n_points = A.shape[0]
+    free_hinge = all(n in states or n in outputs for n in HINGE[:2]) and HINGE[2] in inputs
     if lock_hinge and not free_hinge:
-        raise NotSteadyMotion(f"{lin.model} has no rider hinge ({HINGE[0]}, {HINGE[1]}, input {HINGE[2]}) to lock")
+        raise NotSteadyMotion(f"{model} has no rider hinge ({HINGE[0]}, {HINGE[1]}, input {HINGE[2]}) to lock")
     conf = list(LATERAL_COORDINATES) + ([HINGE[0]] if free_hinge else [])
     rates = list(LATERAL_SPEEDS) + ([HINGE[1]] if free_hinge else [])
     names = [*IGNORABLE, PITCH, *conf, *rates, FORWARD_SPEED]
-    A, B, z0, zdot0 = in_coordinates(lin, names)
-    inputs = list(lin.inputs)
-    scale = max(1.0, float(np.abs(np.hstack([A, B])).max(initial=0.0)))
+    T = _coordinates(model, states, outputs, C, D, names)
+    A = np.swapaxes(np.linalg.solve(T.T, np.swapaxes(T @ A, 1, 2)), 1, 2)  # T A T^-1
+    B = T @ B
+    z0, zdot0 = x0 @ T.T, xdot0 @ T.T
+    inputs = list(inputs)
+    scale = np.maximum(1.0, np.abs(np.concatenate([A, B], axis=2)).max(axis=(1, 2), initial=0.0))
     tol = STRUCTURE_TOL * scale
+    refused: dict[int, NotSteadyMotion] = {}  # the first reason per operating point
+
+    def refuse(bad, message) -> None:
+        for k in np.flatnonzero(bad):
+            refused.setdefault(int(k), NotSteadyMotion(message(int(k))))
+
     ix = {n: k for k, n in enumerate(names)}
     lateral = conf + rates
-    off = {n: z0[ix[n]] for n in lateral if not abs(z0[ix[n]]) <= tol}
-    off.update({f"d{n}/dt": zdot0[ix[n]] for n in lateral + [FORWARD_SPEED] if not abs(zdot0[ix[n]]) <= tol})
-    if off:
-        raise NotSteadyMotion(f"{lin.model}: the operating point is not upright straight running ("
-                              + ", ".join(f"{k} = {v:.3g}" for k, v in off.items())
-                              + "); linearize with zero roll, steer and rates and zero inputs")
-    speed = float(zdot0[ix["x"]] * np.cos(z0[ix["psi"]]) + zdot0[ix["y"]] * np.sin(z0[ix["psi"]]))
-    hinge = None
-    if free_hinge:
-        hinge = "free"
+    off = [(n, z0[:, ix[n]]) for n in lateral] + [(f"d{n}/dt", zdot0[:, ix[n]]) for n in lateral + [FORWARD_SPEED]]
+    bad_point = np.zeros(n_points, bool)
+    for _, values in off:
+        bad_point |= ~(np.abs(values) <= tol)
+    refuse(bad_point, lambda k: (f"{model}: the operating point is not upright straight running ("
+                                 + ", ".join(f"{n} = {v[k]:.3g}" for n, v in off if not abs(v[k]) <= tol[k])
+                                 + "); linearize with zero roll, steer and rates and zero inputs"))
+    speed = zdot0[:, ix["x"]] * np.cos(z0[:, ix["psi"]]) + zdot0[:, ix["y"]] * np.sin(z0[:, ix["psi"]])
+    hinge = "free" if free_hinge else None
     if lock_hinge:
         beta, u_beta, torque = HINGE
         j = inputs.index(torque)
-        b, r = B[:, j], A[ix[beta]]
-        gain = float(r @ b)
-        if not abs(gain) > tol:
-            raise NotSteadyMotion(f"{lin.model}: the lean torque {torque} does not reach the hinge acceleration; "
-                                  "the hinge cannot be locked by it")
+        b, r = B[:, :, j], A[:, ix[beta]]
+        gain = np.einsum("ki,ki->k", r, b)
+        refuse(~(np.abs(gain) > tol), lambda k: f"{model}: the lean torque {torque} does not reach the hinge "
+                                                "acceleration; the hinge cannot be locked by it")
+        gain = np.where(np.abs(gain) > tol, gain, 1.0)  # refused points: any finite value
         others = [k for k in range(len(inputs)) if k != j]
-        A = A - np.outer(b, r @ A) / gain
-        B = B[:, others] - np.outer(b, r @ B[:, others]) / gain
+        A = A - b[:, :, None] * (r[:, None, :] @ A) / gain[:, None, None]
+        B = B[:, :, others] - b[:, :, None] * (r[:, None, :] @ B[:, :, others]) / gain[:, None, None]
         inputs = [inputs[k] for k in others]
-        # restrict to beta = 0 and r x = 0 (solved for the state with the largest coefficient in r)
+        # restrict to beta = 0 and r x = 0 (solved for the state with the largest coefficient in r,
+        # which must be the hinge rate)
         A, B, names = _eliminate(A, B, names, beta, {})
-        r = np.delete(r, ix[beta])
-        k = int(np.argmax(np.abs(r)))
-        solved = names[k]
-        A, B, names = _eliminate(A, B, names, solved, {n: -r[i] / r[k] for i, n in enumerate(names) if i != k})
+        r = np.delete(r, ix[beta], axis=1)
+        largest = np.argmax(np.abs(r), axis=1)
+        k_rate = names.index(u_beta)
+        refuse(largest != k_rate, lambda k: f"{model}: the hinge rate is not {u_beta} ({beta}' depends most on "
+                                            f"{names[largest[k]]})")
+        pivot = np.where(r[:, k_rate] != 0.0, r[:, k_rate], 1.0)
+        A, B, names = _eliminate(A, B, names, u_beta, {n: -r[:, i] / pivot for i, n in enumerate(names)
+                                                       if i != k_rate})
         conf.remove(beta)
-        rates = [n for n in rates if n != solved] if solved in rates else rates
-        if solved != u_beta:
-            raise NotSteadyMotion(f"{lin.model}: the hinge rate is not {u_beta} ({beta}' depends most on {solved})")
+        rates.remove(u_beta)
         hinge = "locked"
         lateral = conf + rates
         ix = {n: k for k, n in enumerate(names)}
     # the pitch: theta' = a . q' for the configuration coordinates q (holonomic constraint)
-    M = np.hstack([A, B])
-    Q = M[[ix[n] for n in conf]]
-    t = M[ix[PITCH]]
-    a = np.linalg.lstsq(Q.T, t, rcond=None)[0]
-    residual = float(np.abs(Q.T @ a - t).max(initial=0.0))
-    if not residual <= tol:
-        raise NotSteadyMotion(f"{lin.model}: the pitch rate is not a combination of the roll and steer rates "
-                              f"(residual {residual:.3g}); no holonomic constraint fixes {PITCH}")
-    A, B, names = _eliminate(A, B, names, PITCH, dict(zip(conf, a)))
+    M = np.concatenate([A, B], axis=2)
+    Q = M[:, [ix[n] for n in conf]]  # (N, len(conf), columns)
+    t = M[:, ix[PITCH]]
+    a = np.einsum("kij,kj->ki", np.linalg.pinv(np.swapaxes(Q, 1, 2)), t)  # least squares
+    residual = np.abs(np.einsum("kij,ki->kj", Q, a) - t).max(axis=1, initial=0.0)
+    refuse(~(residual <= tol), lambda k: f"{model}: the pitch rate is not a combination of the roll and steer "
+                                         f"rates (residual {residual[k]:.3g}); no holonomic constraint fixes {PITCH}")
+    A, B, names = _eliminate(A, B, names, PITCH, {n: a[:, i] for i, n in enumerate(conf)})
     ix = {n: k for k, n in enumerate(names)}
-    rest = [n for n in names if n not in IGNORABLE]
+    rest = [ix[n] for n in names if n not in IGNORABLE]
     ign = [ix[n] for n in IGNORABLE]
-    feed = np.abs(A[np.ix_([ix[n] for n in rest], ign)]).max(initial=0.0)
-    block = np.linalg.matrix_power(A[np.ix_(ign, ign)], len(ign))
-    if not (feed <= tol and np.abs(block).max(initial=0.0) <= tol * scale ** (len(ign) - 1)):
-        raise NotSteadyMotion(f"{lin.model}: the coordinates {', '.join(IGNORABLE)} are not ignorable at this "
-                              f"operating point (they feed back into the lateral dynamics)")
-    row = np.abs(np.hstack([A[ix[FORWARD_SPEED], [ix[n] for n in rest]], B[ix[FORWARD_SPEED]]])).max(initial=0.0)
-    if not row <= tol:
-        raise NotSteadyMotion(f"{lin.model}: the forward speed {FORWARD_SPEED} is not conserved at first order "
-                              f"(largest coupling {row:.3g})")
+    feed = np.abs(A[:, rest][:, :, ign]).max(axis=(1, 2), initial=0.0)
+    block = np.abs(np.linalg.matrix_power(A[:, ign][:, :, ign], len(ign))).max(axis=(1, 2), initial=0.0)
+    refuse(~((feed <= tol) & (block <= tol * scale ** (len(ign) - 1))),
+           lambda k: f"{model}: the coordinates {', '.join(IGNORABLE)} are not ignorable at this operating point "
+                     "(they feed back into the lateral dynamics)")
+    u_R = ix[FORWARD_SPEED]
+    row = np.abs(np.concatenate([A[:, u_R, rest], B[:, u_R]], axis=1)).max(axis=1, initial=0.0)
+    refuse(~(row <= tol), lambda k: f"{model}: the forward speed {FORWARD_SPEED} is not conserved at first order "
+                                    f"(largest coupling {row[k]:.3g})")
     lat = [ix[n] for n in lateral]
     path = [ix[n] for n in PATH]
-    return SteadyMotion(lin.model, speed, hinge, lateral, inputs, A[np.ix_(lat, lat)], B[lat], list(PATH),
-                        A[np.ix_(path, lat + path)], B[path], {n: ZERO_MODES[n] for n in [PITCH, FORWARD_SPEED,
-                                                                                        *IGNORABLE]},
-                        lin.method + ("; hinge locked by its reaction torque" if hinge == "locked" else ""))
+    zero_modes = {n: ZERO_MODES[n] for n in [PITCH, FORWARD_SPEED, *IGNORABLE]}
+    method = method + ("; hinge locked by its reaction torque" if hinge == "locked" else "")
+    lateral_A, lateral_B = A[:, lat][:, :, lat], B[:, lat]
+    path_A, path_B = A[:, path][:, :, lat + path], B[:, path]
+    return [refused[k] if k in refused else
+            SteadyMotion(model, float(speed[k]), hinge, list(lateral), inputs, lateral_A[k], lateral_B[k], list(PATH),
+                         path_A[k], path_B[k], dict(zero_modes), method)
+            for k in range(n_points)]
+
+
+# --------------------------------------------------------------------------- speed sweeps
+
+#: Most speeds one sweep (``cosim linearize --speeds``, ``cosim compare --speeds``) takes.
+MAX_SPEEDS = 10_000
+
+
+def parse_speeds(text: str, option: str = "--speeds") -> list[float]:
+    """``A:B:STEP`` (B included, as far as it is reached by whole steps) or ``V1,V2,...`` [m/s].
+
+    The grammar of ``--speeds`` for ``cosim linearize`` and ``cosim compare`` (here, not beside
+    the comparison, which imports SciPy: ``cosim linearize`` stays light).
+
+    Raises
+    ------
+    ParameterError
+        Malformed text, non-finite values, ``STEP <= 0``, ``B < A``, an empty list or more
+        than :data:`MAX_SPEEDS` speeds.
+    """
+    import math
+
+    def numbers(parts):
+        try:
+            values = [float(v) for v in parts]
+        except ValueError:
+            raise ParameterError(f"{option} expects A:B:STEP or V1,V2,... [m/s], got '{text}'") from None
+        if not all(math.isfinite(v) for v in values):
+            raise ParameterError(f"{option} {text}: the speeds must be finite")
+        return values
+
+    if ":" in text:
+        parts = text.split(":")
+        if len(parts) != 3:
+            raise ParameterError(f"{option} expects A:B:STEP, got '{text}'")
+        start, stop, step = numbers(parts)
+        if step <= 0 or stop < start:
+            raise ParameterError(f"{option} {text}: need STEP > 0 and B >= A")
+        n = int(np.floor((stop - start) / step + 1e-9)) + 1
+        if n > MAX_SPEEDS:
+            raise ParameterError(f"{option} {text}: {n} speeds (at most {MAX_SPEEDS}); use a larger STEP")
+        return [round(start + k * step, 12) for k in range(n)]
+    values = numbers(text.split(","))
+    if len(values) > MAX_SPEEDS:
+        raise ParameterError(f"{option}: {len(values)} speeds (at most {MAX_SPEEDS})")
+    return values
+
+@dataclass
+class SpeedSweep:
+    """Linearizations of one model at N forward speeds (:func:`linearize_speeds`).
+
+    ``A`` (N, nx, nx), ``B`` (N, nx, nu), ``C`` (N, ny, nx), ``D`` (N, ny, nu), ``x0``, ``xdot0``
+    (N, nx) in the state order of :class:`Linearization`; ``values`` the speed parameter's value
+    per speed (``V``/``v`` [m/s] or ``u_R0`` [rad/s]). For the nonlinear bicycles ``steady``
+    holds per speed the :class:`SteadyMotion` or the :class:`NotSteadyMotion` that refuses it
+    (None for other models).
+    """
+
+    model: str
+    parameters: dict
+    speed_parameter: str
+    speeds: np.ndarray
+    values: np.ndarray
+    states: list[str]
+    inputs: list[str]
+    outputs: list[str]
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    x0: np.ndarray
+    xdot0: np.ndarray
+    method: str
+    steady: list | None = None
+
+    def __len__(self) -> int:
+        return len(self.speeds)
+
+    @property
+    def eigenvalues(self) -> np.ndarray:
+        """(N, nx) eigenvalues [1/s] of ``A`` per speed (one batched LAPACK call, each row the
+        same numbers as :attr:`Linearization.eigenvalues`)."""
+        n = len(self.states)
+        return np.linalg.eigvals(self.A) if n else np.zeros((len(self), 0), complex)
+
+    @property
+    def lateral_eigenvalues(self) -> np.ndarray:
+        """(N, n_lat) eigenvalues [1/s] of the lateral dynamics (sorted as
+        :attr:`SteadyMotion.eigenvalues`), NaN rows where the reduction is refused; ValueError
+        for a model that is not a nonlinear bicycle."""
+        if self.steady is None:
+            raise ValueError(f"{self.model} is not a nonlinear bicycle; it has no steady-motion reduction")
+        good = [k for k, s in enumerate(self.steady) if isinstance(s, SteadyMotion)]
+        n = len(self.steady[good[0]].states) if good else 0
+        out = np.full((len(self), n), np.nan + 0j)
+        if good:
+            ev = np.linalg.eigvals(np.array([self.steady[k].A for k in good]))
+            for row, k in zip(ev, good):
+                out[k] = row[np.lexsort((row.imag, row.real))]
+        return out
+
+    def linearization(self, k: int) -> Linearization:
+        """The :class:`Linearization` at ``speeds[k]``."""
+        return Linearization(self.model, {**self.parameters, self.speed_parameter: float(self.values[k])},
+                             list(self.states), list(self.inputs), list(self.outputs), self.A[k], self.B[k],
+                             self.C[k], self.D[k], self.method, self.x0[k], self.xdot0[k])
+
+    def to_dict(self, matrices: bool = False) -> dict:
+        """JSON-ready: the common fields once, per speed the eigenvalues (and the lateral
+        reduction of the nonlinear bicycles); ``matrices`` adds A, B, C, D per speed."""
+        def pairs(ev):  # (N, n) complex -> per speed [[re, im], ...] (vectorized: 1000s of speeds)
+            return np.stack([ev.real, ev.imag], axis=-1).tolist()
+
+        full = pairs(self.eigenvalues)
+        lateral = pairs(self.lateral_eigenvalues) if self.steady is not None else None
+        points = []
+        for k, v in enumerate(self.speeds):
+            point = {"speed": float(v), self.speed_parameter: float(self.values[k]), "eigenvalues": full[k]}
+            if matrices:
+                point.update({name: getattr(self, name)[k].tolist() for name in "ABCD"})
+            if self.steady is not None:
+                s = self.steady[k]
+                if isinstance(s, SteadyMotion):
+                    point["steady_motion"] = {"A": s.A.tolist(), "B": s.B.tolist(), "eigenvalues": lateral[k],
+                                              "path": {"A": s.path_A.tolist(), "B": s.path_B.tolist()}}
+                else:
+                    point["steady_motion"] = None
+                    point["steady_motion_note"] = str(s)
+            points.append(point)
+        report = {"model": self.model, "parameters": self.parameters, "speed_parameter": self.speed_parameter,
+                  "speeds": [float(v) for v in self.speeds], "states": self.states, "inputs": self.inputs,
+                  "outputs": self.outputs, "method": self.method}
+        good = [s for s in self.steady or [] if isinstance(s, SteadyMotion)]
+        if good:
+            s = good[0]
+            report["steady_motion"] = {"hinge": s.hinge, "states": s.states, "inputs": s.inputs,
+                                       "path": {"states": s.path},
+                                       "zero_eigenvalues": [{"state": n, "reason": r} for n, r in s.zero_modes.items()],
+                                       "method": s.method}
+        report["points"] = points
+        return report
+
+
+class _FastPoint:
+    """One ME instance re-initialized per operating point through the raw FMI functions.
+
+    FMPy's wrappers convert and check every argument in Python on each call; here the C
+    functions (argument types already declared by FMPy) are called with preallocated buffers,
+    and ``fmi2Reset`` replaces a new instance (no library load, no FMPy set-up) per point. Each
+    point is initialized from scratch exactly as :func:`linearize` does, so the results are the
+    same numbers."""
+
+    def __init__(self, fmu: FMU, fixed: dict, varying: str, states, unknowns, knowns):
+        from ctypes import POINTER, c_uint
+
+        self.fmu, self.me, self.varying = fmu, fmu.instantiate("me"), varying
+        self.status = 0
+        f = self.me._functions
+        self.c = self.me.component
+        self._reset, self._set_real = f["fmi2Reset"], f["fmi2SetReal"]
+        self._setup, self._enter = f["fmi2SetupExperiment"], f["fmi2EnterInitializationMode"]
+        self._exit, self._ct = f["fmi2ExitInitializationMode"], f["fmi2EnterContinuousTimeMode"]
+        self._get_x, self._get_dx = f["fmi2GetContinuousStates"], f["fmi2GetDerivatives"]
+        self._dd = f["fmi2GetDirectionalDerivative"]
+        # Real parameters through one fmi2SetReal; other types (rare) through the wrappers.
+        reals = {n: float(v) for n, v in fixed.items() if fmu.variables[n].type == "Real"}
+        self.other = {n: v for n, v in fixed.items() if n not in reals}
+        names = list(reals) + [varying]
+        self.set_vr = (c_uint * len(names))(*[fmu.vr[n] for n in names])
+        self.set_values = (c_double * len(names))(*reals.values(), 0.0)
+        self.n_set = len(names)
+        self.nx = len(states)
+        self.x = (c_double * max(self.nx, 1))()
+        self.dx = (c_double * max(self.nx, 1))()
+        self.u_vr = (c_uint * len(unknowns))(*[fmu.vr[n] for n in unknowns])
+        self.k_vr = (c_uint * len(knowns))(*[fmu.vr[n] for n in knowns])
+        self.nu, self.nk = len(unknowns), len(knowns)
+        self.seeds = np.eye(max(self.nk, 1))
+        self.column = np.zeros(max(self.nu, 1))
+        P = POINTER(c_double)
+        self.seed_ptrs = [self.seeds[k].ctypes.data_as(P) for k in range(self.nk)]
+        self.column_ptr = self.column.ctypes.data_as(P)
+
+    def check(self, status: int, what: str, value: float) -> None:
+        if status > 1:  # fmi2Discard, fmi2Error, fmi2Fatal
+            self.status = max(self.status, status)
+            said = self.me.log.last_error()
+            raise SimulationError(f"{self.fmu.path}: {what} failed at {self.varying} = {value:.15g}"
+                                  + (f": {said}" if said else f" (FMI status {status})"))
+
+    def evaluate(self, value: float, J: np.ndarray, x0: np.ndarray, xdot0: np.ndarray) -> None:
+        """Initialize with the speed parameter = ``value``; fill the Jacobian ``J`` (unknowns x
+        knowns), the states ``x0`` and their derivatives ``xdot0``."""
+        c = self.c
+        self.check(self._reset(c), "fmi2Reset", value)
+        if self.other:
+            self.fmu.set(self.me, self.other)
+        self.set_values[self.n_set - 1] = value
+        self.check(self._set_real(c, self.set_vr, self.n_set, self.set_values), "fmi2SetReal", value)
+        self.check(self._setup(c, 0, 0.0, 0.0, 0, 0.0), "fmi2SetupExperiment", value)
+        self.check(self._enter(c), "initialization", value)
+        self.check(self._exit(c), "initialization", value)
+        self.check(self._ct(c), "fmi2EnterContinuousTimeMode", value)
+        if self.nx:
+            self.check(self._get_x(c, self.x, self.nx), "fmi2GetContinuousStates", value)
+            self.check(self._get_dx(c, self.dx, self.nx), "fmi2GetDerivatives", value)
+            x0[:] = self.x[:self.nx]
+            xdot0[:] = self.dx[:self.nx]
+        for k in range(self.nk):
+            self.check(self._dd(c, self.u_vr, self.nu, self.k_vr, self.nk, self.seed_ptrs[k], self.column_ptr),
+                       "fmi2GetDirectionalDerivative", value)
+            J[:, k] = self.column[:self.nu]
+
+    def close(self) -> None:
+        _Point.close(self)
+
+
+def linearize_speeds(fmu_path: str | Path, speeds, parameters: dict | None = None, inputs: dict | None = None,
+                     lock_hinge: bool = False) -> SpeedSweep:
+    """Linearize an FMU at each forward speed of ``speeds``: one Model Exchange instance,
+    re-initialized per speed, exact directional derivatives; the lateral reduction
+    (:func:`steady_motion`) of the nonlinear bicycles for all speeds in one vectorized pass.
+
+    Parameters
+    ----------
+    fmu_path : path
+        FMI 2.0 FMU with Model Exchange and directional derivatives (as built here).
+    speeds : sequence of float
+        Forward speeds [m/s]; set as :class:`cosim.fmu.parameters.ForwardSpeed` says (``V`` or
+        ``v``, or upright straight running ``u_R0 = -V/rR`` with ``V >= 0`` for the nonlinear
+        bicycles).
+    parameters : dict, optional
+        Other parameter values (SI units, checked by the caller as for :func:`linearize`); the
+        speed parameter must not be among them.
+    inputs : dict, optional
+        Operating-point input values [SI] (default: their start values).
+    lock_hinge : bool
+        WhippleRider: lock the rider's hinge in the reduction (see :func:`steady_motion`).
+
+    Returns
+    -------
+    SpeedSweep
+        Per speed the matrices and eigenvalues equal (up to rounding, in practice exactly) to
+        :func:`linearize` with the speed parameter set, and :func:`steady_motion` of them.
+
+    Raises
+    ------
+    ParameterError
+        No speeds, a speed the model refuses (:meth:`ForwardSpeed.check`), the speed parameter
+        also in ``parameters``.
+    FMUError
+        No Model Exchange or no directional derivatives.
+    SimulationError
+        The FMU refuses the initialization at a speed (named).
+    NotSteadyMotion
+        ``lock_hinge`` for a model without the rider hinge.
+    """
+    from cosim.fmu.parameters import declarations, forward_speed, starts
+
+    parameters = dict(parameters or {})
+    declared = declarations(str(fmu_path))
+    fs = forward_speed(str(fmu_path), declared)
+    if fs.parameter in parameters:
+        raise ParameterError(f"the speed parameter {fs.parameter} is set by the speeds; do not give it as a parameter")
+    speeds = np.array([fs.check(v) for v in speeds], float)
+    if speeds.size == 0:
+        raise ParameterError("no speeds to linearize at")
+    known = {**starts(declared), **parameters}
+    values = np.array([fs.values(float(v), known)[fs.parameter] for v in speeds])
+    with FMU(fmu_path) as fmu:
+        md = fmu.description
+        if md.modelExchange is None:
+            raise FMUError(f"{fmu_path}: linearization needs Model Exchange, which the FMU does not offer")
+        if not md.modelExchange.providesDirectionalDerivative:
+            raise FMUError(f"{fmu_path}: a speed sweep needs directional derivatives, which the FMU does not "
+                           "provide; use linearize() per speed (central finite differences)")
+        states, derivatives = fmu.states, fmu.derivatives
+        input_names, output_names = fmu.names("input"), fmu.names("output")
+        state_index = {n: k for k, n in enumerate(states)}
+        computed = [n for n in output_names if n not in state_index]
+        unknowns, knowns = derivatives + computed, states + input_names
+        nx, nu, N = len(states), len(input_names), len(speeds)
+        J = np.zeros((N, len(unknowns), nx + nu))
+        x0, xdot0 = np.zeros((N, nx)), np.zeros((N, nx))
+        point = _FastPoint(fmu, {**parameters, **(inputs or {})}, fs.parameter, states, unknowns, knowns)
+        try:
+            for k in range(N):
+                point.evaluate(float(values[k]), J[k], x0[k], xdot0[k])
+        finally:
+            point.close()
+    A, B = J[:, :nx, :nx], J[:, :nx, nx:]
+    C, D = np.zeros((N, len(output_names), nx)), np.zeros((N, len(output_names), nu))
+    for row, name in enumerate(output_names):
+        if name in state_index:
+            C[:, row, state_index[name]] = 1.0
+        else:
+            k = nx + computed.index(name)
+            C[:, row], D[:, row] = J[:, k, :nx], J[:, k, nx:]
+    sweep = SpeedSweep(md.modelName, parameters, fs.parameter, speeds, values, states, input_names, output_names,
+                       np.ascontiguousarray(A), np.ascontiguousarray(B), C, D, x0, xdot0, "directional derivatives")
+    if names_of_bicycle() <= set(states) | set(output_names):
+        # the rows of C and D of the outputs that alias the bicycle's states are the same at every
+        # speed (checked, else the reduction goes one speed at a time)
+        rows = [k for k, n in enumerate(output_names) if n in {*names_of_bicycle(), *HINGE}]
+        if np.all(C[:, rows] == C[:1, rows]) and np.all(D[:, rows] == D[:1, rows]):
+            sweep.steady = _steady_motions(sweep.model, states, input_names, output_names, C[0], D[0], sweep.A,
+                                           sweep.B, x0, xdot0, sweep.method, lock_hinge)
+        else:
+            sweep.steady = []
+            for k in range(N):
+                lin = sweep.linearization(k)
+                sweep.steady += _steady_motions(lin.model, states, input_names, output_names, lin.C, lin.D,
+                                                lin.A[None], lin.B[None], lin.x0[None], lin.xdot0[None],
+                                                lin.method, lock_hinge)
+    elif lock_hinge:
+        raise NotSteadyMotion(f"{md.modelName} is not a nonlinear bicycle with a rider hinge to lock")
+    return sweep

@@ -40,6 +40,7 @@ __all__ = [
     "linearization",
     "INPUTS",
     "state_space",
+    "state_spaces",
     "closed_loop",
     "state_matrix",
     "sorted_eigenvalues",
@@ -144,6 +145,25 @@ def state_space(fmu: str | Path, params: Mapping[str, float], v: float) -> tuple
     if rest and np.any(lin.A[np.ix_(idx, rest)] != 0.0):
         raise ValueError(f"{fmu}: states {', '.join(lin.states[k] for k in rest)} feed back into the bicycle")
     return lin.A[np.ix_(idx, idx)], lin.B[np.ix_(idx, [lin.inputs.index(u) for u in INPUTS])]
+
+
+def state_spaces(fmu: str | Path, params: Mapping[str, float], speeds) -> list[tuple[np.ndarray, np.ndarray]]:
+    """:func:`state_space` at each of ``speeds`` [m/s] from one speed sweep
+    (:func:`cosim.fmu.linearize.linearize_speeds`: one FMU instance, the same matrices as one
+    :func:`linearization` per speed); ValueError as :func:`state_space`."""
+    from cosim.fmu.linearize import linearize_speeds
+
+    sweep = linearize_speeds(fmu, [float(v) for v in speeds], {k: float(x) for k, x in params.items()})
+    missing = [s for s in WHIPPLE_STATES if s not in sweep.states] + [u for u in INPUTS if u not in sweep.inputs]
+    if missing:
+        raise ValueError(f"{fmu}: {', '.join(missing)} not found (states: {', '.join(sweep.states)}; "
+                         f"inputs: {', '.join(sweep.inputs)})")
+    idx = [sweep.states.index(s) for s in WHIPPLE_STATES]
+    rest = [k for k in range(len(sweep.states)) if k not in idx]
+    if rest and np.any(sweep.A[:, idx][:, :, rest] != 0.0):
+        raise ValueError(f"{fmu}: states {', '.join(sweep.states[k] for k in rest)} feed back into the bicycle")
+    columns = [sweep.inputs.index(u) for u in INPUTS]
+    return [(A[np.ix_(idx, idx)], B[np.ix_(idx, columns)]) for A, B in zip(sweep.A, sweep.B)]
 
 
 def closed_loop(A: np.ndarray, B: np.ndarray, roll_stiffness: float = 0.0) -> np.ndarray:
@@ -276,6 +296,6 @@ def speed_sweep(fmu, parameter_set: str, speeds):
     Returns ``(fmu, params, eigenvalues (len(speeds) x 4), weave speed, capsize speed)``."""
     fmu = fmu or whipple_fmu()
     params = parameters_for_model(parameter_set)
-    ev = np.array([eigenvalues(fmu, params, v) for v in speeds])
+    ev = np.array([sorted_eigenvalues(A) for A, _ in state_spaces(fmu, params, speeds)])
     vw = weave_speed(fmu, params)
     return fmu, params, ev, vw, capsize_speed(fmu, params, v_start=vw)

@@ -1,10 +1,9 @@
 """Commands take a model name or an FMU file: this turns either into an FMU path."""
 from __future__ import annotations
 
+import os
+import sys
 from pathlib import Path
-
-from cosim.compiler.build import DEFAULT_OUTPUT, build_model
-from cosim.compiler.library import load_library
 
 
 def is_fmu_path(target: str) -> bool:
@@ -46,4 +45,25 @@ def resolve_fmu(target: str, output: str | Path | None = None) -> Path:
         path = Path(target)
         read_fmu(path)  # FMUError naming the file and the problem if it is not a usable FMU
         return path
-    return build_model(target, output or DEFAULT_OUTPUT, load_library()).fmu
+    from cosim.compiler.library import fmu_up_to_date
+
+    # The up-to-date check without cosim.compiler.build: importing it (pymoca, CasADi) and parsing
+    # the library would cost seconds before a simulation of an FMU that is already built.
+    folder = Path(output) if output is not None else default_output()
+    fmu = folder.absolute() / f"{target.replace('.', '_')}.fmu"  # as cosim.compiler.build.fmu_path
+    if fmu.is_file() and fmu_up_to_date(target, fmu):
+        return fmu
+    from cosim.compiler.build import build_model
+    from cosim.compiler.library import load_library
+
+    return build_model(target, folder, load_library()).fmu
+
+
+def default_output() -> Path:
+    """The folder model names are built into: :data:`cosim.compiler.build.DEFAULT_OUTPUT` if
+    that module is loaded (it is fixed when it is imported), else the same rule applied now
+    (``$COSIM_FMU_DIR``, else ``./fmus`` of the working directory)."""
+    build = sys.modules.get("cosim.compiler.build")
+    if build is not None:
+        return build.DEFAULT_OUTPUT
+    return Path(os.environ.get("COSIM_FMU_DIR") or Path.cwd() / "fmus").absolute()

@@ -1,0 +1,98 @@
+"""Linearization over forward speed: the sweep (:func:`cosim.fmu.linearize.linearize_speeds`, one
+FMU instance re-initialized per speed through the raw FMI functions, the lateral reduction for all
+speeds in one vectorized pass) against the single-speed API loop (:func:`linearize` and
+:func:`steady_motion` per speed, a new instance each), per speed and as a ratio, for the nonlinear
+``Whipple`` and ``WhippleRider`` and the ``WhippleLinear`` model; then the command of issue 14,
+``cosim linearize Bicycle.Bicycles.Whipple --speeds 0:10:0.01 --json`` (1001 speeds, FMU already
+built): wall time of the process and the compute part (the sweep and its eigenvalues in-process).
+
+Times are medians of ROUNDS runs (the machine may be shared); nothing is asserted.
+Usage: ``python benchmarks/linearize.py [FMU_FOLDER]`` (default: COSIM_FMU_DIR or a temporary
+folder; the models are built there if needed).
+"""
+from __future__ import annotations
+
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from cosim.compiler.build import build_model
+from cosim.compiler.library import load_library
+from cosim.fmu.linearize import linearize, linearize_speeds, steady_motion
+
+ROUNDS = 5
+MODELS = {"Bicycle.Bicycles.Whipple": "u_R0", "Bicycle.Bicycles.WhippleRider": "u_R0",
+          "Bicycle.Bicycles.WhippleLinear": "v"}
+LOOP_SPEEDS = np.round(np.arange(0, 101) * 0.1, 12)  # the single-speed loop: 101 speeds (it is slow)
+SWEEP_SPEEDS = np.round(np.arange(0, 1001) * 0.01, 12)  # the sweep: 1001 speeds, as in the issue
+RADIUS = 0.3  # rR [m] of the nonlinear models' defaults
+
+
+def median_time(f, rounds: int = ROUNDS) -> float:
+    times = []
+    for _ in range(rounds):
+        t0 = time.perf_counter()
+        f()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times)
+
+
+def single_loop(fmu: Path, parameter: str, speeds) -> None:
+    for v in speeds:
+        lin = linearize(fmu, {parameter: -v / RADIUS if parameter == "u_R0" else float(v)})
+        lin.eigenvalues
+        if parameter == "u_R0":
+            steady_motion(lin).eigenvalues
+
+
+def sweep(fmu: Path, speeds) -> None:
+    s = linearize_speeds(fmu, speeds)
+    s.eigenvalues
+    if s.steady is not None:
+        s.lateral_eigenvalues
+
+
+def main(folder: Path) -> None:
+    library = load_library()
+    fmus = {m: build_model(m, folder, library).fmu for m in MODELS}
+    print(f"per speed [ms], median of {ROUNDS} runs (loop: {len(LOOP_SPEEDS)} speeds, "
+          f"sweep: {len(SWEEP_SPEEDS)} speeds)")
+    print(f"{'model':<32} {'single-speed API':>17} {'sweep':>9} {'ratio':>7}")
+    for model, parameter in MODELS.items():
+        sweep(fmus[model], SWEEP_SPEEDS[:2])  # extraction and first load outside the timing
+        loop = median_time(lambda: single_loop(fmus[model], parameter, LOOP_SPEEDS)) / len(LOOP_SPEEDS)
+        fast = median_time(lambda: sweep(fmus[model], SWEEP_SPEEDS)) / len(SWEEP_SPEEDS)
+        print(f"{model:<32} {loop * 1e3:>17.3f} {fast * 1e3:>9.4f} {loop / fast:>7.1f}")
+    whipple = "Bicycle.Bicycles.Whipple"
+    compute = median_time(lambda: sweep(fmus[whipple], SWEEP_SPEEDS))
+    command = [sys.executable, "-m", "cosim", "linearize", whipple, "--speeds", "0:10:0.01", "--json"]
+    env = {**os.environ, "COSIM_FMU_DIR": str(folder)}
+    walls = []
+    for _ in range(ROUNDS):
+        t0 = time.perf_counter()
+        r = subprocess.run(command, capture_output=True, text=True, env=env)
+        walls.append(time.perf_counter() - t0)
+        if r.returncode != 0:
+            raise SystemExit(f"{' '.join(command[2:])} failed: {r.stderr.strip()}")
+    start = median_time(lambda: subprocess.run([sys.executable, "-m", "cosim", "--help"], capture_output=True,
+                                               env=env))
+    print(f"\n`cosim {' '.join(command[3:])}` ({len(SWEEP_SPEEDS)} speeds, {len(r.stdout) / 1e6:.2f} MB of JSON):")
+    print(f"  compute (sweep + eigenvalues, in-process): {compute:.3f} s")
+    print(f"  wall (process, median of {ROUNDS}):         {statistics.median(walls):.3f} s "
+          f"(min {min(walls):.3f} s; `cosim --help` alone: {start:.3f} s)")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) > 1:
+        main(Path(sys.argv[1]))
+    elif os.environ.get("COSIM_FMU_DIR"):
+        main(Path(os.environ["COSIM_FMU_DIR"]))
+    else:
+        with tempfile.TemporaryDirectory() as tmp:
+            main(Path(tmp))

@@ -1,0 +1,133 @@
+"""The cache of the compiled runtime (``OUTPUT/.cosim-cache/<key>/fmi2_runtime.o.entry``):
+reused by the next build, rebuilt when the compiler changes, a corrupt entry ignored (and
+replaced), concurrent builds safe; an FMU built from the cached object is the same, byte for
+byte, as one built without the cache."""
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+import stat
+import zipfile
+from pathlib import Path
+
+import pytest
+
+from cosim.compiler import fmu as fmu_module
+from cosim.compiler.build import RUNTIME_CACHE, build, build_model
+from cosim.compiler.library import load_library
+
+SMALL = ("Bicycle.Control.PD", "Bicycle.Control.Proportional")
+
+
+@pytest.fixture(scope="module")
+def library():
+    return load_library()
+
+
+@pytest.fixture
+def compiles(monkeypatch):
+    """The source files gcc compiled (``-c``) during the test, in order."""
+    seen: list[str] = []
+    run = fmu_module._run_compiler
+
+    def spy(commands, *args, **kwargs):
+        seen.extend(c[c.index("-c") + 1] for c in commands if "-c" in c)
+        return run(commands, *args, **kwargs)
+
+    monkeypatch.setattr(fmu_module, "_run_compiler", spy)
+    return seen
+
+
+def _entries(out: Path) -> list[Path]:
+    return sorted((out / RUNTIME_CACHE).glob("*/fmi2_runtime.o.entry"))
+
+
+def _binary(fmu: Path) -> bytes:
+    with zipfile.ZipFile(fmu) as archive:
+        [name] = [n for n in archive.namelist() if n.startswith("binaries/") and n.endswith(".so")]
+        return archive.read(name)
+
+
+def _valid(entry: Path) -> bool:
+    magic, digest, obj = entry.read_bytes().split(b"\n", 2)
+    return magic.startswith(b"cosim-runtime-object") and hashlib.sha256(obj).hexdigest().encode() == digest
+
+
+def test_runtime_compiled_once_and_reused(library, tmp_path, compiles):
+    build_model(SMALL[0], tmp_path, library)
+    assert compiles.count("fmi2_runtime.c") == 1
+    [entry] = _entries(tmp_path)
+    assert _valid(entry)
+    before = entry.stat()
+    compiles.clear()
+    build_model(SMALL[1], tmp_path, library)
+    build_model(SMALL[0], tmp_path, library, force=True)
+    assert "fmi2_runtime.c" not in compiles, "the cached runtime object was compiled again"
+    assert "model.c" in compiles, "the model-specific C must still be compiled"
+    assert _entries(tmp_path) == [entry] and entry.stat().st_mtime_ns == before.st_mtime_ns
+    with zipfile.ZipFile(tmp_path / "Bicycle_Control_PD.fmu") as archive:
+        assert "sources/fmi2_runtime.c" in archive.namelist(), "the FMU must still ship the runtime source"
+
+
+def test_fmu_from_cached_object_is_byte_identical(library, tmp_path):
+    """The same FMU with the runtime compiled in the build and taken from the cache."""
+    fresh, cached = tmp_path / "fresh", tmp_path / "cached"
+    build_model(SMALL[1], cached, library)  # fills the cache of ``cached``
+    a = build_model(SMALL[0], fresh, library).fmu
+    b = build_model(SMALL[0], cached, library).fmu
+    assert _binary(a) == _binary(b)
+    assert a.read_bytes() == b.read_bytes()
+
+
+def test_new_compiler_gets_its_own_object(library, tmp_path, compiles, monkeypatch):
+    """Another compiler (here a wrapper of gcc at another path) does not use the object of the
+    first: a second cache entry is compiled; the first is kept."""
+    build_model(SMALL[0], tmp_path / "out", library)
+    [first] = _entries(tmp_path / "out")
+    wrapper = tmp_path / "bin" / "cc-wrapper"
+    wrapper.parent.mkdir()
+    wrapper.write_text(f'#!/bin/sh\nexec {shutil.which("gcc")} "$@"\n')
+    wrapper.chmod(wrapper.stat().st_mode | stat.S_IXUSR)
+    monkeypatch.setenv("CC", str(wrapper))
+    compiles.clear()
+    build_model(SMALL[0], tmp_path / "out", library, force=True)
+    assert compiles.count("fmi2_runtime.c") == 1
+    entries = _entries(tmp_path / "out")
+    assert len(entries) == 2 and first in entries and all(_valid(e) for e in entries)
+
+
+@pytest.mark.parametrize("damage", ["truncated", "flipped-byte", "empty", "foreign"])
+def test_corrupt_entry_is_ignored_and_replaced(library, tmp_path, compiles, damage):
+    good = build_model(SMALL[0], tmp_path, library).fmu.read_bytes()
+    [entry] = _entries(tmp_path)
+    data = entry.read_bytes()
+    broken = {"truncated": data[: len(data) // 2], "empty": b"", "foreign": b"\x7fELF" + data[4:],
+              "flipped-byte": data[:-100] + bytes([data[-100] ^ 0xFF]) + data[-99:]}[damage]
+    entry.write_bytes(broken)
+    compiles.clear()
+    result = build_model(SMALL[0], tmp_path, library, force=True)
+    assert compiles.count("fmi2_runtime.c") == 1, "a damaged entry must not be used"
+    assert result.fmu.read_bytes() == good
+    assert _valid(entry) and entry.read_bytes() == data, "the entry is replaced by a good one"
+
+
+def test_unwritable_cache_only_costs_time(library, tmp_path, compiles):
+    """A cache folder that cannot be written (here a file in its way) is skipped."""
+    (tmp_path / RUNTIME_CACHE).write_text("not a folder")
+    result = build_model(SMALL[0], tmp_path, library)
+    assert result.rebuilt and compiles.count("fmi2_runtime.c") == 1
+    assert (tmp_path / RUNTIME_CACHE).read_text() == "not a folder"
+
+
+@pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="needs two CPUs for builds at the same time")
+def test_concurrent_builds_share_one_complete_entry(tmp_path):
+    """Parallel builds into a fresh folder all miss the cache at once: each stores a complete
+    entry (renamed into place), the last one stays, no partial file is left."""
+    results = build(list(SMALL), output=tmp_path, jobs=2)
+    assert all(r.rebuilt for r in results)
+    [entry] = _entries(tmp_path)
+    assert _valid(entry)
+    assert [p.name for p in entry.parent.iterdir()] == [entry.name], "partial cache file left behind"
+    again = build(list(SMALL), output=tmp_path, jobs=2, force=True)
+    assert [_binary(r.fmu) for r in again] == [_binary(r.fmu) for r in results]
