@@ -170,9 +170,10 @@ def _dependencies(info: ModelInfo, model: ExplicitModel) -> None:
     """Structural dependencies of derivatives and outputs on states and inputs (Jacobian sparsity)."""
     knowns = ca.vertcat(model.x, model.u)
     known_vrs = [v.vr for v in info.by_role("state")] + [v.vr for v in info.by_role("input")]
-    outputs = [k for k, v in enumerate(info.by_role("algebraic")) if v.causality == "output"]
+    algebraics = info.by_role("algebraic")
+    outputs = [k for k, v in enumerate(algebraics) if v.causality == "output"]
     unknowns = ca.vertcat(model.xdot, *[model.z[k] for k in outputs])
-    unknown_vrs = [v.vr for v in info.by_role("derivative")] + [info.by_role("algebraic")[k].vr for k in outputs]
+    unknown_vrs = [v.vr for v in info.by_role("derivative")] + [algebraics[k].vr for k in outputs]
     deps = {vr: [] for vr in unknown_vrs}
     if knowns.numel() and unknowns.numel():
         sp = ca.jacobian(unknowns, knowns).sparsity()

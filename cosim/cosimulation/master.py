@@ -251,15 +251,9 @@ class System:
         if self.coupling is not None:
             return self.coupling.run()
         spec = self.spec
-        grid = step_grid(spec.start, spec.stop, spec.step)
+        grid, data = self.recording_buffer()
         n_steps = len(grid) - 1
         record_names, record_idx = self.record
-        size = (n_steps + 1) * (1 + len(record_idx)) * 8
-        if size > MAX_RECORD_BYTES:
-            raise SystemError_(f"{spec.path or spec.name}: recording {len(record_idx)} signals over {n_steps:,} "
-                               f"steps would take {size / 1024**3:.1f} GiB; use a larger step or record fewer "
-                               "signals ([system] record = [...])")
-        data = np.empty((n_steps + 1, 1 + len(record_idx)))
         multiples = {n: spec.components[n].step_multiple if n in spec.components else 1 for n in self.names}
         try:
             for comp in self.components.values():
@@ -324,6 +318,20 @@ class System:
         finally:
             self._close_all()
         return finished(data, rows, record_names, outcome)
+
+    def recording_buffer(self) -> tuple[np.ndarray, np.ndarray]:
+        """The communication points and an empty table for them (time, then the recorded
+        signals), refused before anything runs if it would not fit in MAX_RECORD_BYTES."""
+        spec = self.spec
+        grid = step_grid(spec.start, spec.stop, spec.step)
+        n_steps = len(grid) - 1
+        recorded = len(self.record[1])
+        size = (n_steps + 1) * (1 + recorded) * 8
+        if size > MAX_RECORD_BYTES:
+            raise SystemError_(f"{spec.path or spec.name}: recording {recorded} signals over {n_steps:,} "
+                               f"steps would take {size / 1024**3:.1f} GiB; use a larger step or record fewer "
+                               "signals ([system] record = [...])")
+        return grid, np.empty((n_steps + 1, 1 + recorded))
 
     def _close_all(self) -> None:
         """Close every component; the first error of a close is raised after all were closed."""

@@ -411,18 +411,12 @@ class ModelExchange:
             If an FMU call failed (fmi2Discard or worse) or an FMU asked for an event; it
             carries the rows up to the last completed communication point.
         """
-        from cosim.cosimulation.master import MAX_RECORD_BYTES, Outcome, _complete_message, finished, step_grid
+        from cosim.cosimulation.master import Outcome, _complete_message, finished
 
         system, spec = self.system, self.system.spec
-        grid = step_grid(spec.start, spec.stop, spec.step)
+        grid, data = system.recording_buffer()
         n_steps = len(grid) - 1
         record_names, record_idx = system.record
-        size = (n_steps + 1) * (1 + len(record_idx)) * 8
-        if size > MAX_RECORD_BYTES:
-            raise SystemError_(f"{spec.path or spec.name}: recording {len(record_idx)} signals over {n_steps:,} "
-                               f"steps would take {size / 1024**3:.1f} GiB; use a larger step or record fewer "
-                               "signals ([system] record = [...])")
-        data = np.empty((n_steps + 1, 1 + len(record_idx)))
         parts, signals = self.parts, system.signals
         rows, outcome = 1, Outcome("completed", spec.stop, _complete_message(spec.stop, n_steps, grid))
         try:

@@ -136,15 +136,7 @@ def state_space(fmu: str | Path, params: Mapping[str, float], v: float) -> tuple
         feed back into them (which would make the 4x4 block's eigenvalues not the bicycle's).
     """
     lin = linearization(fmu, params, v)
-    missing = [s for s in WHIPPLE_STATES if s not in lin.states] + [u for u in INPUTS if u not in lin.inputs]
-    if missing:
-        raise ValueError(f"{fmu}: {', '.join(missing)} not found (states: {', '.join(lin.states)}; "
-                         f"inputs: {', '.join(lin.inputs)})")
-    idx = [lin.states.index(s) for s in WHIPPLE_STATES]
-    rest = [k for k in range(len(lin.states)) if k not in idx]
-    if rest and np.any(lin.A[np.ix_(idx, rest)] != 0.0):
-        raise ValueError(f"{fmu}: states {', '.join(lin.states[k] for k in rest)} feed back into the bicycle")
-    return lin.A[np.ix_(idx, idx)], lin.B[np.ix_(idx, [lin.inputs.index(u) for u in INPUTS])]
+    return _bicycle_blocks(fmu, lin.states, lin.inputs, [lin.A], [lin.B])[0]
 
 
 def state_spaces(fmu: str | Path, params: Mapping[str, float], speeds) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -154,16 +146,22 @@ def state_spaces(fmu: str | Path, params: Mapping[str, float], speeds) -> list[t
     from cosim.fmu.linearize import linearize_speeds
 
     sweep = linearize_speeds(fmu, [float(v) for v in speeds], {k: float(x) for k, x in params.items()})
-    missing = [s for s in WHIPPLE_STATES if s not in sweep.states] + [u for u in INPUTS if u not in sweep.inputs]
+    return _bicycle_blocks(fmu, sweep.states, sweep.inputs, sweep.A, sweep.B)
+
+
+def _bicycle_blocks(fmu, states: list[str], inputs: list[str], As, Bs) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The (phi, delta, phi_dot, delta_dot) blocks of each (A, B) with the columns of ``INPUTS``;
+    ValueError if a state or input is missing or another state feeds back into them."""
+    missing = [s for s in WHIPPLE_STATES if s not in states] + [u for u in INPUTS if u not in inputs]
     if missing:
-        raise ValueError(f"{fmu}: {', '.join(missing)} not found (states: {', '.join(sweep.states)}; "
-                         f"inputs: {', '.join(sweep.inputs)})")
-    idx = [sweep.states.index(s) for s in WHIPPLE_STATES]
-    rest = [k for k in range(len(sweep.states)) if k not in idx]
-    if rest and np.any(sweep.A[:, idx][:, :, rest] != 0.0):
-        raise ValueError(f"{fmu}: states {', '.join(sweep.states[k] for k in rest)} feed back into the bicycle")
-    columns = [sweep.inputs.index(u) for u in INPUTS]
-    return [(A[np.ix_(idx, idx)], B[np.ix_(idx, columns)]) for A, B in zip(sweep.A, sweep.B)]
+        raise ValueError(f"{fmu}: {', '.join(missing)} not found (states: {', '.join(states)}; "
+                         f"inputs: {', '.join(inputs)})")
+    idx = [states.index(s) for s in WHIPPLE_STATES]
+    rest = [k for k in range(len(states)) if k not in idx]
+    if rest and any(np.any(A[np.ix_(idx, rest)] != 0.0) for A in As):
+        raise ValueError(f"{fmu}: states {', '.join(states[k] for k in rest)} feed back into the bicycle")
+    columns = [inputs.index(u) for u in INPUTS]
+    return [(A[np.ix_(idx, idx)], B[np.ix_(idx, columns)]) for A, B in zip(As, Bs)]
 
 
 def closed_loop(A: np.ndarray, B: np.ndarray, roll_stiffness: float = 0.0) -> np.ndarray:

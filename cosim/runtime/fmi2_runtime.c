@@ -483,6 +483,18 @@ static const char *evaluate(rt_instance *in, char *why, size_t size)
     return NULL;
 }
 
+/* A model evaluation failed (why): fmi2Discard in ModelExchange event or continuous-time mode
+   (the instance stays usable, the integrator may retry with a smaller step), else the error state. */
+static fmi2Status evaluation_failed(rt_instance *in, const char *fn, const char *why)
+{
+    if (in->type == fmi2ModelExchange && (M_ME_RUNNING & BIT(in->s.state))) {
+        log_discard(in, "%s: %s", fn, why);
+        return fmi2Discard;
+    }
+    fail(in, "%s: %s", fn, why);
+    return fmi2Error;
+}
+
 /* Brings der(x) and z up to date with t, x, u and p.  fmi2OK; fmi2Discard if the model cannot
    be evaluated here but the instance stays usable (ModelExchange in event or continuous-time mode:
    FMI 2.0, 2.1.3, the integrator may retry with a smaller step); else fmi2Error and the error state. */
@@ -492,15 +504,8 @@ static fmi2Status update_outputs(rt_instance *in, const char *fn)
 
     if (!update_parameters(in, fn)) return fmi2Error;
     if (!in->s.eval_dirty) return fmi2OK;
-    if (evaluate(in, why, sizeof why)) {
-        /* eval_dirty stays set: the next getter evaluates (and reports) again */
-        if (in->type == fmi2ModelExchange && (M_ME_RUNNING & BIT(in->s.state))) {
-            log_discard(in, "%s: %s", fn, why);
-            return fmi2Discard;
-        }
-        fail(in, "%s: %s", fn, why);
-        return fmi2Error;
-    }
+    /* on failure eval_dirty stays set: the next getter evaluates (and reports) again */
+    if (evaluate(in, why, sizeof why)) return evaluation_failed(in, fn, why);
     in->s.eval_dirty = 0;
     return fmi2OK;
 }
@@ -509,14 +514,12 @@ static fmi2Status update_outputs(rt_instance *in, const char *fn)
    first).  Status as update_outputs. */
 static fmi2Status update_locals(rt_instance *in, const char *fn)
 {
+    char why[320];
+
     if (!COSIM_MODEL.eval_locals || !in->s.locals_dirty) return fmi2OK;
     if (COSIM_MODEL.eval_locals(in->s.time, XV(in), UE(in), PV(in), ZV(in)) != 0) {
-        if (in->type == fmi2ModelExchange && (M_ME_RUNNING & BIT(in->s.state))) {
-            log_discard(in, "%s: evaluation of the local variables failed at t = %.16g", fn, in->s.time);
-            return fmi2Discard;
-        }
-        fail(in, "%s: evaluation of the local variables failed at t = %.16g", fn, in->s.time);
-        return fmi2Error;
+        format(why, sizeof why, "evaluation of the local variables failed at t = %.16g", in->s.time);
+        return evaluation_failed(in, fn, why);
     }
     in->s.locals_dirty = 0;
     return fmi2OK;
