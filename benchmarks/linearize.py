@@ -20,6 +20,9 @@ import tempfile
 import time
 from pathlib import Path
 
+# Python puts this folder first on sys.path, where benchmarks/cosim.py would shadow the cosim package.
+sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
+
 import numpy as np
 
 from cosim.compiler.build import build_model
@@ -89,8 +92,14 @@ def main(folder: Path) -> None:
 
 
 if __name__ == "__main__":
-    if len(sys.argv) > 1:
-        main(Path(sys.argv[1]))
+    import argparse
+
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("fmu_folder", nargs="?", type=Path,
+                        help="where the FMUs are (built there if needed); default: COSIM_FMU_DIR or a temporary folder")
+    args = parser.parse_args()
+    if args.fmu_folder is not None:
+        main(args.fmu_folder)
     elif os.environ.get("COSIM_FMU_DIR"):
         main(Path(os.environ["COSIM_FMU_DIR"]))
     else:

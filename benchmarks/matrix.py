@@ -6,11 +6,16 @@ length), each case with its analytic prediction, classification and JSON Lines r
 * ``fmu-only``: the benchmark bicycle (WhippleLinear FMU) at self-stable speeds, perturbed by an
   initial roll angle (the master's C stepping loop);
 * ``rider+delay``: the same FMU with a Python rider ``T = -k phi(t - tau)`` (Proportional and an
-  exact TransportDelay: the Python stepping loop).
+  exact TransportDelay).
 
-Best of --repeat runs. "steady" counts from the moment every worker is ready (workers import python-control, unzip and
-instantiate their FMUs once, then keep them); "wall" includes that start-up.
-Targets: >= 1000 runs/min on 2 workers, speed-up 1 -> 2 workers >= 1.8x (steady).
+Best of --repeat runs. "steady" counts from the moment every worker is ready; "wall" is the whole
+``run_matrix`` call (spec expansion, up-to-date check of the FMU, worker start-up -- forked
+workers inherit the supervisor's imports --, the runs, the records, the checks).
+
+Targets of issue 14 (2 workers, 600 runs), each printed as measured / target, side by side:
+  fmu-only     steady >= 150,000 runs/min
+  fmu-only     wall rate >= 50 % of the steady rate (start-up must stay around <= 0.24 s)
+  rider+delay  steady >= 30,000 runs/min
 """
 from __future__ import annotations
 
@@ -22,6 +27,8 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+# the project before this folder: benchmarks/cosim.py would otherwise shadow the package
+sys.path[:0] = [str(ROOT)] if str(ROOT) not in sys.path[:1] else []
 
 
 def workload(name: str, n: int) -> dict:
@@ -40,23 +47,29 @@ def workload(name: str, n: int) -> dict:
 
 
 def measure(name: str, n: int, workers: int, out: Path, repeat: int) -> dict:
-    """Best of ``repeat`` runs (the machine may be shared)."""
+    """Best of ``repeat`` runs (the machine may be shared): the best steady and the best wall time."""
     from cosim.matrix.runner import run_matrix
     from cosim.matrix.spec import spec_from_dict
 
     spec = spec_from_dict(workload(name, n))
-    best = None
+    best = best_wall = None
     for k in range(repeat):
         t0 = time.perf_counter()
         result = run_matrix(spec, out / f"{name}-{workers}-{k}", workers=workers, progress=False, report=False)
         wall = time.perf_counter() - t0
-        if best is None or result.timing["run"] < best[0].timing["run"]:
-            best = (result, wall)
-    result, wall = best
+        if best is None or result.timing["run"] < best.timing["run"]:
+            best = result
+        best_wall = wall if best_wall is None else min(best_wall, wall)
+    result = best
     full = sum(1 for r in result.records if (r.get("outcome") or {}).get("steps") == 1000)
     bad = result.counts["failed"] + result.counts["disagree"]
     return {"runs": len(result.records), "full": full, "bad": bad, "steady": result.timing["run"],
-            "startup": result.timing["startup"], "wall": wall}
+            "startup": result.timing["startup"], "wall": best_wall, "start": result.timing.get("start")}
+
+
+#: Issue 14: runs per minute on 2 workers (steady), and the wall rate of 600 runs over the steady rate.
+TARGETS = {"fmu-only": 150_000, "rider+delay": 30_000}
+WALL_FRACTION = 0.5
 
 
 def _burn(n: int) -> None:
@@ -97,25 +110,39 @@ def main(argv=None) -> int:
           + ("  -- the machine is busy: speed-ups are understated" if load > 0.5 else ""))
     print(f"machine: 2 CPU-bound processes run {ideal:.2f}x as fast as 1 (the ceiling for any speed-up here)")
     print(f"{'workload':<12} {'workers':>7} {'runs':>5} {'steady [runs/min]':>18} {'wall [runs/min]':>16} "
-          f"{'start-up [s]':>12}")
+          f"{'start-up [s]':>12} {'start':>6}")
     ok = True
+    verdicts = []
     with tempfile.TemporaryDirectory() as tmp:
         for name in ("fmu-only", "rider+delay"):
-            rates = {}
+            rates, walls = {}, {}
             for workers in (1, 2):
                 m = measure(name, args.runs, workers, Path(tmp), args.repeat)
                 if m["full"] != m["runs"] or m["bad"]:
                     print(f"  warning: {m['runs'] - m['full']} runs shorter than 10 s, {m['bad']} failed/disagreeing")
                 rates[workers] = m["runs"] / m["steady"] * 60
+                walls[workers] = m["runs"] / m["wall"] * 60
                 print(f"{name:<12} {workers:>7} {m['runs']:>5} {rates[workers]:>18.0f} "
-                      f"{m['runs'] / m['wall'] * 60:>16.0f} {m['startup']:>12.1f}")
+                      f"{walls[workers]:>16.0f} {m['startup']:>12.3f} {m['start'] or '-':>6}")
             speedup = rates[2] / rates[1]
             print(f"{'':<12} load average now: {os.getloadavg()[0]:.2f}")
-            target = rates[2] >= 1000 and speedup >= 1.8
-            ok &= target
             print(f"{name:<12} speed-up 1 -> 2 workers: {speedup:.2f}x ({speedup / ideal:.0%} of the machine's "
-                  f"{ideal:.2f}x); 2 workers: {rates[2]:.0f} runs/min "
-                  f"({'meets' if target else 'MISSES'} >= 1000 runs/min and >= 1.8x)")
+                  f"{ideal:.2f}x)")
+            target = TARGETS[name]
+            met = rates[2] >= target
+            ok &= met
+            verdicts.append(f"{name:<12} steady, 2 workers: {rates[2]:>8.0f} runs/min = {rates[2] / target:.2f} x "
+                            f"the target {target:,} ({'meets' if met else 'MISSES'})")
+            if name == "fmu-only":
+                fraction = walls[2] / rates[2]
+                met = fraction >= WALL_FRACTION
+                ok &= met
+                verdicts.append(f"{name:<12} wall / steady, {args.runs} runs, 2 workers: {fraction:.2f} = "
+                                f"{fraction / WALL_FRACTION:.2f} x the target {WALL_FRACTION:.2f} "
+                                f"({'meets' if met else 'MISSES'})")
+    print(f"issue 14 targets (load average now: {os.getloadavg()[0]:.2f}):")
+    for line in verdicts:
+        print("  " + line)
     return 0 if ok else 1
 
 

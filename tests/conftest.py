@@ -85,6 +85,32 @@ def calculated_parameters(fmu_path, names, parameters=None) -> dict:
     return values
 
 
+def failing_do_step(monkeypatch, status: int, from_time: float, terminated: list | None = None) -> None:
+    """Every FMU component's fmi2DoStep returns ``status`` (2 Discard, 3 Error) from ``from_time``
+    [s] on, in the C stepping loop and in the Python one; ``terminated`` (if given) collects the
+    names of the components whose fmi2Terminate is called."""
+    from ctypes import CFUNCTYPE, c_double, c_int, c_void_p
+
+    from cosim.cosimulation.component import FMUComponent
+
+    original_setup = FMUComponent.setup
+
+    def setup_with_failing_step(self, start_time):
+        original_setup(self, start_time)
+        real = self._do_step
+
+        @CFUNCTYPE(c_int, c_void_p, c_double, c_double, c_int)
+        def do_step(component, t, h, no_prior):
+            return status if t >= from_time - 1e-9 else real(component, t, h, no_prior)
+
+        self._keep_alive, self._do_step = do_step, do_step
+        if terminated is not None:
+            instance, terminate = self.instance, self.instance.terminate
+            instance.terminate = lambda: (terminated.append(self.name), terminate())[1]
+
+    monkeypatch.setattr(FMUComponent, "setup", setup_with_failing_step)
+
+
 def run_cli(*args: str, cwd: Path | None = None, env: dict | None = None) -> subprocess.CompletedProcess:
     """Run `python -m cosim ...` as a user would, capturing its output."""
     environment = {**os.environ, **(env or {})}

@@ -88,6 +88,27 @@ def test_benchmark_weave_and_capsize_speeds():
     assert lo == pytest.approx(vw, rel=1e-13) and hi == pytest.approx(vc, rel=1e-13)
 
 
+@pytest.mark.parametrize("name", ["benchmark", "astrom2005", "astrom2005-riderless"])
+def test_stability_boundaries_equal_an_iterative_root_finder(name):
+    """The exact location of each boundary (a root of a0 * H3, the Routh-Hurwitz crossing
+    polynomial in v) equals scipy's brentq on the eigenvalues' real parts to 1e-12 m/s."""
+    from scipy.optimize import brentq
+
+    p = P.load_parameters(name)
+    mats = W.matrices(p)
+
+    def largest(v, oscillatory):
+        ev = np.linalg.eigvals(W.state_matrices(p, v)[0])
+        pick = np.abs(ev.imag) > 1e-7 * np.maximum(1.0, np.abs(ev)) if oscillatory else np.abs(ev.imag) <= 1e-7
+        return ev.real[pick].max()
+
+    vw, vc = W.weave_speed(p), W.capsize_speed(p)
+    assert vw == pytest.approx(brentq(lambda v: largest(v, True), vw - 0.05, vw + 0.05, xtol=1e-15), abs=1e-12)
+    assert vc == pytest.approx(brentq(lambda v: largest(v, False), vc - 0.05, vc + 0.05, xtol=1e-15), abs=1e-12)
+    assert W.self_stable_interval(p) == pytest.approx((vw, vc), abs=1e-12)
+    assert abs(W._crossing_polynomial(p, mats)(vw)) <= 1e-9 * max(abs(c) for c in W._crossing_polynomial(p, mats).coef)
+
+
 def test_capsize_speed_matches_closed_form():
     """det(g K0 + v^2 K2) = 0 is linear in v^2 (K2[:, 0] = 0); rtol 1e-12."""
     for name in ("benchmark", "astrom2005", "astrom2005-riderless"):

@@ -1,4 +1,4 @@
-"""The cache of the compiled runtime (``OUTPUT/.cosim-cache/<key>/fmi2_runtime.o.entry``):
+"""The cache of the compiled runtime (``$XDG_CACHE_HOME/cosim/runtime/<key>/fmi2_runtime.o.entry``):
 reused by the next build, rebuilt when the compiler changes, a corrupt entry ignored (and
 replaced), concurrent builds safe; an FMU built from the cached object is the same, byte for
 byte, as one built without the cache."""
@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from cosim.compiler import fmu as fmu_module
-from cosim.compiler.build import RUNTIME_CACHE, build, build_model
+from cosim.compiler.build import build, build_model, runtime_cache
 from cosim.compiler.library import load_library
 
 SMALL = ("Bicycle.Control.PD", "Bicycle.Control.Proportional")
@@ -23,6 +23,12 @@ SMALL = ("Bicycle.Control.PD", "Bicycle.Control.Proportional")
 @pytest.fixture(scope="module")
 def library():
     return load_library()
+
+
+@pytest.fixture(autouse=True)
+def own_cache(tmp_path, monkeypatch):
+    """Each test starts without a compiled runtime (the session's cache may have one)."""
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg-cache"))
 
 
 @pytest.fixture
@@ -39,8 +45,8 @@ def compiles(monkeypatch):
     return seen
 
 
-def _entries(out: Path) -> list[Path]:
-    return sorted((out / RUNTIME_CACHE).glob("*/fmi2_runtime.o.entry"))
+def _entries() -> list[Path]:
+    return sorted(runtime_cache().glob("*/fmi2_runtime.o.entry"))
 
 
 def _binary(fmu: Path) -> bytes:
@@ -57,17 +63,20 @@ def _valid(entry: Path) -> bool:
 def test_runtime_compiled_once_and_reused(library, tmp_path, compiles):
     build_model(SMALL[0], tmp_path, library)
     assert compiles.count("fmi2_runtime.c") == 1
-    [entry] = _entries(tmp_path)
+    [entry] = _entries()
     assert _valid(entry)
     before = entry.stat()
     compiles.clear()
     build_model(SMALL[1], tmp_path, library)
     build_model(SMALL[0], tmp_path, library, force=True)
     assert "fmi2_runtime.c" not in compiles, "the cached runtime object was compiled again"
-    assert "model.c" in compiles, "the model-specific C must still be compiled"
-    assert _entries(tmp_path) == [entry] and entry.stat().st_mtime_ns == before.st_mtime_ns
+    # a small model's C files are compiled as one translation unit (fmu.UNITY_FILE), not shipped
+    assert compiles == [fmu_module.UNITY_FILE] * 2, "the model-specific C must still be compiled"
+    assert _entries() == [entry] and entry.stat().st_mtime_ns == before.st_mtime_ns
     with zipfile.ZipFile(tmp_path / "Bicycle_Control_PD.fmu") as archive:
         assert "sources/fmi2_runtime.c" in archive.namelist(), "the FMU must still ship the runtime source"
+        assert "sources/model.c" in archive.namelist()
+        assert not any(fmu_module.UNITY_FILE in name for name in archive.namelist())
 
 
 def test_fmu_from_cached_object_is_byte_identical(library, tmp_path):
@@ -84,7 +93,7 @@ def test_new_compiler_gets_its_own_object(library, tmp_path, compiles, monkeypat
     """Another compiler (here a wrapper of gcc at another path) does not use the object of the
     first: a second cache entry is compiled; the first is kept."""
     build_model(SMALL[0], tmp_path / "out", library)
-    [first] = _entries(tmp_path / "out")
+    [first] = _entries()
     wrapper = tmp_path / "bin" / "cc-wrapper"
     wrapper.parent.mkdir()
     wrapper.write_text(f'#!/bin/sh\nexec {shutil.which("gcc")} "$@"\n')
@@ -93,14 +102,14 @@ def test_new_compiler_gets_its_own_object(library, tmp_path, compiles, monkeypat
     compiles.clear()
     build_model(SMALL[0], tmp_path / "out", library, force=True)
     assert compiles.count("fmi2_runtime.c") == 1
-    entries = _entries(tmp_path / "out")
+    entries = _entries()
     assert len(entries) == 2 and first in entries and all(_valid(e) for e in entries)
 
 
 @pytest.mark.parametrize("damage", ["truncated", "flipped-byte", "empty", "foreign"])
 def test_corrupt_entry_is_ignored_and_replaced(library, tmp_path, compiles, damage):
     good = build_model(SMALL[0], tmp_path, library).fmu.read_bytes()
-    [entry] = _entries(tmp_path)
+    [entry] = _entries()
     data = entry.read_bytes()
     broken = {"truncated": data[: len(data) // 2], "empty": b"", "foreign": b"\x7fELF" + data[4:],
               "flipped-byte": data[:-100] + bytes([data[-100] ^ 0xFF]) + data[-99:]}[damage]
@@ -114,10 +123,11 @@ def test_corrupt_entry_is_ignored_and_replaced(library, tmp_path, compiles, dama
 
 def test_unwritable_cache_only_costs_time(library, tmp_path, compiles):
     """A cache folder that cannot be written (here a file in its way) is skipped."""
-    (tmp_path / RUNTIME_CACHE).write_text("not a folder")
+    runtime_cache().parent.mkdir(parents=True)
+    runtime_cache().write_text("not a folder")
     result = build_model(SMALL[0], tmp_path, library)
     assert result.rebuilt and compiles.count("fmi2_runtime.c") == 1
-    assert (tmp_path / RUNTIME_CACHE).read_text() == "not a folder"
+    assert runtime_cache().read_text() == "not a folder"
 
 
 @pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="needs two CPUs for builds at the same time")
@@ -126,7 +136,7 @@ def test_concurrent_builds_share_one_complete_entry(tmp_path):
     entry (renamed into place), the last one stays, no partial file is left."""
     results = build(list(SMALL), output=tmp_path, jobs=2)
     assert all(r.rebuilt for r in results)
-    [entry] = _entries(tmp_path)
+    [entry] = _entries()
     assert _valid(entry)
     assert [p.name for p in entry.parent.iterdir()] == [entry.name], "partial cache file left behind"
     again = build(list(SMALL), output=tmp_path, jobs=2, force=True)

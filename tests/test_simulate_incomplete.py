@@ -9,11 +9,13 @@ error)."""
 from __future__ import annotations
 
 import re
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 
-from conftest import run_cli
+from conftest import ROOT, failing_do_step, run_cli
 
 WHIPPLE = "Bicycle.Bicycles.Whipple"
 FALLING = ["--param", "u_R0=-10", "--param", "phi0=0.05"]  # v = -u_R0 * rR = 3 m/s, 0.05 rad of roll
@@ -55,16 +57,25 @@ def test_simulate_npy_incomplete_result_is_npy(fmus, tmp_path):
     assert data["time"][-1] == pytest.approx(FAILURE_TIME, abs=0.02)
 
 
+# `python -m cosim` with the master's C stepping loop switched off (System.use_fast_loop)
+PYTHON_LOOP_CLI = ("import sys; from cosim.cosimulation.master import System; System.use_fast_loop = False; "
+                   "from cosim.cli import main; sys.exit(main(sys.argv[1:]))")
+
+
 @pytest.mark.parametrize("loop", ["fast-c-loop", "python-loop"])
 def test_run_solver_failure_writes_rows_up_to_failure_without_second_crash(fmus, tmp_path, loop):
-    """The C loop runs systems made only of FMUs; a Python block makes the master step in Python."""
-    extra = '\n[components.push]\npython = "Step"\nparameters = { amplitude = 0.0 }\n' if loop == "python-loop" else ""
-    connections = '["push.y -> bike.T_phi"]' if loop == "python-loop" else "[]"
+    """The C loop runs systems of FMUs and the built-in blocks (here a Step source); the Python
+    loop, which a block without a native form needs, reports the same."""
     system = tmp_path / "falls.toml"
-    system.write_text(f'connections = {connections}\n[system]\nstop = 5.0\nstep = 0.01\n'
+    system.write_text('connections = ["push.y -> bike.T_phi"]\n[system]\nstop = 5.0\nstep = 0.01\n'
                       f'[components.bike]\nfmu = "{fmus[WHIPPLE]}"\nparameters = {{ u_R0 = -10.0, phi0 = 0.05 }}\n'
-                      f"{extra}")
-    result = run_cli("run", str(system), "-o", str(tmp_path / "falls.csv"))
+                      '[components.push]\npython = "Step"\nparameters = { amplitude = 0.0 }\n')
+    arguments = ("run", str(system), "-o", str(tmp_path / "falls.csv"))
+    if loop == "fast-c-loop":
+        result = run_cli(*arguments)
+    else:
+        result = subprocess.run([sys.executable, "-c", PYTHON_LOOP_CLI, *arguments], capture_output=True, text=True,
+                                cwd=ROOT, timeout=600)
     partial = _check_incomplete(result, tmp_path, "falls")
     assert "fmi2DoStep failed at t = 1.9 s" in result.stderr
     assert "fmi2Terminate" not in result.stderr  # the clean-up made no call FMI forbids
@@ -117,33 +128,17 @@ def test_run_keeps_rows_when_fmu_step_returns_discard_or_error(fmus, monkeypatch
     """Both runtime behaviours (fmi2Error, and fmi2Discard with fmi2LastSuccessfulTime): the rows
     up to the failed step are kept, the outcome says which component failed, and fmi2Terminate
     is called after a Discard only."""
-    from ctypes import CFUNCTYPE, c_double, c_int, c_void_p
-
-    from cosim.cosimulation.component import FMUComponent
     from cosim.cosimulation.factory import run_system
-    from cosim.cosimulation.master import RunFailed
+    from cosim.cosimulation.master import RunFailed, System
     from cosim.cosimulation.system import system_from_dict
 
     fail_at = 1.0  # s
     terminated = []
-    original_setup = FMUComponent.setup
-
-    def setup_with_failing_step(self, start_time):
-        original_setup(self, start_time)
-        real = self._do_step
-
-        @CFUNCTYPE(c_int, c_void_p, c_double, c_double, c_int)
-        def do_step(component, t, h, no_prior):
-            return status if t >= fail_at - 1e-9 else real(component, t, h, no_prior)
-
-        self._keep_alive, self._do_step = do_step, do_step
-        instance, terminate = self.instance, self.instance.terminate
-        instance.terminate = lambda: (terminated.append(self.name), terminate())[1]
-
-    monkeypatch.setattr(FMUComponent, "setup", setup_with_failing_step)
+    failing_do_step(monkeypatch, status, fail_at, terminated)
+    monkeypatch.setattr(System, "use_fast_loop", loop == "fast-c-loop")
     components = {"bike": {"fmu": str(fmus["Bicycle.Bicycles.SelfStabilizing"]), "parameters": {"V": 6.0}}}
     connections = []
-    if loop == "python-loop":
+    if loop == "python-loop":  # with a block as well (natively stepped in the C loop)
         components["push"] = {"python": "Step", "parameters": {"amplitude": 0.1}}
         connections = ["push.y -> bike.T"]
     spec = system_from_dict({"system": {"stop": 2.0, "step": 0.1}, "components": components,

@@ -28,7 +28,6 @@ import math
 from collections.abc import Mapping
 
 import numpy as np
-from scipy.optimize import brentq
 
 from cosim.analytic.parameters import validate_parameters
 
@@ -208,9 +207,12 @@ def state_matrices(params: Mapping[str, float], v: float) -> tuple[np.ndarray, n
         Input matrix for ``u = [T_phi, T_delta]`` (N m): ``[[0], [M^-1]]``.
     """
     M, C1, K0, K2 = matrices(params)
-    v = float(v)
-    g = float(params["g"])
-    Minv = np.linalg.inv(M)
+    return assembled_state_matrices(np.linalg.inv(M), C1, K0, K2, float(params["g"]), float(v))
+
+
+def assembled_state_matrices(Minv, C1, K0, K2, g: float, v: float) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`state_matrices` from ``M^-1`` [1/(kg m^2)], ``C1``, ``K0``, ``K2`` (:func:`matrices`),
+    ``g`` [m/s^2] and ``v`` [m/s]: for callers that keep the speed-independent part."""
     A = np.zeros((4, 4))
     A[:2, 2:] = np.eye(2)
     A[2:, :2] = -Minv @ (g * K0 + v**2 * K2)
@@ -340,8 +342,63 @@ def _max_real(p, mats, v: float) -> float:
     return float(_eigs(p, mats, np.array([v]))[0].real.max())
 
 
-def _refine(f, a: float, b: float) -> float:
-    return float(brentq(f, a, b, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200))
+def _crossing_polynomial(p, mats) -> np.polynomial.Polynomial:
+    """``P(v) = a0(v) H3(v)``: zero wherever an eigenvalue crosses the imaginary axis.
+
+    With ``det(s^2 M + s v C1 + g K0 + v^2 K2) = a4 s^4 + a3 s^3 + a2 s^2 + a1 s + a0`` (each
+    ``a_k`` a polynomial in ``v``), a real eigenvalue crosses zero where ``a0(v) = 0`` and a
+    complex pair crosses the imaginary axis where the Hurwitz determinant
+    ``H3 = a1 a2 a3 - a4 a1^2 - a0 a3^2`` vanishes (Routh-Hurwitz for the quartic; ``H3 = 0``
+    also at a real pair ``+-r``, which the sign test of :func:`_refine` tells apart).
+    """
+    V = np.polynomial.Polynomial
+    M, C1, K0, K2 = mats
+    v = V([0.0, 1.0])
+
+    def entry(i, j):  # coefficients of s^2, s, 1, polynomials in v
+        return (V([M[i, j]]), C1[i, j] * v, p["g"] * K0[i, j] + K2[i, j] * v**2)
+
+    def times(e, f):  # product of two entries: coefficients of s^4 .. s^0
+        out = [V([0.0])] * 5
+        for i, x in enumerate(e):
+            for j, y in enumerate(f):
+                out[i + j] = out[i + j] + x * y
+        return out
+
+    a4, a3, a2, a1, a0 = (x - y for x, y in zip(times(entry(0, 0), entry(1, 1)), times(entry(0, 1), entry(1, 0))))
+    return a0 * (a1 * a2 * a3 - a4 * a1**2 - a0 * a3**2)
+
+
+def _refine(f, a: float, b: float, polynomial: np.polynomial.Polynomial) -> float:
+    """The speed in ``[a, b]`` where ``f`` (an eigenvalue's real part) changes sign.
+
+    ``f`` changes sign only where an eigenvalue crosses the imaginary axis, i.e. at a real root
+    of ``polynomial`` (:func:`_crossing_polynomial`): of its roots in the bracket (numpy's
+    companion-matrix roots, each polished by one Newton step), the one across which ``f``
+    changes sign. Exact up to rounding, and without an iterative root finder.
+    """
+    d = polynomial.deriv()
+    found = []
+    for r in polynomial.roots():
+        if abs(r.imag) > 1e-9 * max(1.0, abs(r.real)):
+            continue
+        x = float(r.real)
+        slope = float(d(x))
+        if slope != 0.0:
+            x -= float(polynomial(x)) / slope
+        if a - 1e-12 <= x <= b + 1e-12:
+            found.append(min(max(x, a), b))
+    found = sorted(set(found))
+    if len(found) == 1:
+        return found[0]
+    # several candidates in the bracket: the one with f on opposite sides just before and after
+    fa = f(a)
+    edges = [a, *((x + y) / 2 for x, y in zip(found, found[1:])), b]
+    for x, after in zip(found, edges[1:]):
+        if np.sign(f(after)) != np.sign(fa):
+            return x
+    raise ArithmeticError(f"no eigenvalue crosses the imaginary axis in [{a!r}, {b!r}] m/s although the "
+                          "scan saw a sign change; refine the scan (num)")
 
 
 def _scan(p, mats, v_min: float, v_max: float, num: int):
@@ -360,7 +417,8 @@ def weave_speed(params: Mapping[str, float], *, v_min: float = 0.0, v_max: float
     ``|Im| > 1e-7 max(1, |lambda|)``.  The first pair of neighbouring scan
     speeds, both with oscillatory eigenvalues, across which their largest
     real part changes sign from positive to non-positive brackets the root,
-    which ``scipy.optimize.brentq`` refines (xtol 1e-15 m/s).
+    which :func:`_refine` locates exactly: a root of the Routh-Hurwitz determinant of the
+    characteristic polynomial (a polynomial in the speed).
 
     Parameters
     ----------
@@ -387,7 +445,8 @@ def weave_speed(params: Mapping[str, float], *, v_min: float = 0.0, v_max: float
         if has[i] and has[i + 1] and wr[i] > 0.0 >= wr[i + 1]:
             if wr[i + 1] == 0.0:
                 return float(speeds[i + 1])
-            return _refine(lambda v: _weave_real(p, mats, v), speeds[i], speeds[i + 1])
+            return _refine(lambda v: _weave_real(p, mats, v), speeds[i], speeds[i + 1],
+                           _crossing_polynomial(p, mats))
     return None
 
 
@@ -398,7 +457,7 @@ def capsize_speed(params: Mapping[str, float], *, v_min: float | None = None, v_
     Method: scan as in :func:`weave_speed`, starting at the weave speed if
     there is one (else at 0) unless ``v_min`` is given; the first sign change
     from negative to non-negative of the largest *real* eigenvalue
-    (``|Im| <= 1e-7 max(1, |lambda|)``) is refined with ``brentq``.  A real
+    (``|Im| <= 1e-7 max(1, |lambda|)``) is located exactly as in :func:`weave_speed`.  A real
     eigenvalue crosses zero exactly where ``det(g K0 + v^2 K2) = 0``;
     because ``K2`` has a zero first column this is linear in ``v^2``, so
     ``v_c^2 = -g det(K0) / (K0[0,0] K2[1,1] - K0[1,0] K2[0,1])`` (used in the
@@ -433,7 +492,8 @@ def capsize_speed(params: Mapping[str, float], *, v_min: float | None = None, v_
         if has[i] and has[i + 1] and rr[i] < 0.0 <= rr[i + 1]:
             if rr[i + 1] == 0.0:
                 return float(speeds[i + 1])
-            return _refine(lambda v: _real_mode_max(p, mats, v), speeds[i], speeds[i + 1])
+            return _refine(lambda v: _real_mode_max(p, mats, v), speeds[i], speeds[i + 1],
+                           _crossing_polynomial(p, mats))
     return None
 
 
@@ -443,8 +503,7 @@ def self_stable_interval(params: Mapping[str, float], *, v_min: float = 0.0, v_m
 
     Method: the largest real part of all eigenvalues is scanned on
     ``numpy.linspace(v_min, v_max, num)``; both ends of the first run of
-    negative values are refined with ``brentq`` on that (continuous)
-    function.  For a bicycle like the benchmark this is
+    negative values are located exactly as in :func:`weave_speed`.  For a bicycle like the benchmark this is
     ``(weave_speed, capsize_speed)``.
 
     Parameters
@@ -472,12 +531,13 @@ def self_stable_interval(params: Mapping[str, float], *, v_min: float = 0.0, v_m
         return None
     i0 = int(stable[0])
     f = lambda v: _max_real(p, mats, v)  # noqa: E731
-    lo = float(speeds[0]) if i0 == 0 else _refine(f, speeds[i0 - 1], speeds[i0])
+    crossing = _crossing_polynomial(p, mats)
+    lo = float(speeds[0]) if i0 == 0 else _refine(f, speeds[i0 - 1], speeds[i0], crossing)
     unstable_after = np.flatnonzero(mr[i0:] >= 0.0)
     if unstable_after.size == 0:
         return lo, math.inf
     j = i0 + int(unstable_after[0])
-    hi = float(speeds[j]) if mr[j] == 0.0 else _refine(f, speeds[j - 1], speeds[j])
+    hi = float(speeds[j]) if mr[j] == 0.0 else _refine(f, speeds[j - 1], speeds[j], crossing)
     return lo, hi
 
 

@@ -31,7 +31,7 @@ from cosim.processes import die_with_parent
 from cosim.compiler import fmu as fmu_files
 from cosim.compiler.library import compiler_digest  # noqa: F401 (cosim.compiler.build.compiler_digest)
 from cosim.compiler.library import tool_versions as _tool_versions
-from cosim.compiler.codegen import casadi_functions, generated_sources, write_sources
+from cosim.compiler.codegen import casadi_functions, generated_sources, unoptimized_sources, write_sources
 from cosim.compiler.description import describe
 from cosim.compiler.flatten import fewer_collections, flatten
 from cosim.compiler.fmu import MANIFEST, compile_binary, pack, platform_folder, read_manifest
@@ -43,9 +43,16 @@ from cosim.compiler.ode import make_explicit
 # directory (never the installed package), or the folder named by COSIM_FMU_DIR (the tests point
 # it to a temporary folder).
 DEFAULT_OUTPUT = Path(os.environ.get("COSIM_FMU_DIR") or Path.cwd() / "fmus").absolute()
-# Folder of the output folder that holds the compiled runtime, one object per runtime source,
-# compiler and flags (cosim.compiler.fmu.load_runtime_object): compiled once, not per FMU.
-RUNTIME_CACHE = ".cosim-cache"
+
+
+def runtime_cache() -> Path:
+    """``$XDG_CACHE_HOME/cosim/runtime``: the compiled runtime, one object per runtime source,
+    compiler and flags (:func:`cosim.compiler.fmu.load_runtime_object`), compiled once per
+    machine, not per FMU nor per output folder (a clean build of the library does not compile it
+    again; like ccache, the object is keyed by everything it is made from)."""
+    from cosim.compiler.catalog import cache_folder
+
+    return cache_folder() / "runtime"
 
 
 @dataclass
@@ -208,7 +215,8 @@ def _build_locked(model_name, target, library, entry, force, started) -> BuildRe
         binaries = staging / "binaries" / platform_folder()
         binaries.mkdir(parents=True)
         compile_binary(sources, info.identifier, binaries / f"{info.identifier}.so", generated=tuple(generated_sources(info)),
-                       objects=Path(tmp) / "objects", cache=target.parent / RUNTIME_CACHE)
+                       unoptimized=tuple(unoptimized_sources(info)),
+                       objects=Path(tmp) / "objects", cache=runtime_cache())
         source_hashes = {name: hashlib.sha256((sources / name).read_bytes()).hexdigest() for name in files}
         (staging / MANIFEST).parent.mkdir(parents=True, exist_ok=True)
         (staging / MANIFEST).write_text(json.dumps({

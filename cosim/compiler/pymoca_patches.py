@@ -76,6 +76,8 @@ v and vdef must match").
 """
 from __future__ import annotations
 
+import itertools
+
 import re
 
 _applied = False
@@ -372,6 +374,72 @@ def _inherited_constants(resolve_name, flattening):
     return patched_resolve_name
 
 
+def _full_scope_once(resolve_name, resolve_modifications, flattening):
+    """pymoca's _resolve_name instantiates its scope fully before the look-up, but does not keep
+    an unnamed scope's full instance (its parent's cache is by name, which unnamed extends would
+    share), so every name referenced in such a scope instantiated it again: the linear bicycle's
+    modifications of its body extends (`extends PartialFrontBody(final S = 0)`, bound to lam, mu,
+    ...) made 463 references, 15,000 class instantiations, 2 of its 2.5 s of flattening.
+
+    Within one _resolve_modifications (the modifications of one symbol), the full instance of the
+    same partial instance with the same (empty) modification is the same each time: it is made
+    once per such call. Not longer: between two symbols pymoca may still complete the partial
+    instance (a redeclared package, tests/test_pymoca_patches.py), so a longer-lived copy would be
+    stale."""
+    from pymoca import ast
+    from pymoca.tree.instance import InstanceClass, InstantiationState
+
+    windows: list[dict] = []  # one per active _resolve_modifications: id(scope) -> (scope, full)
+
+    def patched_resolve_modifications(*args, **kwargs):
+        windows.append({})
+        try:
+            return resolve_modifications(*args, **kwargs)
+        finally:
+            windows.pop()
+
+    def patched_resolve_name(name, scope, flat_class, **kwargs):
+        if windows and isinstance(scope, InstanceClass) and not scope.name \
+                and scope.instantiation_state < InstantiationState.FULL and "guard" in kwargs and "opts" in kwargs:
+            opts = kwargs["opts"]
+            kept = windows[-1].get((id(scope), repr(opts)))
+            if kept is None:
+                full = flattening._instantiate_class(scope, ast.ClassModification(), scope.parent_instance,
+                                                     guard=kwargs["guard"], opts=opts, update_parent_instance=False)
+                kept = windows[-1][(id(scope), repr(opts))] = (scope, full)
+            scope = kept[1]
+        return resolve_name(name, scope, flat_class, **kwargs)
+
+    return patched_resolve_name, patched_resolve_modifications
+
+
+def _added_keys(symbols: dict, before: int) -> set:
+    """The keys added to ``symbols`` since it had ``before`` entries: the last ones (a dict keeps
+    insertion order, and _flatten_instance only adds to the flat class's symbols)."""
+    added = len(symbols) - before
+    return set(itertools.islice(reversed(symbols), added)) if added > 0 else set()
+
+
+def _linear_new_symbols(flattening) -> None:
+    """pymoca's _flatten_instance finds the symbols a component added to the flat class by the set
+    difference of all its symbols before and after: quadratic in the size of the model (a
+    3000-state chain spent 60 % of its flattening there). The same set is the entries added last.
+    The two lines are replaced in pymoca's own source (compiled into its module, so that every
+    other patch still applies); if they are not there (another pymoca), its code stays."""
+    import inspect
+    import textwrap
+
+    source = textwrap.dedent(inspect.getsource(flattening._flatten_instance))
+    before = "symbols_before_recursive = set(flat_class.symbols.keys())"
+    after = "new_sym_names = set(flat_class.symbols.keys()) - symbols_before_recursive"
+    if not source.startswith("def _flatten_instance(") or source.count(before) != 1 or source.count(after) != 1:
+        return
+    source = source.replace(before, "symbols_before_recursive = len(flat_class.symbols)")
+    source = source.replace(after, "new_sym_names = _cosim_added_keys(flat_class.symbols, symbols_before_recursive)")
+    flattening._cosim_added_keys = _added_keys
+    exec(compile(source, flattening.__file__, "exec"), flattening.__dict__)
+
+
 class RecordBindingError(Exception):
     """A record binding that cosim's compiler cannot apply (flatten.py names its source line)."""
 
@@ -620,7 +688,10 @@ def apply() -> None:
                                                               set(InstanceTree.BUILTIN_TYPES))
     flattening._collect_and_resolve_equations = _package_constants_in_equations(
         flattening._collect_and_resolve_equations, flattening)
-    flattening._resolve_name = _inherited_constants(flattening._resolve_name, flattening)
+    resolve_name, flattening._resolve_modifications = _full_scope_once(
+        flattening._resolve_name, flattening._resolve_modifications, flattening)
+    flattening._resolve_name = _inherited_constants(resolve_name, flattening)
+    _linear_new_symbols(flattening)
     flattening._flatten_instance = _record_bindings(flattening._flatten_instance, flattening)
     instantiation._apply_redeclares, instantiation._instantiate_symbol = _replacing_redeclares(
         instantiation._apply_redeclares, instantiation._instantiate_symbol, set(InstanceTree.BUILTIN_TYPES))

@@ -4,6 +4,11 @@ Every block is a :class:`~cosim.cosimulation.registry.Block` and registers itsel
 Continuous-time linear blocks are discretized exactly (zero-order hold on their inputs, as a
 Co-Simulation master holds inputs over a step), so a Python block and the FMU of its Modelica
 twin agree to the integration tolerance of the FMU.
+
+Each kind also has its native form (:meth:`~cosim.cosimulation.registry.Block.native`): the master's
+C stepping loop then steps it, with the same operations in the same order, so its results are
+bit-identical to the Python loop's. For that the products of a matrix and a vector are
+:func:`matvec` (a fixed order of additions) and not ``@``, whose order BLAS chooses per CPU.
 """
 from __future__ import annotations
 
@@ -13,7 +18,21 @@ import numpy as np
 from scipy.linalg import expm
 
 from cosim.errors import ParameterError
-from cosim.cosimulation.registry import Block, LinearModel
+from cosim.cosimulation.registry import Block, LinearModel, Native, Window
+
+
+def matvec(M: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """``M @ v`` summed in a fixed order, ``(M[:, 0] v[0] + M[:, 1] v[1]) + ...`` (0 without columns).
+
+    BLAS sums a product of more than one row in an order of its own (and with fused multiply-adds
+    on CPUs that have them); this order is the one ``fastloop.c`` uses, so both loops agree bit
+    for bit."""
+    if M.shape[1] == 0:
+        return np.zeros(M.shape[0])
+    out = M[:, 0] * v[0]
+    for j in range(1, M.shape[1]):
+        out = out + M[:, j] * v[j]
+    return out
 
 
 def _positive(name: str, value: float) -> float:
@@ -25,23 +44,38 @@ def _positive(name: str, value: float) -> float:
 
 class Affine(Block, register=False):
     """``y = D u + r(t)`` without memory: subclasses define :meth:`gain` (D) and, for sources and
-    references, :meth:`~cosim.cosimulation.registry.Block.exogenous` (r). The same two methods
-    give the Python stepping and the linear model, so the block's equations are written once."""
+    references, :meth:`window` (r). The same two methods give the Python stepping, the native form
+    and the linear model, so the block's equations are written once."""
+
+    native_methods = Block.native_methods + ("_refresh", "_parameters")
 
     def __init__(self, name: str):
         super().__init__(name)
         self._u = np.zeros(len(self.inputs))
         self._y = np.zeros(len(self.outputs))
         self._D = None
+        self._window = None
 
     def gain(self) -> np.ndarray:
         """The matrix D (outputs x inputs) from the block's parameters."""
         raise NotImplementedError
 
-    def _refresh(self) -> None:
+    def window(self) -> Window | None:
+        """The exogenous part r(t) (sources, references) as a :class:`Window`; None (default): 0."""
+        return None
+
+    def exogenous(self, t):
+        window = self.window() if self._D is None else self._window  # set with D (_parameters)
+        return np.zeros(len(self.outputs)) if window is None else window.value(t)
+
+    def _parameters(self) -> None:
         if self._D is None:  # parameters are fixed once the block exists
+            self._window = self.window()
             self._D = np.asarray(self.gain(), float).reshape(len(self.outputs), len(self.inputs))
-        self._y[:] = self._D @ self._u + self.exogenous(self._t)
+
+    def _refresh(self) -> None:
+        self._parameters()
+        self._y[:] = matvec(self._D, self._u) + self.exogenous(self._t)
 
     def setup(self, start_time):
         super().setup(start_time)
@@ -58,6 +92,15 @@ class Affine(Block, register=False):
         self._t = t + h
         self._refresh()
 
+    def native(self, steps):
+        self._parameters()
+        t = np.array([self._t])
+
+        def done():
+            self._t = float(t[0])
+
+        return Native("affine", self._u, self._y, t, D=self._D, window=self._window, done=done)
+
     def linear(self, settings):
         D = self.gain()
         return LinearModel(np.zeros((0, 0)), np.zeros((0, len(self.inputs))), np.zeros((len(self.outputs), 0)),
@@ -66,7 +109,10 @@ class Affine(Block, register=False):
 
 class Linear(Block, register=False):
     """``x' = A x + B u``, ``y = C x + D u``, stepped exactly under a zero-order hold of u;
-    subclasses pass their matrices to ``__init__``, which are also their linear model."""
+    subclasses pass their matrices to ``__init__``, which are also their linear model (and, with
+    the discrete matrices of each step, their native form)."""
+
+    native_methods = Block.native_methods + ("_update_outputs", "_discretized")
 
     def __init__(self, name: str, A, B, C, D, x0=None):
         super().__init__(name)
@@ -84,7 +130,7 @@ class Linear(Block, register=False):
         return set() if output in self._no_feedthrough else set(self.inputs)
 
     def _update_outputs(self):
-        self._y[:] = (self.C @ self.x if self.x.size else 0.0) + self.D @ self._u
+        self._y[:] = (matvec(self.C, self.x) if self.x.size else 0.0) + matvec(self.D, self._u)
 
     def setup(self, start_time):
         super().setup(start_time)
@@ -98,20 +144,49 @@ class Linear(Block, register=False):
     def get_outputs(self):
         return self._y
 
-    def step(self, t, h):
-        self._t = t + h
-        if not self.x.size:
-            return
+    def _discretized(self, h: float) -> tuple[np.ndarray, np.ndarray]:
+        """Ad, Bd for a step of ``h`` [s]; steps that differ by round-off (1e-15 s) share the pair
+        computed for the first of them."""
         key = round(h, 15)
-        if key not in self._discrete:  # exp([[A, B], [0, 0]] h) gives Ad and Bd at once
+        found = self._discrete.get(key)
+        if found is None:  # exp([[A, B], [0, 0]] h) gives Ad and Bd at once
             n, m = self.A.shape[0], self.B.shape[1]
             M = np.zeros((n + m, n + m))
             M[:n, :n], M[:n, n:] = self.A, self.B
             E = expm(M * h)
-            self._discrete[key] = (E[:n, :n], E[:n, n:])
-        Ad, Bd = self._discrete[key]
-        self.x = Ad @ self.x + Bd @ self._u
+            found = self._discrete[key] = (np.ascontiguousarray(E[:n, :n]), np.ascontiguousarray(E[:n, n:]))
+        return found
+
+    def step(self, t, h):
+        self._t = t + h
+        if not self.x.size:
+            return
+        Ad, Bd = self._discretized(h)
+        self.x = matvec(Ad, self.x) + matvec(Bd, self._u)
         self._update_outputs()
+
+    def native(self, steps):
+        n = self.x.size
+        # The pairs in the order the Python stepping computes them: the first of each group of
+        # steps that share a pair is the one it is computed for (see _discretized).
+        lengths, first, inverse = np.unique(np.asarray(steps, float), return_index=True, return_inverse=True)
+        pairs, index, slot = [], {}, np.empty(len(lengths), dtype=np.int32)
+        for j in np.argsort(first, kind="stable") if n else ():
+            pair = self._discretized(float(lengths[j]))
+            if id(pair) not in index:
+                index[id(pair)] = len(pairs)
+                pairs.append(pair)
+            slot[j] = index[id(pair)]
+        which = np.ascontiguousarray(slot[inverse] if n else np.zeros(0), dtype=np.int32)
+        Ad = np.array([p[0] for p in pairs], dtype=float).reshape(len(pairs), n, n)
+        Bd = np.array([p[1] for p in pairs], dtype=float).reshape(len(pairs), n, len(self.inputs))
+        t = np.array([self._t])
+
+        def done():
+            self._t = float(t[0])
+
+        return Native("linear", self._u, self._y, t, D=np.ascontiguousarray(self.D), x=self.x,
+                      C=np.ascontiguousarray(self.C), Ad=Ad, Bd=Bd, which=which, done=done)
 
     def linear(self, settings):
         n = self.x.size
@@ -164,6 +239,7 @@ class TransportDelay(Block):
     twin = "Bicycle.Rider.PadeDelay"
     twin_same_parameters = False
     twin_approximation = "exact delay -> Pade approximation, n = 2"
+    native_methods = Block.native_methods + ("_delayed",)
 
     def __init__(self, name: str, tau: float = 0.1):
         super().__init__(name)
@@ -224,6 +300,29 @@ class TransportDelay(Block):
             self._values.popleft()
         self._y[0] = self._delayed(self._t)
 
+    def native(self, steps):
+        steps = np.asarray(steps, float)
+        # Samples the ring must hold: those within tau of the block's time, spaced by its steps
+        # (the last step may be shorter), the one before them, one appended before the next step
+        # forgets, and margin for round-off; never more than one new sample per step. fastloop.c
+        # checks it all the same.
+        count = len(self._times)
+        regular = steps[:-1].min() if len(steps) > 1 else np.inf
+        bound = count + len(steps) + 2
+        capacity = max(count + 2, int(min(bound, self.tau / regular + 8)))
+        ring_t, ring_v = np.zeros(capacity), np.zeros(capacity)
+        ring_t[:count], ring_v[:count] = self._times, self._values
+        ring = np.array([0, count], dtype=np.int64)
+        u, t = np.array([self._u]), np.array([self._t])
+
+        def done():
+            self._t, self._u = float(t[0]), float(u[0])
+            first, size = int(ring[0]), int(ring[1])
+            live = (first + np.arange(size)) % capacity
+            self._times, self._values = deque(ring_t[live].tolist()), deque(ring_v[live].tolist())
+
+        return Native("delay", u, self._y, t, tau=self.tau, ring_t=ring_t, ring_v=ring_v, ring=ring, done=done)
+
     def twin_parameters(self):
         return {"tau": self.tau}
 
@@ -246,10 +345,9 @@ class Pulse(Affine):
     def gain(self):
         return np.zeros((1, 0))
 
-    def exogenous(self, t):
+    def window(self):
         # 1e-12 s: a jump on a communication point counts as reached despite round-off in t.
-        on = self.start <= t + 1e-12 and t + 1e-12 < self.start + self.duration
-        return np.array([self.amplitude if on else 0.0])
+        return Window(self.start, self.start + self.duration, 1e-12, (self.amplitude,), (0.0,))
 
 
 class Step(Pulse):

@@ -160,6 +160,7 @@ class FMUComponent(Component):
         self.instance = None
         self.status = 0
         self.last_outputs: dict[str, float] = {}  # outputs at fmi2LastSuccessfulTime after a Discard
+        self.now = 0.0  # the FMU's communication point [s]: start, then t + h of each step
 
     def _output_dependencies(self) -> dict[str, set[str]]:
         """Inputs each output depends on, from ModelStructure (all inputs where not stated)."""
@@ -194,6 +195,7 @@ class FMUComponent(Component):
 
     def setup(self, start_time: float) -> None:
         self.enter_initialization(start_time)
+        self.now = float(start_time)
         # The raw C functions (argument types already declared by FMPy): no wrapper per call.
         functions = self.instance._functions
         self._component = self.instance.component
@@ -254,19 +256,20 @@ class FMUComponent(Component):
             self._in[:] = values
             status = self._set_real(self._component, self._in_vr, len(self._in), self._in_ptr)
             if status > 1:
-                raise self.failed("fmi2SetReal", float("nan"), status)
+                raise self.failed("fmi2SetReal", self.now, status)
 
     def get_outputs(self) -> np.ndarray:
         if len(self._out):
             status = self._get_real(self._component, self._out_vr, len(self._out), self._out_ptr)
             if status > 1:
-                raise self.failed("fmi2GetReal", float("nan"), status)
+                raise self.failed("fmi2GetReal", self.now, status)
         return self._out
 
     def step(self, t: float, h: float) -> None:
         status = self._do_step(self._component, t, h, 1)
         if status > 1:  # fmi2Discard or worse
             raise self.failed("fmi2DoStep", t, status)
+        self.now = t + h  # the C loop (fastloop.c) keeps the same time
 
     def close(self) -> None:
         """Terminate (where FMI allows it) and free the instance; raises only if fmi2Terminate

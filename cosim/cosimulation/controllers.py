@@ -3,7 +3,8 @@
 Each has a Modelica twin in ``Bicycle.Control`` with the same parameter, input and output
 names, so a system can swap the Python block for the FMU of its twin (e.g. for SSP export).
 Each is one class (see :mod:`cosim.cosimulation.registry`): its gain matrix (or state-space
-matrices) is at once its Python stepping and its linear model.
+matrices) is at once its Python stepping, its native form for the C stepping loop and its linear
+model.
 """
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ import numpy as np
 
 from cosim.errors import ParameterError
 from cosim.cosimulation.blocks import Affine, Linear
+from cosim.cosimulation.registry import Window
 
 
 class Proportional(Affine):
@@ -175,10 +177,13 @@ class LaneChange(Affine):
         kp, kpsi = self.kp, self.kp * self.k_psi
         return [[kp, self.kd, kpsi, kpsi * self.k_y]]
 
-    def exogenous(self, t):
-        # The command enters as -kp k_psi k_y y_cmd; 1e-12 s as in Bicycle.Control.LaneChange.
-        y_cmd = self.y_ref if t >= self.t_start - 1e-12 else 0.0
-        return np.array([-self.kp * self.k_psi * self.k_y * y_cmd])
+    def window(self):
+        # The command enters as -kp k_psi k_y y_cmd, y_cmd = y_ref from t >= t_start - 1e-12 s (as
+        # in Bicycle.Control.LaneChange) on, else 0.
+        def command(y_cmd):
+            return (-self.kp * self.k_psi * self.k_y * y_cmd,)
+
+        return Window(self.t_start - 1e-12, np.inf, 0.0, command(self.y_ref), command(0.0))
 
 
 class LeanSteer(Affine):

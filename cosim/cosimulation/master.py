@@ -359,18 +359,53 @@ class System:
         message = f"stopped at t = {t:g} s: {cause} ({text})" if cause else f"stopped at t = {t:g} s: {text}"
         return Outcome("failed", t, message)
 
+    #: Step in C (fastloop.c) where every component is an FMU or a block with a native form;
+    #: False: always the Python loop (the tests compare both).
     use_fast_loop = True
 
-    def _fast_run(self, data: np.ndarray, grid: np.ndarray, record_idx: np.ndarray):
-        """Step in C when every component is an FMU; None where the Python loop must do it."""
-        from ctypes import POINTER, byref, c_double, c_int, c_long, c_uint
-
+    def _natives(self, grid: np.ndarray, multiples: dict[str, int]) -> dict | None:
+        """The native form of every Python block (registry.Native), or None if a component is
+        neither an FMU nor a block that has one (then the Python loop steps the system)."""
         from cosim.cosimulation.component import FMUComponent
-        from cosim.cosimulation.fastloop import FastComponent, address, library
+
+        blocks = [n for n in self.names if not isinstance(self.components[n], FMUComponent)]
+        if not all(callable(getattr(self.components[n], "native_form", None)) for n in blocks):
+            return None
+        n_steps = len(grid) - 1
+        natives = {}
+        for name in blocks:
+            starts = np.arange(0, n_steps, multiples[name])
+            steps = grid[np.minimum(starts + multiples[name], n_steps)] - grid[starts]  # as the loop steps
+            natives[name] = self.components[name].native_form(steps)
+            if natives[name] is None:
+                return None
+        return natives
+
+    def _fast_run(self, data: np.ndarray, grid: np.ndarray, record_idx: np.ndarray):
+        """Step in C when every component is an FMU or a native block; None where the Python loop
+        must do it."""
+        from cosim.cosimulation.fastloop import library
 
         lib = library()
-        if lib is None or not all(isinstance(c, FMUComponent) for c in self.components.values()):
+        spec = self.spec
+        multiples = {n: spec.components[n].step_multiple if n in spec.components else 1 for n in self.names}
+        natives = self._natives(grid, multiples) if lib is not None else None
+        if natives is None:
             return None
+        try:
+            return self._fast_steps(lib, natives, multiples, data, grid, record_idx)
+        finally:
+            for native in natives.values():
+                if native.done is not None:
+                    native.done()  # the block's own attributes get what the loop changed
+
+    def _fast_steps(self, lib, natives: dict, multiples: dict, data: np.ndarray, grid: np.ndarray,
+                    record_idx: np.ndarray):
+        """One call of ``cosim_fast_run`` (fastloop.c) over the whole grid: (outcome, rows)."""
+        from ctypes import POINTER, byref, c_double, c_int, c_long, c_uint, pointer
+
+        from cosim.cosimulation.fastloop import FastComponent, address, fast_block
+
         spec = self.spec
         n_steps = len(grid) - 1
         keep = []  # buffers the C structures point into
@@ -378,19 +413,29 @@ class System:
         for j, name in enumerate(self.names):
             c = self.components[name]
             targets, sources = self.targets[name], self.sources[name]
-            in_vr = (c_uint * max(1, len(targets)))(*[c._in_vr[t] for t in targets])
             in_src = (c_int * max(1, len(targets)))(*[int(s) for s in sources])
+            keep.append(in_src)
+            if name in natives:
+                in_target = (c_int * max(1, len(targets)))(*[int(t) for t in targets])
+                block = fast_block(natives[name], self._inputs[name], keep)
+                keep.append(in_target)
+                comps[j] = FastComponent(n_in=len(targets), in_src=in_src, n_out=len(c.outputs),
+                                         out_offset=self.offset[name], multiple=multiples[name],
+                                         block=pointer(block), in_target=in_target)
+                continue
+            in_vr = (c_uint * max(1, len(targets)))(*[c._in_vr[t] for t in targets])
             in_buf = (c_double * max(1, len(targets)))()
             out_vr = (c_uint * max(1, len(c.outputs)))(*list(c._out_vr))
-            keep += [in_vr, in_src, in_buf, out_vr]
+            keep += [in_vr, in_buf, out_vr]
             comps[j] = FastComponent(
                 c._component, address(c._set_real), address(c._get_real), address(c._do_step),
                 len(targets), in_vr, in_src, in_buf, len(c.outputs), out_vr, self.offset[name],
-                spec.components[name].step_multiple if name in spec.components else 1)
+                multiples[name], now=c.now)
         order = (c_int * len(self.names))(*[self.names.index(n) for n in self.order])
         rec_idx = np.ascontiguousarray(record_idx, dtype=np.int32)
         times = np.ascontiguousarray(grid, dtype=float)
         steps_done, failed, fmi_status, failed_call = c_long(0), c_int(-1), c_int(0), c_int(1)
+        failed_time = c_double(np.nan)
         fall = self.fall_index if self.fall_index is not None else -1
         status = lib.cosim_fast_run(
             len(self.names), comps, order, int(spec.algorithm == "gauss-seidel"),
@@ -399,7 +444,10 @@ class System:
             len(self.signals), times.ctypes.data_as(POINTER(c_double)), c_long(n_steps),
             len(rec_idx), rec_idx.ctypes.data_as(POINTER(c_int)),
             data.ctypes.data_as(POINTER(c_double)), fall, c_double(spec.fall_limit or 0.0),
-            byref(steps_done), byref(failed), byref(fmi_status), byref(failed_call))
+            byref(steps_done), byref(failed), byref(fmi_status), byref(failed_call), byref(failed_time))
+        for j, name in enumerate(self.names):
+            if name not in natives:
+                self.components[name].now = comps[j].now  # as the Python loop leaves it
         t = float(grid[steps_done.value])
         rows = steps_done.value + 1
         if status == 0:
@@ -409,8 +457,10 @@ class System:
         if status == 2:
             return self._check_outcome(t), rows
         name = self.names[failed.value]
+        if status == 4:  # a bound of TransportDelay.native was wrong: a bug, not the user's
+            raise RuntimeError(f"{name}: the native delay's sample ring is full at t = {t:g} s")
         call = ("fmi2SetReal", "fmi2DoStep", "fmi2GetReal")[failed_call.value]
-        error = self.components[name].failed(call, t, fmi_status.value)
+        error = self.components[name].failed(call, failed_time.value, fmi_status.value)
         return self._failed_outcome(name, t, str(error)), rows
 
     def _check_outcome(self, t: float) -> Outcome | None:

@@ -8,7 +8,12 @@ A block is one class, a subclass of :class:`Block`, and declares everything abou
   ``"Bicycle.Control.PD"``) and :meth:`Block.twin_parameters` (the twin's parameter values; by
   default the parameters the system states, unchanged);
 * its **linear model**: :meth:`Block.linear`, ``y = C x + D u + r(t)`` with ``r`` the
-  exogenous part (:meth:`Block.exogenous`: sources, references) that stability does not see.
+  exogenous part (:meth:`Block.exogenous`: sources, references) that stability does not see;
+* its **native form** (optional): :meth:`Block.native`, a :class:`Native` description with which
+  the master's C stepping loop (:mod:`cosim.cosimulation.fastloop`) steps the block exactly as its
+  Python methods do. The shared kinds (``Affine``, ``Linear``, ``TransportDelay`` in
+  :mod:`cosim.cosimulation.blocks`) have one, so a block derived from them, like ``Proportional``
+  below, has it too; a system with a block without one is stepped by the Python loop.
 
 Defining the class registers it under its class name (``register=False`` for abstract bases)::
 
@@ -40,6 +45,7 @@ from cosim.cosimulation.component import Component
 
 #: Registered blocks by name (the ``python = "NAME"`` of a system file).
 BLOCKS: dict[str, type[Block]] = {}
+_SIGNATURES: dict[type, dict] = {}  # Block.parameters by class
 
 
 @dataclass
@@ -69,6 +75,90 @@ class LinearModel:
     def states(self) -> int:
         """Number of states."""
         return self.A.shape[0]
+
+
+@dataclass(frozen=True)
+class Window:
+    """A piecewise-constant signal: ``on`` while ``lo <= t + shift < hi``, else ``off`` (t, lo, hi,
+    shift in s; ``on``, ``off`` one value per output).
+
+    The exogenous part of the sources and references (:meth:`Block.exogenous`); written as data so
+    that the C stepping loop evaluates the same comparisons on the same numbers (``shift`` is the
+    round-off margin a jump on a communication point is reached with)."""
+
+    lo: float
+    hi: float
+    shift: float
+    on: tuple[float, ...]
+    off: tuple[float, ...]
+
+    def value(self, t: float) -> np.ndarray:
+        """The signal at ``t`` [s], one value per output."""
+        s = t + self.shift
+        return np.array(self.on if self.lo <= s and s < self.hi else self.off)
+
+
+@dataclass
+class Native:
+    """A block as the C stepping loop steps it (``fastloop.c`` reproduces the Python methods
+    operation by operation, so both loops give bit-identical results).
+
+    The arrays ``u``, ``y``, ``x`` and ``t`` are the block's own state, which the loop updates in
+    place; after the loop ``done()`` copies back what the block keeps elsewhere (its time, a
+    delay's sample history).
+
+    Attributes
+    ----------
+    kind : str
+        ``"affine"`` (``y = D u + r(t)``, :class:`~cosim.cosimulation.blocks.Affine`), ``"linear"``
+        (``x(t + h) = Ad(h) x + Bd(h) u``, ``y = C x + D u``, :class:`~cosim.cosimulation.blocks.Linear`)
+        or ``"delay"`` (the exact delay, :class:`~cosim.cosimulation.blocks.TransportDelay`).
+    u, y : ndarray
+        Inputs and outputs of the block.
+    t : ndarray
+        The block's time [s], one element.
+    D : ndarray
+        Outputs x inputs (affine, linear).
+    window : Window or None
+        The exogenous part ``r(t)`` (affine; None for 0).
+    x, C : ndarray
+        States and outputs x states (linear).
+    Ad, Bd : ndarray
+        Discrete matrices (linear), one ``(states x states)``, ``(states x inputs)`` pair per
+        distinct step length, stacked on the first axis.
+    which : ndarray
+        For the block's j-th step, the index of its pair in ``Ad``, ``Bd`` (linear).
+    tau : float
+        The delay [s] (delay).
+    ring_t, ring_v : ndarray
+        Sample times [s] and values of the delay's input history, a ring buffer (delay).
+    ring : ndarray
+        First sample and number of samples in the ring (delay; int64).
+    done : callable or None
+        Called after the loop.
+    """
+
+    kind: str
+    u: np.ndarray
+    y: np.ndarray
+    t: np.ndarray
+    D: np.ndarray | None = None
+    window: Window | None = None
+    x: np.ndarray | None = None
+    C: np.ndarray | None = None
+    Ad: np.ndarray | None = None
+    Bd: np.ndarray | None = None
+    which: np.ndarray | None = None
+    tau: float = 0.0
+    ring_t: np.ndarray | None = None
+    ring_v: np.ndarray | None = None
+    ring: np.ndarray | None = None
+    done: object = None
+
+
+def _owner(cls: type, attribute: str) -> type | None:
+    """The class in ``cls``'s MRO that defines ``attribute``."""
+    return next((k for k in cls.__mro__ if attribute in vars(k)), None)
 
 
 class Block(Component):
@@ -112,7 +202,10 @@ class Block(Component):
     @classmethod
     def parameters(cls) -> dict[str, inspect.Parameter]:
         """The block's parameters: the keyword arguments of ``__init__`` after ``name``."""
-        return {k: p for k, p in inspect.signature(cls).parameters.items() if k != "name"}
+        found = _SIGNATURES.get(cls)
+        if found is None:  # inspect.signature costs ~50 us: once per class, not per block created
+            found = _SIGNATURES[cls] = {k: p for k, p in inspect.signature(cls).parameters.items() if k != "name"}
+        return dict(found)
 
     @classmethod
     def defaults(cls) -> dict:
@@ -158,6 +251,33 @@ class Block(Component):
     def exogenous(self, t: float) -> np.ndarray:
         """The output part no input drives, at time ``t`` [s] (sources, references; default 0)."""
         return np.zeros(len(self.outputs))
+
+    # ------------------------------------------------------------------ native form
+
+    #: The methods whose arithmetic :meth:`native` describes: a subclass that overrides one of
+    #: them without defining its own ``native`` is stepped by the Python loop.
+    native_methods: ClassVar[tuple[str, ...]] = ("set_inputs", "get_outputs", "step", "exogenous")
+
+    def native(self, steps: np.ndarray) -> Native | None:
+        """The block's form for the C stepping loop, or None (default) if it has none.
+
+        Called once per run after initialization, with ``steps`` the lengths [s] of the steps the
+        block will take, in order. It must not change the block: the master may still decide to
+        step in Python.
+        """
+        return None
+
+    def native_form(self, steps: np.ndarray) -> Native | None:
+        """:meth:`native` if the class's stepping is the one that ``native`` describes, else None."""
+        cls = type(self)
+        owner = _owner(cls, "native")
+        if owner is None or owner is Block:
+            return None
+        for name in self.native_methods:
+            defined = _owner(cls, name)
+            if defined is not None and not issubclass(owner, defined):
+                return None  # overridden below the description: not what native() describes
+        return self.native(steps)
 
     # ------------------------------------------------------------------ the protocol, shared
 

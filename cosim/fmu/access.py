@@ -310,6 +310,43 @@ class FMULog:
         return None
 
 
+# FMPy types the FMI functions of every new instance anew from the Python signatures of its
+# methods (inspect.getmembers + inspect.signature: 1.5 ms per instance, most of a co-simulation
+# run's set-up, which a batch study pays per run). The types depend on the class only: FMPy's own
+# code types them for the first instance of a class, and later instances take them from there.
+_FUNCTION_TYPES: dict[type, list[tuple]] = {}
+
+
+def _typed_once(cls):
+    """A subclass of an FMPy instance class whose FMI function types are found once per class."""
+    load = cls._loadFunctions
+
+    def _loadFunctions(self) -> None:
+        table = _FUNCTION_TYPES.get(cls)
+        if table is None:
+            load(self)
+            _FUNCTION_TYPES[cls] = [(name, f.argnames, f.argtypes, f.restype) for name, f in self._functions.items()]
+            return
+        for name, argnames, argtypes, restype in table:
+            function = getattr(self.dll, name)
+            function.argnames, function.argtypes, function.restype = argnames, argtypes, restype
+            self._functions[name] = function
+
+    return type(cls.__name__, (cls,), {"_loadFunctions": _loadFunctions, "__module__": cls.__module__})
+
+
+_CLASSES: dict[str, type] = {}
+
+
+def _instance_class(kind: str) -> type:
+    """FMPy's FMU2Slave (``cs``) or FMU2Model (``me``), typed once (see _typed_once)."""
+    if kind not in _CLASSES:
+        from fmpy.fmi2 import FMU2Model, FMU2Slave
+
+        _CLASSES[kind] = _typed_once(FMU2Slave if kind == "cs" else FMU2Model)
+    return _CLASSES[kind]
+
+
 class FMU:
     """An extracted FMU with its model description (unzipped once per process and file version).
 
@@ -373,9 +410,7 @@ class FMU:
         The FMU's log messages go to ``log`` (a fresh :class:`FMULog` if None), available as
         ``instance.log``, so that an error message can quote what the FMU said.
         """
-        from fmpy.fmi2 import FMU2Model, FMU2Slave
-
-        cls = FMU2Slave if kind == "cs" else FMU2Model
+        cls = _instance_class(kind)
         library = self.library(kind)
         section = self.description.coSimulation if kind == "cs" else self.description.modelExchange
         log = log if log is not None else FMULog()

@@ -87,8 +87,9 @@ renamed), ``logs/worker-N.log``. A folder that already holds results is refused 
 ones again) or ``--force`` (discard them). Exit status 0 when nothing disagrees, nothing failed and
 every check passes; 1 otherwise; 2 for a spec, usage or output-folder error.
 
-Execution: local worker processes (:mod:`cosim.matrix.pool`), or a Dask cluster with
-``--scheduler`` (an unreachable one is reported within seconds); a worker that dies (segfaulting
+Execution: local worker processes (:mod:`cosim.matrix.pool`; on Linux forked from the command,
+so that they start in milliseconds -- ``COSIM_MATRIX_START=spawn`` starts fresh interpreters
+instead), or a Dask cluster with ``--scheduler`` (an unreachable one is reported within seconds); a worker that dies (segfaulting
 FMU) or hangs fails its case only, and no worker outlives a killed supervisor
 (:func:`cosim.processes.die_with_parent`).
 """

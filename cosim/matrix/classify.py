@@ -96,16 +96,37 @@ def _uniform_prefix(t: np.ndarray) -> int:
     return int(bad[0]) + 1 if bad.size else t.size
 
 
+def hankel(x: np.ndarray, pencil: int) -> np.ndarray:
+    """The Hankel matrix ``Y[i, j] = x[i + j]`` of ``n - pencil`` rows and ``pencil + 1`` columns
+    (``scipy.linalg.hankel(x[:n - pencil], x[n - pencil - 1:])``, without importing scipy)."""
+    rows = x.size - pencil
+    return x[np.arange(rows)[:, None] + np.arange(pencil + 1)[None, :]]
+
+
+def singular_values_right(Y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Singular values and right singular vectors (rows of ``vh``) of a matrix with more rows than columns.
+
+    The SVD of the triangular factor R of ``Y = Q R``: the same values and vectors, bit for bit,
+    as ``np.linalg.svd(Y, full_matrices=False)``, whose LAPACK driver (``gesdd``) takes the same
+    QR path for a tall matrix -- but without forming the left singular vectors U (m x n), which
+    the pencil does not use and which cost about as much as the rest (tests/test_matrix_pool.py
+    compares the two bit for bit)."""
+    if Y.shape[0] <= Y.shape[1]:
+        _, s, vh = np.linalg.svd(Y, full_matrices=False)
+        return s, vh
+    R = np.linalg.qr(Y, mode="r")
+    _, s, vh = np.linalg.svd(R, full_matrices=False)
+    return s, vh
+
+
 def _pencil(x: np.ndarray, h: float, max_order: int):
     """Matrix pencil fit of uniform samples ``x`` (step ``h``): (lambda, contributions, residual)
     or None when the signal needs more than ``max_order`` modes or the algebra fails."""
-    from scipy.linalg import hankel
-
     n = x.size
     pencil = n // 3                       # pencil parameter between N/3 and N/2 (least noise-sensitive)
-    Y = hankel(x[:n - pencil], x[n - pencil - 1:])
+    Y = hankel(x, pencil)
     try:
-        _, s, vh = np.linalg.svd(Y, full_matrices=False)
+        s, vh = singular_values_right(Y)
     except np.linalg.LinAlgError:
         return None
     if not s[0] > 0:

@@ -1,7 +1,8 @@
 """Executing cases: a local pool of worker processes, or a Dask cluster.
 
-Process isolation: every case runs in a worker *process* of our own (``python -m
-cosim.matrix.worker``) that the supervisor talks to over pipes. When a worker dies (an FMU
+Process isolation: every case runs in a worker *process* of our own -- forked from the
+supervisor on Linux (it inherits the imports: start-up in milliseconds), else ``python -m
+cosim.matrix.worker`` -- that the supervisor talks to over pipes. When a worker dies (an FMU
 segfaults, it is killed, it runs out of time) the supervisor sees the end of its pipe, records
 that one case as failed with the signal and the tail of the worker's log, starts a fresh worker and
 goes on. Unlike ``ProcessPoolExecutor``, nothing else breaks.
@@ -30,7 +31,7 @@ from collections import deque
 from pathlib import Path
 
 from cosim.errors import CosimError
-from cosim.matrix.worker import failed_record, read_message, write_message
+from cosim.matrix.worker import BLAS_THREAD_VARIABLES, failed_record, read_message, write_message
 
 _PACKAGE_ROOT = str(Path(__file__).resolve().parents[2])
 
@@ -57,30 +58,168 @@ def _signal_name(returncode: int | None) -> str:
     return f"exit status {returncode}"
 
 
+#: How local workers are started: ``fork`` (Linux, from a single-threaded supervisor: the worker
+#: inherits the imports and starts in milliseconds) or ``spawn`` (a new ``python -m
+#: cosim.matrix.worker``: 0.2 s or more per worker; always from threads, e.g. Dask's). ``auto``
+#: picks fork where it is safe. The environment variable ``COSIM_MATRIX_START`` overrides it.
+START_METHODS = ("auto", "fork", "spawn")
+
+_forked_fds: set[int] = set()   # the supervisor's ends of the pipes of forked workers
+
+
+def start_method(requested: str | None = None) -> str:
+    """``fork`` or ``spawn`` for a worker started now (see :data:`START_METHODS`).
+
+    Fork is used only where it is safe: on Linux, and from a process with a single thread (a
+    fork copies only the calling thread; a lock another thread held stays locked in the child)."""
+    method = (requested or os.environ.get("COSIM_MATRIX_START") or "auto").strip().lower()
+    if method not in START_METHODS:
+        raise ValueError(f"COSIM_MATRIX_START must be one of {', '.join(START_METHODS)}, got {method!r}")
+    if method == "spawn":
+        return "spawn"
+    safe = sys.platform.startswith("linux") and threading.active_count() == 1 and hasattr(os, "fork")
+    return "fork" if safe else "spawn"
+
+
+def _remove_own_extractions() -> None:
+    """Remove the FMU extraction folder of this (forked) process: ``os._exit`` skips the atexit
+    hook that removes it -- and must, since the inherited hooks are the supervisor's."""
+    try:
+        from cosim.fmu import access
+
+        own = access._PROCESS_FOLDER
+        if own is not None and own[0] == os.getpid():
+            access._remove_extracted(*own)
+    except BaseException:  # never keep a dying worker from exiting
+        pass
+
+
+class _Forked:
+    """A worker forked from the supervisor, with the part of the :class:`subprocess.Popen`
+    interface :class:`Child` uses (``stdin``, ``stdout``, ``pid``, ``poll``, ``wait``, ``kill``,
+    ``returncode``)."""
+
+    def __init__(self, init: dict, log_path: Path | None):
+        to_child_r, to_child_w = os.pipe()
+        from_child_r, from_child_w = os.pipe()
+        parent = os.getpid()
+        log_fd = os.open(log_path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644) if log_path else \
+            os.open(os.devnull, os.O_WRONLY)
+        for stream in (sys.stdout, sys.stderr):  # else the child would write their buffers again
+            try:
+                stream.flush()
+            except (AttributeError, OSError, ValueError):  # None (no console), closed
+                pass
+        pid = os.fork()
+        if pid == 0:  # the worker: never returns into the supervisor's code
+            code = 1
+            try:
+                os.setsid()  # as start_new_session: Ctrl-C at the terminal goes to the supervisor only
+                # the other workers' pipes (their EOF must not depend on this one) and the parent's ends
+                for fd in (_forked_fds - {to_child_r, from_child_w, log_fd}) | {to_child_w, from_child_r}:
+                    try:
+                        os.close(fd)
+                    except OSError:
+                        pass
+                os.dup2(log_fd, 1)  # stray output (C printf of FMUs, print) goes to the log
+                os.dup2(log_fd, 2)
+                os.close(log_fd)
+                devnull = os.open(os.devnull, os.O_RDONLY)
+                os.dup2(devnull, 0)
+                os.close(devnull)
+                sys.stdout = sys.stderr = open(2, "w", buffering=1, closefd=False)
+                sys.stdin = None
+                import faulthandler
+
+                # as in a spawned worker: a crash is reported by the supervisor (signal and log
+                # tail), not by a dump the supervisor's faulthandler (pytest's) writes to its stderr
+                faulthandler.disable()
+                from cosim.processes import die_with_parent
+
+                die_with_parent(parent)
+                from cosim.matrix.worker import serve, single_threaded_blas
+
+                single_threaded_blas()
+                code = serve(os.fdopen(to_child_r, "rb", buffering=0), os.fdopen(from_child_w, "wb", buffering=0),
+                             init)
+            except BaseException:
+                try:
+                    import traceback
+
+                    traceback.print_exc()
+                    sys.stderr.flush()
+                except BaseException:
+                    pass
+            finally:
+                _remove_own_extractions()
+                os._exit(code)
+        os.close(log_fd)
+        os.close(to_child_r)
+        os.close(from_child_w)
+        self.pid = pid
+        self.returncode: int | None = None
+        self.stdin = os.fdopen(to_child_w, "wb", buffering=0)
+        self.stdout = os.fdopen(from_child_r, "rb", buffering=0)
+        self._fds = {to_child_w, from_child_r}
+        _forked_fds.update(self._fds)
+
+    def poll(self) -> int | None:
+        if self.returncode is None:
+            try:
+                pid, status = os.waitpid(self.pid, os.WNOHANG)
+            except ChildProcessError:  # reaped elsewhere (SIGCHLD ignored): the status is lost
+                self.returncode = -signal.SIGKILL
+            else:
+                if pid:
+                    self.returncode = os.waitstatus_to_exitcode(status)
+                    _forked_fds.difference_update(self._fds)
+        return self.returncode
+
+    def wait(self, timeout: float | None = None) -> int:
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while self.poll() is None:
+            if deadline is not None and time.monotonic() > deadline:
+                raise subprocess.TimeoutExpired(f"worker {self.pid}", timeout)
+            time.sleep(0.001)
+        return self.returncode
+
+    def kill(self) -> None:
+        if self.poll() is None:
+            os.kill(self.pid, signal.SIGKILL)
+
+
 class Child:
-    """One worker process; ``init`` = {"imports": [...], "fmu_paths": {...}}."""
+    """One worker process; ``init`` = {"imports": [...], "fmu_paths": {...}}; ``start`` one of
+    :data:`START_METHODS` (default: ``COSIM_MATRIX_START``, else ``auto``)."""
 
     START_TIMEOUT = 300.0
 
-    def __init__(self, init: dict, log_path: Path | None = None, wait: bool = True):
+    def __init__(self, init: dict, log_path: Path | None = None, wait: bool = True, start: str | None = None):
         self.init = init
         self.log_path = log_path
-        env = dict(os.environ)
-        env["PYTHONPATH"] = _PACKAGE_ROOT + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
-        log = open(log_path, "ab") if log_path else subprocess.DEVNULL
-        try:
-            # the pid of the parent as it sees itself: the worker dies with it (cosim.processes)
-            self.proc = subprocess.Popen([sys.executable, "-m", "cosim.matrix.worker", "--parent", str(os.getpid())],
-                                         stdin=subprocess.PIPE,
-                                         stdout=subprocess.PIPE, stderr=log, bufsize=0, env=env,
-                                         start_new_session=True)
-        finally:
-            if log_path:
-                log.close()
+        self.method = start_method(start)
+        if self.method == "fork":
+            self.proc = _Forked(init, log_path)
+        else:
+            env = dict(os.environ)
+            env["PYTHONPATH"] = _PACKAGE_ROOT + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+            env.update({name: "1" for name in BLAS_THREAD_VARIABLES})  # the workers are the parallelism
+            log = open(log_path, "ab") if log_path else subprocess.DEVNULL
+            try:
+                # the pid of the parent as it sees itself: the worker dies with it (cosim.processes)
+                self.proc = subprocess.Popen([sys.executable, "-m", "cosim.matrix.worker",
+                                              "--parent", str(os.getpid())],
+                                             stdin=subprocess.PIPE,
+                                             stdout=subprocess.PIPE, stderr=log, bufsize=0, env=env,
+                                             start_new_session=True)
+            finally:
+                if log_path:
+                    log.close()
         self.case: dict | None = None
         self.started = 0.0
         self.pid = None
-        write_message(self.proc.stdin, {"op": "init", **init})
+        if self.method == "spawn":  # a forked worker has its init already
+            write_message(self.proc.stdin, {"op": "init", **init})
         if wait:
             self.wait_ready()
 
@@ -191,13 +330,16 @@ def run_local(cases: list[dict], init: dict, workers: int, on_record, timeout: f
     """Run ``cases`` on ``workers`` worker processes; ``on_record(record)`` in the calling thread,
     with a record dict or ``{"key", "agreement", "line"}`` (the record encoded by the worker).
 
-    Each worker has up to ``depth`` cases queued (it starts the next one while the supervisor
-    records the last). A worker that dies fails the case it was running (the first unanswered
-    one); the cases queued behind it go back to the pending list. Returns timings: ``startup``
-    (s until every worker was ready) and ``run`` (s from then on)."""
+    Workers are forked from this process where that is safe (:func:`start_method`; the modules
+    a worker needs are imported here first, once), else spawned. Each worker has up to ``depth``
+    cases queued, sent in one message whenever places are free (it starts the next one while
+    the supervisor records the last); it answers every case on its own. A worker that dies fails
+    the case it was running (the first unanswered one); the cases queued behind it go back to
+    the pending list. Returns timings: ``startup`` (s until every worker was ready), ``run`` (s
+    from then on) and ``start`` (``fork`` or ``spawn``)."""
     t0 = time.perf_counter()
     if not cases:
-        return {"startup": 0.0, "run": 0.0}
+        return {"startup": 0.0, "run": 0.0, "start": None}
     workers = max(1, min(workers, len(cases)))
     depth = max(1, depth)
     pending = deque(cases)
@@ -205,6 +347,14 @@ def run_local(cases: list[dict], init: dict, workers: int, on_record, timeout: f
     queued: dict[Child, deque] = {}
     head_start: dict[Child, float] = {}
     sel = selectors.DefaultSelector()
+
+    method = start_method()
+    if method == "fork":  # imported once here, inherited by every forked worker
+        from cosim.matrix.worker import import_plugins, warm_imports, warm_up
+
+        import_plugins(init.get("imports", []))
+        warm_up()
+        warm_imports(cases)
 
     def new_child(wait: bool = True) -> Child:
         log = log_dir / f"worker-{next(counter)}.log" if log_dir else None
@@ -239,17 +389,27 @@ def run_local(cases: list[dict], init: dict, workers: int, on_record, timeout: f
             attach(child)
         t1 = time.perf_counter()
         while pending or any(queued.values()):
-            for child in list(queued):
-                while pending and len(queued[child]) < depth:
-                    case = pending.popleft()
-                    try:
-                        write_message(child.proc.stdin, {"op": "case", "case": case})
-                    except (BrokenPipeError, OSError):
-                        pending.appendleft(case)
-                        break
-                    if not queued[child]:
-                        head_start[child] = time.monotonic()
-                    queued[child].append(case)
+            # the free places of the workers' queues, dealt out in turn (4 cases on 2 workers: 2
+            # each, never 4 to the first), each worker's share sent in one message
+            batches: dict[Child, list] = {child: [] for child in queued}
+            while pending:
+                room = [c for c in batches if len(queued[c]) + len(batches[c]) < depth]
+                if not room:
+                    break
+                for child in room:
+                    if pending:
+                        batches[child].append(pending.popleft())
+            for child, batch in batches.items():
+                if not batch:
+                    continue
+                try:
+                    write_message(child.proc.stdin, {"op": "cases", "cases": batch})
+                except (BrokenPipeError, OSError):
+                    pending.extendleft(reversed(batch))
+                    continue
+                if not queued[child]:
+                    head_start[child] = time.monotonic()
+                queued[child].extend(batch)
             for key, _ in sel.select(timeout=0.5):
                 child: Child = key.data
                 if child not in queued:
@@ -273,7 +433,7 @@ def run_local(cases: list[dict], init: dict, workers: int, on_record, timeout: f
                 child.stop()
             else:  # interrupted (Ctrl-C, an error): do not wait for running cases
                 child.kill()
-    return {"startup": t1 - t0, "run": t2 - t1}
+    return {"startup": t1 - t0, "run": t2 - t1, "start": method}
 
 
 # --------------------------------------------------------------------------- Dask

@@ -106,9 +106,53 @@ def delay_lti(tau: float, order: int, inputs=("u",), outputs=("y",), kind="delay
 
 # --------------------------------------------------------------------------- models of blocks
 
+def _frozen(value):
+    """A hashable form of a JSON-like value (dicts by sorted key); TypeError for anything else."""
+    if isinstance(value, dict):
+        return ("dict", tuple(sorted((str(k), _frozen(v)) for k, v in value.items())))
+    if isinstance(value, (list, tuple)):
+        return ("list", tuple(_frozen(v) for v in value))
+    if value is None or isinstance(value, (bool, int, float, str)):
+        return (type(value).__name__, value)
+    raise TypeError(f"no cache key for {type(value).__name__}")
+
+
+def _read_only(model: LTI) -> LTI:
+    for array in (model.A, model.B, model.C, model.D):
+        array.setflags(write=False)
+    return model
+
+
+#: Linear models of blocks by (name, block class, parameters, settings): the cases of a study
+#: usually share a block's parameters (python-control's Pade approximation of a delay costs
+#: ~0.4 ms a case).
+_BLOCK_MODELS: dict = {}
+_BLOCK_MODELS_MAX = 4096
+
+
 def block_lti(name: str, block: str, parameters: dict, settings: dict) -> LTI:
     """The linear model a registered Python block declares, for the parameters given (its
-    defaults for the others); a block that interpolates its inputs is of kind ``delay``."""
+    defaults for the others); a block that interpolates its inputs is of kind ``delay``.
+
+    Models are cached by their arguments and the block's class (a block's linear model is a
+    function of its parameters and the settings); the cached arrays are read-only."""
+    from cosim.cosimulation import registry
+
+    try:
+        key = (registry.lookup(block), _frozen([name, parameters, settings]))
+    except (CosimError, TypeError):  # an unknown block (the error comes below) or an odd value
+        key = None
+    model = _BLOCK_MODELS.get(key) if key is not None else None
+    if model is None:
+        model = _block_lti(name, block, parameters, settings)
+        if key is not None:
+            if len(_BLOCK_MODELS) >= _BLOCK_MODELS_MAX:
+                _BLOCK_MODELS.clear()
+            _BLOCK_MODELS[key] = _read_only(model)
+    return model
+
+
+def _block_lti(name: str, block: str, parameters: dict, settings: dict) -> LTI:
     from cosim.cosimulation import registry
 
     try:
@@ -131,14 +175,37 @@ def _benchmark() -> dict:
     return load_parameters("benchmark")
 
 
+@lru_cache(maxsize=256)
+def _whipple_matrices(items: tuple) -> tuple:
+    """M, C1, K0, K2 (read-only), M^-1 and g of a parameter set (given as sorted items): the
+    part of :func:`cosim.analytic.whipple.state_matrices` that does not depend on the speed,
+    computed (and the parameters validated) once per parameter set instead of once per case."""
+    from cosim.analytic.whipple import matrices
+
+    p = dict(items)
+    M, C1, K0, K2 = matrices(p)
+    Minv = np.linalg.inv(M)
+    for array in (M, C1, K0, K2, Minv):
+        array.setflags(write=False)
+    return M, C1, K0, K2, Minv, float(p["g"])
+
+
+def whipple_state_matrices(p: dict, v: float) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`cosim.analytic.whipple.state_matrices` with the speed-independent part cached:
+    the same operations in the same order, so the same bits (tests/test_matrix_pool.py)."""
+    from cosim.analytic.whipple import assembled_state_matrices
+
+    M, C1, K0, K2, Minv, g = _whipple_matrices(tuple(sorted(p.items())))
+    return assembled_state_matrices(Minv, C1, K0, K2, g, float(v))
+
+
 def _whipple(params: dict) -> LTI:
     from cosim.analytic.parameters import PARAMETER_NAMES
-    from cosim.analytic.whipple import state_matrices
 
     base = _benchmark()
     p = {k: float(params.get(k, base[k])) for k in PARAMETER_NAMES}
     v = float(params.get("v", 5.0))
-    A4, B4 = state_matrices(p, v)
+    A4, B4 = whipple_state_matrices(p, v)
     A = np.zeros((6, 6))
     A[:4, :4] = A4
     k = math.cos(p["lam"]) / p["w"]

@@ -62,6 +62,15 @@ typedef struct {
     /* All of z (the local algebraic variables included), computed only when an importer reads a
        local: the integrators need der(x) and the outputs.  NULL: eval computes all of z. */
     int (*eval_locals)(double t, const double *x, const double *u, const double *p, double *z);
+    /* Optional (nq = 0: absent): the subexpressions of der(x) and z that depend on the parameters only,
+       q = calc_hoisted(p), computed once when the parameters change instead of in every evaluation
+       (the linear bicycle's matrices M, C1, K0, K2 of Meijaard (2007) eq (1): three quarters of its
+       eval).  eval_hoisted(t, x, u, p, q, ...) equals eval(t, x, u, p, ...) bit for bit: the same
+       operations on the same values, only computed earlier. */
+    int nq;
+    int (*calc_hoisted)(const double *p, double *q);
+    int (*eval_hoisted)(double t, const double *x, const double *u, const double *p, const double *q,
+                        double *xdot, double *z);
 } cosim_model;
 
 #define COSIM_START_NOT_CONVERGED 2

@@ -39,6 +39,9 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
+#if defined(__SSE2__) || defined(_M_X64)
+#include <emmintrin.h>
+#endif
 
 /* A binary FMU exports the plain fmi2* names. */
 #undef FMI2_FUNCTION_PREFIX
@@ -115,6 +118,7 @@ typedef struct {
     int eval_dirty;        /* der(x) and z are stale */
     int locals_dirty;      /* the locals of z are stale (computed on demand, see update_locals) */
     double *v;             /* the value array, nv entries; inputs as the environment set them */
+    double *q;             /* COSIM_MODEL.nq parameter-only subexpressions of eval, valid unless params_dirty */
     double *ue;            /* nu inputs as the model sees them: v[u] extrapolated with du in CS */
     double *du;            /* CS: first derivatives of the inputs for the next DoStep, nu entries */
     unsigned char *x_set;  /* nx flags: state set explicitly, its calculated start must not overwrite it */
@@ -179,18 +183,26 @@ static double rt_abs(double a) { return a < 0.0 ? -a : a; }
 static double rt_max(double a, double b) { return a > b ? a : b; }
 static double rt_min(double a, double b) { return a < b ? a : b; }
 
-/* x^(1/n) for x >= 0 by Newton's method, starting from 2^(e/n) for x = m * 2^e.
-   0, NaN and +inf are returned unchanged. */
+/* x^(1/n) for x >= 0.  0, NaN and +inf are returned unchanged.  The integrators call it twice
+   per step (error norm, step size factor), so it is kept cheap: the square root is the processor's
+   instruction where SSE2 has it (correctly rounded, and no libm); otherwise Newton's method,
+   starting from the bits of x divided by n (exponent and mantissa: a piecewise linear log2,
+   within 10 % of the root), which converges in 4 or 5 iterations. */
 static double rt_root(double x, int n)
 {
+    const int64_t one = (int64_t)1023 << 52; /* the bits of 1.0 */
     uint64_t bits;
-    int e, i;
+    int64_t scaled;
+    int i;
     double y;
 
     if (!(x > 0.0) || !isfinite(x)) return x;
+#if defined(__SSE2__) || defined(_M_X64)
+    if (n == 2) return _mm_cvtsd_f64(_mm_sqrt_sd(_mm_setzero_pd(), _mm_set_sd(x)));
+#endif
     memcpy(&bits, &x, sizeof bits);
-    e = (int)((bits >> 52) & 0x7ff) - 1023;
-    bits = (uint64_t)(e / n + 1023) << 52;
+    scaled = ((int64_t)bits - one) / n + one;
+    bits = (uint64_t)scaled;
     memcpy(&y, &bits, sizeof y);
     for (i = 0; i < 200; i++) {
         double y_pow = 1.0, y_old = y;
@@ -424,7 +436,16 @@ static fmi2Integer to_integer(double v)
  * Lazy evaluation
  * ------------------------------------------------------------------------------------------- */
 
-/* Recomputes c from p and, in initializationMode, the calculated state starts. */
+/* der(x) and z at (t, x, u) with the current parameters, through their hoisted subexpressions
+   where the model has them (update_parameters keeps those up to date).  0 on success. */
+static int model_eval(const rt_instance *in, double t, const double *x, const double *u, double *xdot, double *z)
+{
+    if (COSIM_MODEL.nq > 0) return COSIM_MODEL.eval_hoisted(t, x, u, PV(in), in->s.q, xdot, z);
+    return COSIM_MODEL.eval(t, x, u, PV(in), xdot, z);
+}
+
+/* Recomputes c and the hoisted subexpressions q from p and, in initializationMode, the
+   calculated state starts. */
 static int update_parameters(rt_instance *in, const char *fn)
 {
     size_t i;
@@ -432,6 +453,10 @@ static int update_parameters(rt_instance *in, const char *fn)
     if (!in->s.params_dirty) return 1;
     if (COSIM_MODEL.calc_parameters && COSIM_MODEL.calc_parameters(PV(in), CV(in)) != 0) {
         fail(in, "%s: computing the calculated parameters failed", fn);
+        return 0;
+    }
+    if (COSIM_MODEL.nq > 0 && COSIM_MODEL.calc_hoisted(PV(in), in->s.q) != 0) {
+        fail(in, "%s: computing the parameter-dependent terms of the model failed", fn);
         return 0;
     }
     /* Calculated starts follow the parameters only until fmi2ExitInitializationMode. */
@@ -470,7 +495,7 @@ static const char *evaluate(rt_instance *in, char *why, size_t size)
     char label[160];
 
     in->s.locals_dirty = 1;
-    if (COSIM_MODEL.eval(in->s.time, XV(in), UE(in), PV(in), DXV(in), ZV(in)) != 0) {
+    if (model_eval(in, in->s.time, XV(in), UE(in), DXV(in), ZV(in)) != 0) {
         format(why, size, "model evaluation failed at t = %.16g", in->s.time);
         return why;
     }
@@ -619,7 +644,8 @@ static int vars_alloc(const rt_instance *in, rt_vars *s)
     s->ue = (double *)rt_alloc(in, in->nu, sizeof(double));
     s->du = (double *)rt_alloc(in, in->nu, sizeof(double));
     s->x_set = (unsigned char *)rt_alloc(in, in->nx, 1);
-    return s->v && s->ue && s->du && s->x_set;
+    s->q = (double *)rt_alloc(in, (size_t)COSIM_MODEL.nq, sizeof(double));
+    return s->v && s->ue && s->du && s->x_set && s->q;
 }
 
 static void vars_free(const rt_instance *in, rt_vars *s)
@@ -628,6 +654,8 @@ static void vars_free(const rt_instance *in, rt_vars *s)
     rt_free(in, s->ue);
     rt_free(in, s->du);
     rt_free(in, s->x_set);
+    rt_free(in, s->q);
+    s->q = NULL;
     s->v = NULL;
     s->ue = NULL;
     s->du = NULL;
@@ -651,6 +679,7 @@ static void vars_copy(const rt_instance *in, rt_vars *dst, const rt_vars *src)
     if (in->nu > 0) memcpy(dst->ue, src->ue, in->nu * sizeof(double));
     if (in->nu > 0) memcpy(dst->du, src->du, in->nu * sizeof(double));
     if (in->nx > 0) memcpy(dst->x_set, src->x_set, in->nx);
+    if (COSIM_MODEL.nq > 0) memcpy(dst->q, src->q, (size_t)COSIM_MODEL.nq * sizeof(double));
 }
 
 static double default_tolerance(void)
@@ -1362,6 +1391,10 @@ static const char *deserialize(const rt_instance *in, const unsigned char *bytes
     s->stop_time = scalars[3];
     s->h_next = scalars[4];
     for (i = 0; i < in->nx; i++) s->x_set[i] = s->x_set[i] != 0;
+    /* q is not serialized: it follows from p (if the parameters are stale, update_parameters
+       computes it again before any evaluation) */
+    if (!s->params_dirty && COSIM_MODEL.nq > 0 && COSIM_MODEL.calc_hoisted(s->v + in->o_p, s->q) != 0)
+        s->params_dirty = 1;
     return NULL;
 }
 
@@ -1658,7 +1691,7 @@ static int rhs(rt_instance *in, double t0, double t, const double *x, double *xd
     size_t i;
 
     for (i = 0; i < in->nu; i++) in->us[i] = u0[i] + in->s.du[i] * (t - t0);
-    return COSIM_MODEL.eval(t, x, in->us, PV(in), xdot, in->zs) == 0;
+    return model_eval(in, t, x, in->us, xdot, in->zs) == 0;
 }
 
 /* One step from (t, x = XV) of size h with k[0] = f(t, x) given.  Leaves the 5th-order solution

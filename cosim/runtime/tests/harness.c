@@ -683,6 +683,32 @@ static void test_fmu_state(void)
         fmi2FreeInstance(c2);
     }
 
+    /* ... also where the model's hoisted parameter terms (test_model.c: d = 0.1 n) were computed for
+       other parameters (n = 9, not 2): they follow the restored state, from fmi2GetFMUstate of the
+       other instance and from fmi2DeSerializeFMUstate alike */
+    {
+        const fmi2ValueReference vn = 8;
+        const fmi2Integer n9 = 9;
+        fmi2FMUstate restored = NULL;
+        int from;
+        for (from = 0; from < 2; from++) {
+            fmi2Component c2 = start_init(fmi2CoSimulation, &cb, 1e-3);
+            CHECK_OK(fmi2SetInteger(c2, &vn, 1, &n9));
+            CHECK_OK(fmi2ExitInitializationMode(c2));
+            CHECK_OK(fmi2DoStep(c2, 0.0, 0.5, fmi2True));
+            if (from == 0) {
+                CHECK_OK(fmi2SetFMUstate(c2, state3));
+            } else {
+                CHECK_OK(fmi2DeSerializeFMUstate(c2, bytes, size, &restored));
+                CHECK_OK(fmi2SetFMUstate(c2, restored));
+                CHECK_OK(fmi2FreeFMUstate(c2, &restored));
+            }
+            five_steps(c2, 2.5, again);
+            CHECK(memcmp(ref, again, sizeof ref) == 0);
+            fmi2FreeInstance(c2);
+        }
+    }
+
     /* corrupt input is rejected */
     CHECK_ERR(fmi2DeSerializeFMUstate(c, bytes, size - 1, &state2));
     CHECK_ERR(fmi2DeSerializeFMUstate(c, bytes, 3, &state2));

@@ -11,6 +11,9 @@
  *   calculated parameters: omega = sqrt(k) (Real), n10 = 10 n (Integer)
  *   algebraics:            f = k s + u,  e = v^2 + w
  *
+ * d and g are the model's hoisted parameter terms q = (d, g) (calc_hoisted, eval_hoisted of cosim_model.h),
+ * so that the harness sees whether the runtime keeps them in step with n and b.
+ *
  * eval fails for finite u > 1e6, so that the harness can test error handling; u > 1000 gives a solution
  * that cannot be continued past a finite time (an integration failure inside fmi2DoStep).
  *
@@ -53,9 +56,17 @@ static int start_states(double t, const double *u, const double *p, const unsign
     return 0;
 }
 
-static int eval(double t, const double *x, const double *u, const double *p, double *xdot, double *z)
+static int calc_hoisted(const double *p, double *q)
 {
-    const double k = p[P_K], d = 0.1 * p[P_N], g = p[P_B] != 0.0 ? 1.0 : 0.0;
+    q[0] = 0.1 * p[P_N];
+    q[1] = p[P_B] != 0.0 ? 1.0 : 0.0;
+    return 0;
+}
+
+static int eval_hoisted(double t, const double *x, const double *u, const double *p, const double *q,
+                        double *xdot, double *z)
+{
+    const double k = p[P_K], d = q[0], g = q[1];
 
     (void)t;
     test_model_evals++;
@@ -66,6 +77,13 @@ static int eval(double t, const double *x, const double *u, const double *p, dou
     z[0] = k * x[0] + u[0];
     z[1] = x[1] * x[1] + x[2];
     return 0;
+}
+
+static int eval(double t, const double *x, const double *u, const double *p, double *xdot, double *z)
+{
+    double q[2];
+    calc_hoisted(p, q);
+    return eval_hoisted(t, x, u, p, q, xdot, z);
 }
 
 static int jvp(double t, const double *x, const double *u, const double *p,
@@ -122,5 +140,6 @@ const cosim_model COSIM_MODEL = {
     names,
     0, /* no initial equations */
     0, /* dz of jvp: all algebraic variables */
-    0  /* eval computes all of z */
+    0, /* eval computes all of z */
+    2, calc_hoisted, eval_hoisted
 };

@@ -84,5 +84,6 @@ const cosim_model COSIM_MODEL = {
     names,
     "theta",
     0, /* dz of jvp: all algebraic variables */
-    0  /* eval computes all of z */
+    0, /* eval computes all of z */
+    0, 0, 0 /* no hoisted parameter terms */
 };

@@ -52,5 +52,6 @@ const cosim_model COSIM_MODEL = {
     0, /* no names: messages give value references */
     0, /* no initial equations */
     0, /* dz of jvp: all algebraic variables */
-    0  /* eval computes all of z */
+    0, /* eval computes all of z */
+    0, 0, 0 /* no hoisted parameter terms */
 };
