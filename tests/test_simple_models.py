@@ -17,6 +17,7 @@ statements).
 """
 from __future__ import annotations
 
+import json
 import math
 import os
 
@@ -48,9 +49,11 @@ SPEEDS = {
     "SelfStabilizing": [0.8, 1.5, 2.5, 4.0, 6.0, 10.0, -3.0],
     "SelfStabilizingGyro": [0.8, 1.5, 2.5, 4.0, 6.0, 10.0, -3.0],
     "LeaningRider": [0.8, 1.5, 2.5, 4.0, 6.0, 10.0, -3.0],
-    "InvertedPendulum": [0.5, 1.0, 2.5, 5.0, 10.0, -4.0],
-    "RearSteered": [0.5, 1.0, 2.5, 5.0, 10.0, -4.0],
-    "CrownedRoller": [0.5, 1.0, 2.5, 5.0, 10.0],
+    # V = 0: the steer angle no longer drives the roll, but the pendulum still falls (the twin keeps
+    # the roll states, so the eigenvalues of A compare)
+    "InvertedPendulum": [0.0, 0.5, 1.0, 2.5, 5.0, 10.0, -4.0],
+    "RearSteered": [0.0, 0.5, 1.0, 2.5, 5.0, 10.0, -4.0],
+    "CrownedRoller": [0.0, 0.5, 1.0, 2.5, 5.0, 10.0],
 }
 #: Further parameter variations per model (each combined with every speed).
 VARIANTS = {
@@ -273,6 +276,16 @@ def test_linearization_matches_twin(fmus, case):
     errors = compare(found, expected)
     worst = max(errors, key=errors.get)
     assert errors[worst] <= LIN_RTOL, f"{worst}: relative error {errors[worst]:.2e} ({errors})"
+
+
+@pytest.mark.parametrize("model", ["InvertedPendulum", "RearSteered", "CrownedRoller"])
+def test_compare_at_standstill(fmus, model):
+    """`cosim compare` at V = 0, where the transfer functions from the steer angle vanish: the
+    eigenvalues of A (the falling pendulum and the path's integrators) still agree."""
+    result = run_cli("compare", PKG + model, "--speeds", "0,2", "--json")
+    assert result.returncode == 0, result.stderr
+    errors = [row["eigenvalue_error"] for row in json.loads(result.stdout)["comparisons"]]
+    assert len(errors) == 2 and max(errors) <= LIN_RTOL, errors
 
 
 # ----------------------------------------------------------------------------

@@ -258,7 +258,13 @@ def roll_steer_tf(bike: SimpleBicycle, V: float, frame: Frame = "eq1") -> contro
         the frame (14): (D V sin λ s + m (V² h - a c g) sin λ) / (b (J s² - m g h)).
     """
     e, f = _frame_coefficients(bike, _speed(V), frame)
-    return _tf([e, f], [bike.J, 0.0, -bike.m * bike.g * bike.h])
+    return _tf([e, f], roll_polynomial(bike))
+
+
+def roll_polynomial(bike: SimpleBicycle) -> np.ndarray:
+    """``J s² - m g h``: the denominator of (4) and (18), the falling pendulum [kg m²] (also at
+    V = 0, where the transfer function itself is 0 and keeps no denominator)."""
+    return np.array([bike.J, 0.0, -bike.m * bike.g * bike.h])
 
 
 def rear_steer_roll_steer_tf(bike: SimpleBicycle, V: float) -> control.TransferFunction:

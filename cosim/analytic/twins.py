@@ -185,11 +185,33 @@ def _with_path(sys: control.StateSpace, C_delta, D_delta, path: control.StateSpa
                       inputs=list(sys.input_labels), outputs=outputs)
 
 
-def _steer_angle_model(G: control.TransferFunction, bike: SimpleBicycle, V: float) -> control.StateSpace:
-    """Roll transfer function G_phi_delta plus the path of a vertical steer axis: delta -> phi, psi, eta."""
-    roll = control.ss(G)
-    roll = control.ss(roll.A, roll.B, roll.C, roll.D, inputs=["delta"], outputs=["phi"],
-                      states=[f"x{k}" for k in range(roll.nstates)])
+def _canonical(num, den) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(A, B, C, D) of the controllable canonical form of the proper SISO transfer function
+    ``num/den`` (coefficients, highest power first), with a state for every root of ``den`` also
+    where ``num`` is 0: at V = 0 the steer angle no longer drives the roll, but the pendulum still
+    falls (python-control's ``ss`` of that transfer function has no states, so its A could not be
+    compared with the FMU's)."""
+    num = np.atleast_1d(np.asarray(num, float))
+    den = np.trim_zeros(np.atleast_1d(np.asarray(den, float)), "f")
+    n = den.size - 1
+    num = np.concatenate([np.zeros(max(0, n + 1 - num.size)), num])[-(n + 1):] / den[0]
+    den = den / den[0]
+    d = num[0]  # feedthrough
+    A = np.zeros((n, n))
+    A[:-1, 1:] = np.eye(n - 1)
+    A[-1, :] = -den[:0:-1]                           # x_n' = -a_0 x_1 - ... - a_{n-1} x_n + u
+    B = np.zeros((n, 1))
+    B[-1, 0] = 1.0
+    C = (num[1:] - d * den[1:])[::-1].reshape(1, n)  # y = b_0 x_1 + ... + b_{n-1} x_n + d u
+    return A, B, C, np.array([[d]])
+
+
+def _steer_angle_model(G: control.TransferFunction, den, bike: SimpleBicycle, V: float) -> control.StateSpace:
+    """Roll transfer function G_phi_delta (numerator over the monic ``den``, the roll dynamics'
+    characteristic polynomial) plus the path of a vertical steer axis: delta -> phi, psi, eta."""
+    den = np.asarray(den, float)
+    A, B, C, D = _canonical(G.num[0][0], den / den[0])
+    roll = control.ss(A, B, C, D, inputs=["delta"], outputs=["phi"], states=[f"x{k}" for k in range(A.shape[0])])
     return _with_path(roll, np.zeros(roll.nstates), [1.0], _path(bike, V, effective=False),
                       ["phi", "psi", "eta"])
 
@@ -216,7 +238,7 @@ def _self_stabilizing_gyro(p: Mapping[str, float], V: float) -> control.StateSpa
 
 def _inverted_pendulum(p: Mapping[str, float], V: float) -> control.StateSpace:
     bike = bicycle(p)
-    return _steer_angle_model(simple.roll_steer_tf(bike, V, frame="eq1"), bike, V)
+    return _steer_angle_model(simple.roll_steer_tf(bike, V, frame="eq1"), simple.roll_polynomial(bike), bike, V)
 
 
 def _rear_steered(p: Mapping[str, float], V: float) -> control.StateSpace:
@@ -224,7 +246,7 @@ def _rear_steered(p: Mapping[str, float], V: float) -> control.StateSpace:
     revolution about the vertical (phi, delta and eta change sign), so the roll transfer function is
     (4) at -V and the path is the ordinary der(psi) = V delta / b, der(eta) = V psi."""
     bike = bicycle(p)
-    return _steer_angle_model(simple.rear_steer_roll_steer_tf(bike, V), bike, V)
+    return _steer_angle_model(simple.rear_steer_roll_steer_tf(bike, V), simple.roll_polynomial(bike), bike, V)
 
 
 def _leaning_rider(p: Mapping[str, float], V: float) -> control.StateSpace:
@@ -236,7 +258,7 @@ def _crowned_roller(p: Mapping[str, float], V: float) -> control.StateSpace:
     bike = bicycle(p)
     G = simple.roll_steer_tf(bike, V, frame="eq1")  # monic denominator s^2 - m g h / J
     den = np.real(np.poly(simple.crowned_roller_poles(bike)))  # s^2 - m g (h - R) / J, eq (27)
-    return _steer_angle_model(control.tf(G.num[0][0], den), bike, V)
+    return _steer_angle_model(control.tf(G.num[0][0], den), den, bike, V)
 
 
 def _whipple_linear(p: Mapping[str, float], v: float) -> control.StateSpace:
