@@ -30,6 +30,9 @@ from cosim.errors import FMUError
 
 #: The FMI version this package runs (FMI 3 support is planned; see :func:`check_fmi_version`).
 SUPPORTED_FMI_VERSIONS = ("2.0",)
+#: The FMI versions whose model descriptions are read (``cosim info``; FMPy checks them against
+#: the standard's schema): running FMI 3 FMUs is docs/design/fmi3.md's plan.
+READABLE_FMI_VERSIONS = ("2.0", "3.0")
 #: Largest total unpacked size of an FMU's members [bytes]; beyond it the archive is refused.
 MAX_UNPACKED_BYTES = 2 * 1024**3
 MODEL_DESCRIPTION = "modelDescription.xml"
@@ -62,20 +65,23 @@ def unsafe_member(info: zipfile.ZipInfo) -> str | None:
     return None
 
 
-def check_fmi_version(path: Path, version: str | None) -> None:
-    """Refuse every FMI version but 2.0: the one place that decides which FMUs are run.
+def check_fmi_version(path: Path, version: str | None, versions: tuple[str, ...] = SUPPORTED_FMI_VERSIONS) -> None:
+    """Refuse every FMI version not in ``versions`` (default: 2.0, the one this package runs): the
+    one place that decides which FMUs are run, and which are only read (READABLE_FMI_VERSIONS).
 
     Raises
     ------
     FMUError
-        For FMI 1.0, FMI 3.x (not supported yet) or a missing/unknown ``fmiVersion``.
+        For FMI 1.0, FMI 3.x (not supported yet where not read only) or a missing/unknown
+        ``fmiVersion``.
     """
-    if version in SUPPORTED_FMI_VERSIONS:
+    if version in versions:
         return
     if version is None or not version.strip():
         raise FMUError(f"{path}: modelDescription.xml has no fmiVersion attribute")
     if version.startswith("3."):
-        raise FMUError(f"{path}: FMI {version} FMUs are not supported yet (this tool runs FMI 2.0)")
+        readable = " (`cosim info` reads its model description)" if version in READABLE_FMI_VERSIONS else ""
+        raise FMUError(f"{path}: FMI {version} FMUs are not supported yet (this tool runs FMI 2.0){readable}")
     raise FMUError(f"{path}: FMI version '{version}' is not supported (this tool runs FMI 2.0)")
 
 
@@ -130,8 +136,9 @@ def _model_description_root(path: Path, archive: zipfile.ZipFile):
     return root
 
 
-def read_fmu(path: str | os.PathLike):
-    """The checked model description of an FMU file (cached per file version).
+def read_fmu(path: str | os.PathLike, versions: tuple[str, ...] = SUPPORTED_FMI_VERSIONS):
+    """The checked model description of an FMU file (cached per file version) of one of the FMI
+    ``versions`` (default: the ones this package runs).
 
     Returns
     -------
@@ -149,9 +156,10 @@ def read_fmu(path: str | os.PathLike):
     with _open_archive(path) as archive:
         key = _key(path)
         if key in _DESCRIPTIONS:
+            check_fmi_version(path, _DESCRIPTIONS[key].fmiVersion, versions)
             return _DESCRIPTIONS[key]
         root = _model_description_root(path, archive)
-        check_fmi_version(path, root.get("fmiVersion"))
+        check_fmi_version(path, root.get("fmiVersion"), versions)
         try:
             md = read_model_description(str(path), validate=True)
         except ValidationError as exc:
