@@ -27,7 +27,7 @@ SYSTEMS = ["lqr-autopilot", "riderless-push", "lane-change"]
 TARGETS = {"libcosim": 30.0, "Ecos": 2.0}
 
 
-def engines(spec, ssp: Path, folder: Path, tmp: str) -> dict:
+def engines(spec, steps: int, folder: Path, tmp: str) -> dict:
     """One callable per engine that runs the whole SSP once (instantiate .. terminate)."""
     from cosim.cosimulation.factory import create_components
     from cosim.cosimulation.master import assemble
@@ -37,8 +37,6 @@ def engines(spec, ssp: Path, folder: Path, tmp: str) -> dict:
     ecospy()
     from ecospy import EcosSimulation
     from libcosimpy.CosimExecution import CosimExecution
-
-    steps = int(round((spec.stop - spec.start) / spec.step))
 
     def ours():
         assemble(spec, create_components(spec, tmp)).run()
@@ -91,7 +89,7 @@ def main(argv=None) -> int:
             spec = dataclasses.replace(spec, components={
                 n: dataclasses.replace(c, kind="fmu", source=fmu_files[n]) for n, c in spec.components.items()})
             with _unpacked_ssp(ssp) as (folder, *_):
-                runs = engines(spec, ssp, folder, tmp)
+                runs = engines(spec, steps, folder, tmp)
                 times = {engine: [] for engine in runs}
                 for _ in range(args.repeat):
                     for engine, run in runs.items():

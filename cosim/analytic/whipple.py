@@ -312,7 +312,8 @@ def characteristic_polynomial(params: Mapping[str, float], v: float) -> np.ndarr
 
 
 def _det_quadratic(M: np.ndarray, C: np.ndarray, K: np.ndarray) -> np.ndarray:
-    """Coefficients of det(s^2 M + s C + K) for 2x2 matrices, highest first."""
+    """Coefficients of det(s^2 M + s C + K) for 2x2 matrices, highest first (numbers, or
+    polynomials in the speed: object arrays of numpy Polynomials)."""
     def entry(i, j):
         return np.array([M[i, j], C[i, j], K[i, j]])
     return np.polysub(np.polymul(entry(0, 0), entry(1, 1)), np.polymul(entry(0, 1), entry(1, 0)))
@@ -355,17 +356,11 @@ def _crossing_polynomial(p, mats) -> np.polynomial.Polynomial:
     M, C1, K0, K2 = mats
     v = V([0.0, 1.0])
 
-    def entry(i, j):  # coefficients of s^2, s, 1, polynomials in v
-        return (V([M[i, j]]), C1[i, j] * v, p["g"] * K0[i, j] + K2[i, j] * v**2)
+    def matrix(entry):  # 2 x 2 of polynomials in v
+        return np.array([[entry(i, j) for j in range(2)] for i in range(2)], dtype=object)
 
-    def times(e, f):  # product of two entries: coefficients of s^4 .. s^0
-        out = [V([0.0])] * 5
-        for i, x in enumerate(e):
-            for j, y in enumerate(f):
-                out[i + j] = out[i + j] + x * y
-        return out
-
-    a4, a3, a2, a1, a0 = (x - y for x, y in zip(times(entry(0, 0), entry(1, 1)), times(entry(0, 1), entry(1, 0))))
+    a4, a3, a2, a1, a0 = _det_quadratic(matrix(lambda i, j: V([M[i, j]])), matrix(lambda i, j: C1[i, j] * v),
+                                        matrix(lambda i, j: p["g"] * K0[i, j] + K2[i, j] * v**2))
     return a0 * (a1 * a2 * a3 - a4 * a1**2 - a0 * a3**2)
 
 

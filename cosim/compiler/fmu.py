@@ -56,8 +56,8 @@ def compile_binary(sources: Path, identifier: str, target: Path, cc: str | None 
     starting as soon as one ends), then linked. ``generated`` names the files that CasADi wrote:
     they are compiled without warnings (-Wall on 600 kB of generated straight-line code costs
     10 % of the build and says nothing a user could act on). ``unoptimized`` names files compiled
-    with -O0 (code that no integration step runs; -O0 changes no result, see HUGE_FILE). Object files go to ``objects``
-    (default: a temporary folder). gcc runs in ``sources`` on relative file names, so that no
+    with -O0 (code that no integration step runs; -O0 changes no result, see HUGE_FILE). Object
+    files go to ``objects`` (default: a temporary folder). gcc runs in ``sources`` on relative file names, so that no
     temporary path ends up in the binary (the same sources give the same bytes).
 
     The runtime (``fmi2_runtime.c``, the same for every FMU, 70 % of the gcc time of a small
@@ -87,13 +87,10 @@ def compile_binary(sources: Path, identifier: str, target: Path, cc: str | None 
             unity.write_text("".join(f'#include "{f.name}"\n' for f in model_files))
             stack.callback(unity.unlink, missing_ok=True)
             units = [unity] + [f for f in c_files if f.name == RUNTIME_SOURCE]
-            flags = {UNITY_FILE: (UNITY_OPTIMIZATION, "-w")}
         else:
             units = c_files
-            flags = {f.name: (*(("-O0",) if f.name in unoptimized else _optimization(f, optimization)),
-                              *(["-w"] if f.name in generated else [])) for f in c_files}
-        flags[RUNTIME_SOURCE] = (RUNTIME_OPTIMIZATION,)
-        jobs = [[compiler, *CFLAGS, *flags[f.name], "-I.", "-c", f.name, "-o", str(objects / f"{f.stem}.o")]
+        jobs = [[compiler, *CFLAGS, *_flags(f, optimization, unoptimized, generated), "-I.", "-c", f.name,
+                 "-o", str(objects / f"{f.stem}.o")]
                 for f in sorted(units, key=lambda f: -f.stat().st_size)  # the longest first
                 if not (cached and f.name == RUNTIME_SOURCE)]
         link = [compiler, *CFLAGS, "-o", str(target), *(str(objects / f"{f.stem}.o") for f in units), "-lm"]
@@ -112,10 +109,14 @@ RUNTIME_OPTIMIZATION = "-O2"
 RUNTIME_HEADERS = ("cosim_model.h", "fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
 
 
-def _optimization(file: Path, default: tuple[str, ...]) -> tuple[str, ...]:
+def _flags(file: Path, default: tuple[str, ...], unoptimized: tuple[str, ...], generated: tuple[str, ...]):
+    """Optimization (and warning) flags of one C file of an FMU (see :func:`compile_binary`)."""
     if file.name == RUNTIME_SOURCE:
         return (RUNTIME_OPTIMIZATION,)
-    return ("-O0",) if file.stat().st_size > HUGE_FILE else default
+    if file.name == UNITY_FILE:
+        return (UNITY_OPTIMIZATION, "-w")
+    level = ("-O0",) if file.name in unoptimized or file.stat().st_size > HUGE_FILE else default
+    return (*level, *(("-w",) if file.name in generated else ()))
 
 
 @functools.lru_cache(maxsize=8)

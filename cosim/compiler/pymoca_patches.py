@@ -77,7 +77,6 @@ v and vdef must match").
 from __future__ import annotations
 
 import itertools
-
 import re
 
 _applied = False
@@ -402,11 +401,12 @@ def _full_scope_once(resolve_name, resolve_modifications, flattening):
         if windows and isinstance(scope, InstanceClass) and not scope.name \
                 and scope.instantiation_state < InstantiationState.FULL and "guard" in kwargs and "opts" in kwargs:
             opts = kwargs["opts"]
-            kept = windows[-1].get((id(scope), repr(opts)))
+            key = (id(scope), repr(opts))
+            kept = windows[-1].get(key)
             if kept is None:
                 full = flattening._instantiate_class(scope, ast.ClassModification(), scope.parent_instance,
                                                      guard=kwargs["guard"], opts=opts, update_parent_instance=False)
-                kept = windows[-1][(id(scope), repr(opts))] = (scope, full)
+                kept = windows[-1][key] = (scope, full)
             scope = kept[1]
         return resolve_name(name, scope, flat_class, **kwargs)
 

@@ -277,7 +277,7 @@ class System:
             gauss_seidel = spec.algorithm == "gauss-seidel"
             after_transfer = spec.sampling == "after-transfer"
             self._sampled = np.empty_like(self.signals)
-            fast = self._fast_run(data, grid, record_idx) if self.use_fast_loop else None
+            fast = self._fast_run(data, grid, record_idx, multiples) if self.use_fast_loop else None
             if fast is not None:
                 outcome, rows = fast
                 n_steps = 0  # done
@@ -381,14 +381,12 @@ class System:
                 return None
         return natives
 
-    def _fast_run(self, data: np.ndarray, grid: np.ndarray, record_idx: np.ndarray):
+    def _fast_run(self, data: np.ndarray, grid: np.ndarray, record_idx: np.ndarray, multiples: dict[str, int]):
         """Step in C when every component is an FMU or a native block; None where the Python loop
         must do it."""
         from cosim.cosimulation.fastloop import library
 
         lib = library()
-        spec = self.spec
-        multiples = {n: spec.components[n].step_multiple if n in spec.components else 1 for n in self.names}
         natives = self._natives(grid, multiples) if lib is not None else None
         if natives is None:
             return None

@@ -322,18 +322,15 @@ class FMULog:
 # methods (inspect.getmembers + inspect.signature: 1.5 ms per instance, most of a co-simulation
 # run's set-up, which a batch study pays per run). The types depend on the class only: FMPy's own
 # code types them for the first instance of a class, and later instances take them from there.
-_FUNCTION_TYPES: dict[type, list[tuple]] = {}
-
-
 def _typed_once(cls):
     """A subclass of an FMPy instance class whose FMI function types are found once per class."""
     load = cls._loadFunctions
+    table: list[tuple] = []  # (name, argnames, argtypes, restype), from the first instance
 
     def _loadFunctions(self) -> None:
-        table = _FUNCTION_TYPES.get(cls)
-        if table is None:
+        if not table:
             load(self)
-            _FUNCTION_TYPES[cls] = [(name, f.argnames, f.argtypes, f.restype) for name, f in self._functions.items()]
+            table.extend((name, f.argnames, f.argtypes, f.restype) for name, f in self._functions.items())
             return
         for name, argnames, argtypes, restype in table:
             function = getattr(self.dll, name)
