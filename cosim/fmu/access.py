@@ -1,13 +1,13 @@
-"""A thin layer over FMPy for one FMI 2.0 FMU: open it safely, extract once, instantiate as ME or
+"""A thin layer over FMPy for one FMI 2.0 or 3.0 FMU: open it safely, extract once, instantiate as ME or
 CS, address variables by name. Every command, linearization, validation and the co-simulation
 master go through :func:`read_fmu` / :class:`FMU`, so an FMU file is checked in one place:
 
 - it is a file and a zip archive (not random bytes, not truncated);
 - no member name could land outside the extraction folder (``../x``, ``/abs``, ``C:x``,
   backslashes, symbolic links) and the unpacked size is bounded (no zip bomb);
-- ``modelDescription.xml`` exists, is well-formed XML without a DOCTYPE, declares FMI 2.0 (the
-  version check is :func:`check_fmi_version`, the one place to extend for FMI 3) and passes FMPy's
-  schema and consistency checks;
+- ``modelDescription.xml`` exists, is well-formed XML without a DOCTYPE, declares an FMI version
+  the caller runs (:func:`check_fmi_version`: FMI 2.0 by default, ``ALL_FMI_VERSIONS`` where a
+  command handles FMI 3) and passes FMPy's schema and consistency checks;
 - at instantiation, the binary for this platform exists and loads.
 
 Any failure raises :class:`cosim.errors.FMUError` naming the file and the problem.
@@ -28,11 +28,14 @@ import numpy as np
 
 from cosim.errors import FMUError
 
-#: The FMI version this package runs (FMI 3 support is planned; see :func:`check_fmi_version`).
+#: The FMI versions a command runs unless it says otherwise (see :func:`check_fmi_version`).
 SUPPORTED_FMI_VERSIONS = ("2.0",)
+#: The FMI versions this layer opens and instantiates (:class:`FMU` with ``versions=``); a
+#: command passes them once it handles FMI 3 (docs/design/fmi3.md).
+ALL_FMI_VERSIONS = ("2.0", "3.0")
 #: The FMI versions whose model descriptions are read (``cosim info``; FMPy checks them against
-#: the standard's schema): running FMI 3 FMUs is docs/design/fmi3.md's plan.
-READABLE_FMI_VERSIONS = ("2.0", "3.0")
+#: the standard's schema).
+READABLE_FMI_VERSIONS = ALL_FMI_VERSIONS
 #: Largest total unpacked size of an FMU's members [bytes]; beyond it the archive is refused.
 MAX_UNPACKED_BYTES = 2 * 1024**3
 MODEL_DESCRIPTION = "modelDescription.xml"
@@ -193,10 +196,10 @@ def _extract_members(path: Path, folder: Path) -> None:
                 raise FMUError(f"{path}: member '{info.filename}' is damaged: {exc}") from None
 
 
-def _extract(path: Path):
+def _extract(path: Path, versions: tuple[str, ...] = SUPPORTED_FMI_VERSIONS):
     """Check and unzip an FMU once per process (and file version), into a subfolder of this
     process's extraction folder (see :func:`_process_folder`)."""
-    md = read_fmu(path)
+    md = read_fmu(path, versions)
     key = _key(path)
     parent = _process_folder()  # first: forgets a forked parent's extractions
     if key not in _EXTRACTED:
@@ -288,6 +291,10 @@ class FMULog:
         text = message.decode("utf-8", "replace") if isinstance(message, bytes) else str(message)
         self.messages.append((int(status), text.strip()))
 
+    def fmi3_logger(self, instance_environment, status, category, message) -> None:
+        """The ``fmi3LogMessageCallback`` (FMI 3 passes the formatted message, no instance name)."""
+        self.logger(None, None, status, category, message)
+
     def callbacks(self):
         """fmi2CallbackFunctions whose logger is this object (kept alive with it)."""
         from ctypes import byref
@@ -340,16 +347,33 @@ def _typed_once(cls):
     return type(cls.__name__, (cls,), {"_loadFunctions": _loadFunctions, "__module__": cls.__module__})
 
 
-_CLASSES: dict[str, type] = {}
+_CLASSES: dict[tuple[str, str], type] = {}
 
 
-def _instance_class(kind: str) -> type:
-    """FMPy's FMU2Slave (``cs``) or FMU2Model (``me``), typed once (see _typed_once)."""
-    if kind not in _CLASSES:
-        from fmpy.fmi2 import FMU2Model, FMU2Slave
+def _instance_class(kind: str, version: str = "2.0") -> type:
+    """FMPy's instance class of FMI ``version`` for ``kind`` (``cs``: FMU2Slave/FMU3Slave, ``me``:
+    FMU2Model/FMU3Model), typed once (see _typed_once)."""
+    key = (kind, version[:1])
+    if key not in _CLASSES:
+        if key[1] == "3":
+            from fmpy.fmi3 import FMU3Model as Model, FMU3Slave as Slave
+        else:
+            from fmpy.fmi2 import FMU2Model as Model, FMU2Slave as Slave
+        _CLASSES[key] = _typed_once(Slave if kind == "cs" else Model)
+    return _CLASSES[key]
 
-        _CLASSES[kind] = _typed_once(FMU2Slave if kind == "cs" else FMU2Model)
-    return _CLASSES[kind]
+
+#: The setter and getter names of FMPy's instances by FMI version and variable type (FMI 3 has
+#: one pair per type and width; the model descriptions name the types accordingly).
+_SETTERS = {
+    "2": {"Real": "setReal", "Integer": "setInteger", "Enumeration": "setInteger", "Boolean": "setBoolean",
+          "String": "setString"},
+    "3": {"Float64": "setFloat64", "Float32": "setFloat32", "Int64": "setInt64", "Int32": "setInt32",
+          "Int16": "setInt16", "Int8": "setInt8", "UInt64": "setUInt64", "UInt32": "setUInt32",
+          "UInt16": "setUInt16", "UInt8": "setUInt8", "Enumeration": "setInt64", "Boolean": "setBoolean",
+          "String": "setString"},
+}
+_CONVERT = {"Real": float, "Float64": float, "Float32": float, "Boolean": bool, "String": str}
 
 
 class FMU:
@@ -361,11 +385,20 @@ class FMU:
         The ``.fmu`` file.
     """
 
-    def __init__(self, path: str | Path):
+    def __init__(self, path: str | Path, versions: tuple[str, ...] = SUPPORTED_FMI_VERSIONS):
         self.path = Path(path)
-        self.unzipdir, self.description = _extract(self.path)
+        self.unzipdir, self.description = _extract(self.path, versions)
         self.variables = {v.name: v for v in self.description.modelVariables}
         self.vr = {name: v.valueReference for name, v in self.variables.items()}
+
+    @property
+    def fmi_version(self) -> str:
+        """``"2.0"`` or ``"3.0"`` (as in modelDescription.xml)."""
+        return self.description.fmiVersion
+
+    @property
+    def is_fmi3(self) -> bool:
+        return self.fmi_version.startswith("3.")
 
     def close(self):
         """Nothing to release: the unzipped FMU is shared within the process (see ``_extract``)."""
@@ -397,7 +430,10 @@ class FMU:
         FMUError
             If the FMU does not offer ``kind`` or has no binary for this platform.
         """
-        from fmpy import platform, sharedLibraryExtension
+        from fmpy import platform, platform_tuple, sharedLibraryExtension
+
+        if self.is_fmi3:  # FMI 3 names the folder by architecture-os (x86_64-linux)
+            platform = platform_tuple
 
         section = self.description.coSimulation if kind == "cs" else self.description.modelExchange
         if section is None:
@@ -410,19 +446,24 @@ class FMU:
         return library
 
     def instantiate(self, kind: str = "cs", name: str = "instance", log: "FMULog | None" = None):
-        """An FMPy FMU2Slave (``cs``) or FMU2Model (``me``), instantiated but not initialized.
+        """An FMPy FMU2Slave/FMU3Slave (``cs``) or FMU2Model/FMU3Model (``me``), instantiated
+        but not initialized (FMI 3 Co-Simulation without event mode, early return or intermediate
+        update).
 
         The FMU's log messages go to ``log`` (a fresh :class:`FMULog` if None), available as
         ``instance.log``, so that an error message can quote what the FMU said.
         """
-        cls = _instance_class(kind)
+        cls = _instance_class(kind, self.fmi_version)
         library = self.library(kind)
         section = self.description.coSimulation if kind == "cs" else self.description.modelExchange
         log = log if log is not None else FMULog()
         try:
             instance = cls(guid=self.description.guid, unzipDirectory=self.unzipdir,
                            modelIdentifier=section.modelIdentifier, instanceName=name)
-            instance.instantiate(loggingOn=False, callbacks=log.callbacks())
+            if self.is_fmi3:
+                instance.instantiate(loggingOn=False, logMessage=log.fmi3_logger)
+            else:
+                instance.instantiate(loggingOn=False, callbacks=log.callbacks())
         except Exception as exc:  # FMPy raises bare Exception for a library that does not load
             said = log.last_error()
             raise FMUError(f"{self.path}: cannot instantiate {library.name}: {exc}"
@@ -431,17 +472,17 @@ class FMU:
         return instance
 
     def set(self, instance, values: dict) -> None:
-        """Set values by name, each with the setter of its type."""
+        """Set values by name, each with the setter of its type (FMI 2 or FMI 3)."""
+        setters = _SETTERS[self.fmi_version[:1]]
         for name, value in values.items():
             v = self.variables[name]
-            if v.type == "Real":
-                instance.setReal([v.valueReference], [float(value)])
-            elif v.type in ("Integer", "Enumeration"):
-                instance.setInteger([v.valueReference], [int(value)])
-            elif v.type == "Boolean":
-                instance.setBoolean([v.valueReference], [bool(value)])
-            else:
-                instance.setString([v.valueReference], [str(value)])
+            if v.type not in setters:
+                raise FMUError(f"{self.path}: variable '{name}' has type {v.type}, which cannot be set here")
+            getattr(instance, setters[v.type])([v.valueReference], [_CONVERT.get(v.type, int)(value)])
 
     def get_real(self, instance, names: list[str]) -> np.ndarray:
-        return np.array(instance.getReal([self.vr[n] for n in names])) if names else np.zeros(0)
+        """The values of real (FMI 3: Float64) variables by name."""
+        if not names:
+            return np.zeros(0)
+        vrs = [self.vr[n] for n in names]
+        return np.array(instance.getFloat64(vrs) if self.is_fmi3 else instance.getReal(vrs))
