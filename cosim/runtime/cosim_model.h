@@ -1,6 +1,7 @@
 /*
- * cosim_model.h -- the contract between the shared FMI 2.0 runtime (fmi2_runtime.c)
- * and the model-specific code that `cosim build` generates (model.c).
+ * cosim_model.h -- the contract between the shared FMI runtime (cosim_runtime.c with the FMI 2.0
+ * API fmi2_api.c or the FMI 3.0 API fmi3_api.c) and the model-specific code that `cosim build`
+ * generates (model.c).
  *
  * All variables of an FMU live in one array of doubles indexed by value reference:
  *
@@ -8,6 +9,8 @@
  *     nx         nx                   nu         np             nc                         nz
  *
  * Integer and Boolean variables are stored as doubles too (types[] tells which is which).
+ * FMI 3.0 needs the independent variable as a variable of its own: `time` has the value reference
+ * nv = 2*nx+nu+np+nc+nz, one past the value array (read only, FMI 2 does not list it).
  * The instantiation token (GUID) identifies the model: the runtime refuses FMU states whose GUID
  * or block sizes differ from its own.
  * The generator writes both this model's C tables and modelDescription.xml from one Python
@@ -71,6 +74,19 @@ typedef struct {
     int (*calc_hoisted)(const double *p, double *q);
     int (*eval_hoisted)(double t, const double *x, const double *u, const double *p, const double *q,
                         double *xdot, double *z);
+    /* Vector-Jacobian product (reverse mode, fmi3GetAdjointDerivative) of the same outputs as jvp:
+       given weights wxdot (nx) on der(x) and wz (one per slot of jvp's dz) on the outputs, returns
+       wx (nx), wu (nu) and wp (np) with (wx, wu, wp) = J^T (wxdot, wz), J the Jacobian of (xdot, dz)
+       with respect to (x, u, p); the entries of wp of Integer and Boolean parameters are 0.
+       NULL: no adjoint derivatives. */
+    int (*vjp)(double t, const double *x, const double *u, const double *p,
+               const double *wxdot, const double *wz, double *wx, double *wu, double *wp);
+    /* FMI 3 arrays: nv entries; fmi3_length[vr] is the number of values of the FMI 3 variable with
+       value reference vr: 1 for a scalar, n > 1 for an array whose values are those at vr .. vr+n-1
+       of the value array (one declared Modelica array, e.g. the Pade delay's states), 0 for the
+       elements after the first of an array (no FMI 3 variable of their own).  NULL: all scalars.
+       FMI 2 exports every element as a scalar and ignores it. */
+    const int *fmi3_length;
 } cosim_model;
 
 #define COSIM_START_NOT_CONVERGED 2
