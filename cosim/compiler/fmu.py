@@ -40,11 +40,12 @@ MANIFEST = "documentation/build.json"
 PARTIALS: set[Path] = set()
 
 
-def platform_folder() -> str:
-    """FMI 2.0 platform folder of this machine (linux64, darwin64, win64)."""
+def platform_folder(fmi_version: str = "2") -> str:
+    """The folder under ``binaries/`` of this machine: FMI 2.0's platform (linux64, darwin64, win64)
+    or, for ``fmi_version`` "3", FMI 3.0's platform tuple (x86_64-linux, aarch64-darwin, x86_64-windows)."""
     import fmpy
 
-    return fmpy.platform
+    return fmpy.platform_tuple if str(fmi_version) == "3" else fmpy.platform
 
 
 def compile_binary(sources: Path, identifier: str, target: Path, cc: str | None = None,
@@ -60,9 +61,11 @@ def compile_binary(sources: Path, identifier: str, target: Path, cc: str | None 
     files go to ``objects`` (default: a temporary folder). gcc runs in ``sources`` on relative file names, so that no
     temporary path ends up in the binary (the same sources give the same bytes).
 
-    The runtime (``fmi2_runtime.c``, the same for every FMU, 70 % of the gcc time of a small
-    model) is taken from the object cache ``cache`` (a folder, see :func:`load_runtime_object`)
-    when one is given, and stored there when compiled; the FMU ships its source all the same.
+    The runtime (:data:`RUNTIME_SOURCES` that ``sources`` has: the core ``cosim_runtime.c`` and
+    the API of the FMU's FMI version, the same for every FMU, 70 % of the gcc time of a small
+    model) is taken from the object cache ``cache`` (a folder, see :func:`load_runtime_object`),
+    one object per runtime source, when one is given, and stored there when compiled; the FMU ships
+    its sources all the same.
     """
     compiler = cc or os.environ.get("CC") or "gcc"
     if shutil.which(compiler) is None:
@@ -74,11 +77,15 @@ def compile_binary(sources: Path, identifier: str, target: Path, cc: str | None 
         if objects is None:
             objects = Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="cosim-objects-")))
         objects.mkdir(parents=True, exist_ok=True)
-        key = cached = None
-        if cache is not None and (sources / RUNTIME_SOURCE).is_file():
-            key = runtime_key(sources, compiler)
-            cached = load_runtime_object(cache, key, objects / "fmi2_runtime.o")
-        model_files = [f for f in c_files if f.name != RUNTIME_SOURCE]
+        runtime = [f for f in c_files if f.name in RUNTIME_SOURCES]
+        keys: dict[str, str] = {}   # runtime source -> its cache key
+        cached: set[str] = set()    # runtime sources whose object came from the cache
+        if cache is not None:
+            for f in runtime:
+                keys[f.name] = runtime_key(sources, compiler, f.name)
+                if load_runtime_object(cache, keys[f.name], objects / f"{f.stem}.o", f.name):
+                    cached.add(f.name)
+        model_files = [f for f in c_files if f.name not in RUNTIME_SOURCES]
         if sum(f.stat().st_size for f in model_files) <= UNITY_SOURCE:
             # A small model in one translation unit: one compiler run instead of one per file
             # (a third of the CPU time of a small model's build). Written beside the sources, so
@@ -86,32 +93,37 @@ def compile_binary(sources: Path, identifier: str, target: Path, cc: str | None 
             unity = sources / UNITY_FILE
             unity.write_text("".join(f'#include "{f.name}"\n' for f in model_files))
             stack.callback(unity.unlink, missing_ok=True)
-            units = [unity] + [f for f in c_files if f.name == RUNTIME_SOURCE]
+            units = [unity] + runtime
         else:
             units = c_files
         jobs = [[compiler, *CFLAGS, *_flags(f, optimization, unoptimized, generated), "-I.", "-c", f.name,
                  "-o", str(objects / f"{f.stem}.o")]
                 for f in sorted(units, key=lambda f: -f.stat().st_size)  # the longest first
-                if not (cached and f.name == RUNTIME_SOURCE)]
+                if f.name not in cached]
         link = [compiler, *CFLAGS, "-o", str(target), *(str(objects / f"{f.stem}.o") for f in units), "-lm"]
         _run_compiler(jobs, identifier, compiler, sources, os.cpu_count() or 1)
-        if key is not None and not cached:
-            store_runtime_object(cache, key, objects / "fmi2_runtime.o")
+        for f in runtime:
+            if f.name in keys and f.name not in cached:
+                store_runtime_object(cache, keys[f.name], objects / f"{f.stem}.o", f.name)
         _run_compiler([link], identifier, compiler, sources, 1)
 
 
-# The runtime, the same C for every FMU. It is always compiled with -O2 (also in an FMU whose
-# generated code is large enough for -O1): one object serves every model, and the flags change
-# no result (x86-64 without -march has no fused multiply-add for gcc to contract into).
-RUNTIME_SOURCE = "fmi2_runtime.c"
+# The runtime, the same C for every FMU: the version-independent core and the API of one FMI
+# version (an FMU has the core and one of the APIs). It is always compiled with -O2 (also in an
+# FMU whose generated code is large enough for -O1): one object per source serves every model, and
+# the flags change no result (x86-64 without -march has no fused multiply-add for gcc to contract
+# into).
+RUNTIME_SOURCES = ("cosim_runtime.c", "fmi2_api.c", "fmi3_api.c")
 RUNTIME_OPTIMIZATION = "-O2"
-# Headers the runtime includes (the FMI 2 standard headers and the generic model contract).
-RUNTIME_HEADERS = ("cosim_model.h", "fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
+# Headers the runtime includes (the core's interface, the generic model contract and the FMI 2 and
+# FMI 3 standard headers; an FMU has those of its version, the others count as absent).
+RUNTIME_HEADERS = ("cosim_runtime.h", "cosim_model.h", "fmi2Functions.h", "fmi2FunctionTypes.h",
+                   "fmi2TypesPlatform.h", "fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")
 
 
 def _flags(file: Path, default: tuple[str, ...], unoptimized: tuple[str, ...], generated: tuple[str, ...]):
     """Optimization (and warning) flags of one C file of an FMU (see :func:`compile_binary`)."""
-    if file.name == RUNTIME_SOURCE:
+    if file.name in RUNTIME_SOURCES:
         return (RUNTIME_OPTIMIZATION,)
     if file.name == UNITY_FILE:
         return (UNITY_OPTIMIZATION, "-w")
@@ -131,12 +143,13 @@ def _compiler_identity(compiler: str) -> str:
     return f"{os.path.realpath(path)}\n{version}"
 
 
-def runtime_key(sources: Path, compiler: str) -> str:
-    """Digest of everything the runtime object is made from: the runtime source and the headers
-    it includes (as they are in ``sources``), the compiler (path and version) and the flags."""
+def runtime_key(sources: Path, compiler: str, source: str) -> str:
+    """Digest of everything the object of the runtime source ``source`` (one of
+    :data:`RUNTIME_SOURCES`) is made from: that source and the headers the runtime includes (as
+    they are in ``sources``), the compiler (path and version) and the flags."""
     h = hashlib.sha256(_compiler_identity(compiler).encode())
     h.update(" ".join([*CFLAGS, RUNTIME_OPTIMIZATION]).encode())
-    for name in (RUNTIME_SOURCE, *RUNTIME_HEADERS):
+    for name in (source, *RUNTIME_HEADERS):
         h.update(b"\0" + name.encode() + b"\0")
         path = sources / name
         h.update(path.read_bytes() if path.is_file() else b"(absent)")
@@ -144,18 +157,23 @@ def runtime_key(sources: Path, compiler: str) -> str:
 
 
 _CACHE_MAGIC = b"cosim-runtime-object 1\n"
-RUNTIME_ENTRY = "fmi2_runtime.o.entry"
 
 
-def load_runtime_object(cache: Path, key: str, destination: Path) -> bool:
-    """Copy the cached runtime object of ``key`` to ``destination``; False if there is none.
+def runtime_entry(source: str) -> str:
+    """File name of the cache entry of the runtime source ``source``: ``cosim_runtime.o.entry``."""
+    return f"{Path(source).stem}.o.entry"
 
-    A cache entry is one file, ``cache/<key>/fmi2_runtime.o.entry``: a header line, the SHA-256
-    of the object, the object. An entry that does not match its digest (truncated, edited) is
-    ignored (and replaced by the build that compiles the runtime then).
+
+def load_runtime_object(cache: Path, key: str, destination: Path, source: str) -> bool:
+    """Copy the cached object of the runtime source ``source`` under ``key`` to ``destination``;
+    False if there is none.
+
+    A cache entry is one file, ``cache/<key>/<stem>.o.entry`` (:func:`runtime_entry`): a header
+    line, the SHA-256 of the object, the object. An entry that does not match its digest
+    (truncated, edited) is ignored (and replaced by the build that compiles the source then).
     """
     try:
-        data = (cache / key / RUNTIME_ENTRY).read_bytes()
+        data = (cache / key / runtime_entry(source)).read_bytes()
     except OSError:
         return False
     if not data.startswith(_CACHE_MAGIC):
@@ -167,20 +185,20 @@ def load_runtime_object(cache: Path, key: str, destination: Path) -> bool:
     return True
 
 
-def store_runtime_object(cache: Path, key: str, obj_file: Path) -> None:
-    """Store the compiled runtime object under ``key``: written to a temporary name and renamed,
-    so concurrent builds see a complete entry or none. A cache that cannot be written costs
-    only the time of compiling the runtime again."""
+def store_runtime_object(cache: Path, key: str, obj_file: Path, source: str) -> None:
+    """Store the compiled object of the runtime source ``source`` under ``key``: written to a
+    temporary name and renamed, so concurrent builds see a complete entry or none. A cache that
+    cannot be written costs only the time of compiling the runtime again."""
     obj = obj_file.read_bytes()
     folder = cache / key
     try:
         folder.mkdir(parents=True, exist_ok=True)
-        fd, partial = tempfile.mkstemp(prefix=".fmi2_runtime.", suffix=".partial", dir=folder)
+        fd, partial = tempfile.mkstemp(prefix=f".{Path(source).stem}.", suffix=".partial", dir=folder)
         try:
             with os.fdopen(fd, "wb") as file:
                 file.write(_CACHE_MAGIC + hashlib.sha256(obj).hexdigest().encode() + b"\n" + obj)
             os.chmod(partial, 0o644)
-            os.replace(partial, folder / RUNTIME_ENTRY)
+            os.replace(partial, folder / runtime_entry(source))
         except BaseException:
             with contextlib.suppress(OSError):
                 os.unlink(partial)

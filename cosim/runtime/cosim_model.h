@@ -24,7 +24,8 @@ typedef enum { COSIM_REAL = 0, COSIM_INTEGER = 1, COSIM_BOOLEAN = 2 } cosim_type
 typedef struct {
     const char *instantiation_token;  /* the GUID of modelDescription.xml */
     int nx, nu, np, nc, nz;           /* block sizes of the value array, see above */
-    double default_tolerance;         /* relative tolerance when fmi2SetupExperiment gives none */
+    double default_tolerance;         /* relative tolerance when the importer gives none (fmi2SetupExperiment,
+                                         fmi3EnterInitializationMode) */
     int vr_fixed_step;                /* value reference of parameter solver.fixedStepSize (0 = adaptive) */
     const cosim_type *types;          /* nv = 2*nx+nu+np+nc+nz entries */
     const double *start;              /* nv start values (states: exact start, or the guess of a state solved
@@ -55,7 +56,7 @@ typedef struct {
     /* nv variable names as in modelDescription.xml (e.g. "der(phi)"), for messages; may be NULL. */
     const char *const *names;
     /* The states solved from the initial equations (flag 2), e.g. "theta, psi", for messages;
-       NULL if the model has no initial equations.  Their solve waits for fmi2ExitInitializationMode
+       NULL if the model has no initial equations.  Their solve waits for fmi2/fmi3ExitInitializationMode
        (or a getter in initializationMode), so that parameters set in initializationMode count. */
     const char *init_unknowns;
     /* nz entries: the index in jvp's dz of z[i], or -1 if z[i] has no directional derivative (a local

@@ -1,5 +1,6 @@
 /*
- * test_model.c -- a hand-written COSIM_MODEL for testing fmi2_runtime.c.
+ * test_model.c -- a hand-written COSIM_MODEL for testing the runtime (cosim_runtime.c with fmi2_api.c
+ * or fmi3_api.c).
  *
  * A damped oscillator driven by an input, plus a decaying state with a calculated start:
  *
@@ -16,6 +17,10 @@
  *
  * eval fails for finite u > 1e6, so that the harness can test error handling; u > 1000 gives a solution
  * that cannot be continued past a finite time (an integration failure inside fmi2DoStep).
+ *
+ * jvp and vjp are the hand-written forward and reverse derivatives of (der(x), z) with respect to (x, u, p).
+ * Compiled with -DTEST_MODEL_ARRAYS, the states s, v, w are one FMI 3 array variable x[3] (value
+ * reference 0, fmi3_length) and so are their derivatives (value reference 3); FMI 2 ignores it.
  *
  * Compiled with -DTEST_MODEL_GUID='"{...}"' it is a different FMU of the same sizes (run.sh builds such
  * a twin as a shared library, to test that an FMU state of another FMU is refused).
@@ -100,6 +105,31 @@ static int jvp(double t, const double *x, const double *u, const double *p,
     return 0;
 }
 
+/* The transpose of jvp: (wx, wu, wp) = J^T (wxdot, wz); the Integer n and Boolean b get 0. */
+static int vjp(double t, const double *x, const double *u, const double *p,
+               const double *wxdot, const double *wz, double *wx, double *wu, double *wp)
+{
+    const double k = p[P_K], d = 0.1 * p[P_N], g = p[P_B] != 0.0 ? 1.0 : 0.0;
+
+    (void)t;
+    wx[0] = -k * wxdot[1] + k * wz[0];
+    wx[1] = wxdot[0] - d * wxdot[1] + 2.0 * x[1] * wz[1];
+    wx[2] = (u[0] > 1000.0 ? 2.0 * x[2] : -1.0) * wxdot[2] + wz[1];
+    wu[0] = g * wxdot[1] + wz[0];
+    wp[P_K] = -x[0] * wxdot[1] + x[0] * wz[0];
+    wp[P_N] = 0.0;
+    wp[P_B] = 0.0;
+    wp[P_H] = 0.0;
+    return 0;
+}
+
+#ifdef TEST_MODEL_ARRAYS
+static const int fmi3_length[15] = { 3, 0, 0, 3, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1, 1 };
+#define FMI3_LENGTH fmi3_length
+#else
+#define FMI3_LENGTH 0
+#endif
+
 static const cosim_type types[15] = {
     COSIM_REAL, COSIM_REAL, COSIM_REAL,                        /* x */
     COSIM_REAL, COSIM_REAL, COSIM_REAL,                        /* der(x) */
@@ -141,5 +171,7 @@ const cosim_model COSIM_MODEL = {
     0, /* no initial equations */
     0, /* dz of jvp: all algebraic variables */
     0, /* eval computes all of z */
-    2, calc_hoisted, eval_hoisted
+    2, calc_hoisted, eval_hoisted,
+    vjp,
+    FMI3_LENGTH
 };

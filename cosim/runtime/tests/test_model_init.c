@@ -1,6 +1,6 @@
 /*
  * test_model_init.c -- a COSIM_MODEL with an initial equation: the "initial equations" FMU of the
- * harness (run.sh builds it with fmi2_runtime.c into a shared library).
+ * harness (run.sh builds it with the runtime into a shared library).
  *
  *   theta' = omega,  omega' = -sin(theta),  y = L sin(theta)
  *   initial equation:  L sin(theta) = h + u + omega     (theta: fixed = false, guess 0.3;
@@ -62,6 +62,21 @@ static int jvp(double t, const double *x, const double *u, const double *p,
     return 0;
 }
 
+/* The transpose of jvp. */
+static int vjp(double t, const double *x, const double *u, const double *p,
+               const double *wxdot, const double *wz, double *wx, double *wu, double *wp)
+{
+    (void)t;
+    (void)u;
+    wx[0] = -cos(x[0]) * wxdot[1] + p[P_L] * cos(x[0]) * wz[0];
+    wx[1] = wxdot[0];
+    wu[0] = 0.0;
+    wp[P_L] = sin(x[0]) * wz[0];
+    wp[P_H] = 0.0;
+    wp[2] = 0.0; /* solver.fixedStepSize */
+    return 0;
+}
+
 static const cosim_type types[9] = { COSIM_REAL, COSIM_REAL, COSIM_REAL, COSIM_REAL, COSIM_REAL,
                                      COSIM_REAL, COSIM_REAL, COSIM_REAL, COSIM_REAL };
 static const double start[9] = { 0.3, 0.5, 0.0, 0.0, 0.0, 2.0, 0.5, 0.0, 0.0 };
@@ -85,5 +100,7 @@ const cosim_model COSIM_MODEL = {
     "theta",
     0, /* dz of jvp: all algebraic variables */
     0, /* eval computes all of z */
-    0, 0, 0 /* no hoisted parameter terms */
+    0, 0, 0, /* no hoisted parameter terms */
+    vjp,
+    0        /* FMI 3: all scalars */
 };

@@ -3,9 +3,12 @@
  *
  *   q' = -a q + u      (4 variables: q, der(q), input u, parameter a)
  *
- * run.sh compiles it with fmi2_runtime.c into shared libraries that the harness loads next to
+ * run.sh compiles it with the runtime into shared libraries that the harness loads next to
  * its own model: once with its own GUID (a foreign FMU) and once with -DTEST_MODEL_GUID set to
  * the GUID of test_model.c (an FMU that claims the harness model's identity but has other sizes).
+ *
+ * It has no vjp (no adjoint derivatives): the FMI 3 harness checks that fmi3GetAdjointDerivative
+ * refuses it.
  *
  * Value references: 0 q   1 der(q)   2 u   3 a
  */
@@ -53,5 +56,7 @@ const cosim_model COSIM_MODEL = {
     0, /* no initial equations */
     0, /* dz of jvp: all algebraic variables */
     0, /* eval computes all of z */
-    0, 0, 0 /* no hoisted parameter terms */
+    0, 0, 0, /* no hoisted parameter terms */
+    0,       /* no vjp: no adjoint derivatives */
+    0        /* FMI 3: all scalars */
 };
