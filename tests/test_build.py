@@ -77,8 +77,10 @@ def test_manifest_and_sources(fmus):
     with zipfile.ZipFile(fmus[MODEL]) as archive:
         names = set(archive.namelist())
         manifest = json.loads(archive.read(MANIFEST))
-    assert {"modelDescription.xml", "sources/model.c", "sources/fmi2_runtime.c", "sources/model_functions.c",
-            "sources/cosim_model.h", "sources/fmi2Functions.h"} <= names
+    assert {"modelDescription.xml", "sources/model.c", "sources/cosim_runtime.c", "sources/fmi2_api.c",
+            "sources/model_functions.c", "sources/cosim_model.h", "sources/cosim_runtime.h",
+            "sources/fmi2Functions.h"} <= names
+    assert not any("fmi3" in n or n == "sources/model_vjp.c" for n in names), "FMI 2: no FMI 3 API, no adjoint code"
     assert any(n.startswith("binaries/") and n.endswith(".so") for n in names)
     import casadi
     import pymoca
@@ -87,3 +89,103 @@ def test_manifest_and_sources(fmus):
     assert manifest["model"] == MODEL
     assert (manifest["tools"]["casadi"], manifest["tools"]["pymoca"]) == (casadi.__version__, pymoca.__version__)
     assert set(manifest["sources"]) == {n.split("/", 1)[1] for n in names if n.startswith("sources/")}
+
+
+SMALL = "Bicycle.Control.PD"
+
+
+def test_fmi_versions_do_not_invalidate_each_other(tmp_path):
+    """FMI 2 (OUTPUT/NAME.fmu) and FMI 3 (OUTPUT/fmi3/NAME.fmu) of one model, built together from
+    one compilation (one result each, the same GUID); a no-op build of both touches neither; a
+    forced FMI 3 build leaves the FMI 2 FMU as it was, and an FMI 2 build finds it up to date."""
+    from cosim.compiler.build import build, build_model, fmu_path
+
+    out = tmp_path / "out"
+    both = build([SMALL], out, fmi_versions=("3", "2", "3"))
+    assert [(r.fmi_version, r.rebuilt) for r in both] == [("2", True), ("3", True)]
+    assert [r.fmu for r in both] == [out / "Bicycle_Control_PD.fmu", out / "fmi3" / "Bicycle_Control_PD.fmu"]
+    assert [r.fmu for r in both] == [fmu_path(SMALL, out), fmu_path(SMALL, out, "3")]
+    assert _guid(both[0].fmu) == _guid(both[1].fmu)
+    for result in both:
+        with zipfile.ZipFile(result.fmu) as archive:
+            assert json.loads(archive.read(MANIFEST))["fmi_version"] == result.fmi_version
+            version = archive.read("modelDescription.xml").split(b'fmiVersion="', 1)[1][:3]
+            assert version == f"{result.fmi_version}.0".encode()
+    stamps = [r.fmu.stat().st_mtime_ns for r in both]
+    again = build([SMALL], out, fmi_versions=("2", "3"))
+    assert [r.rebuilt for r in again] == [False, False]
+    assert [r.fmu.stat().st_mtime_ns for r in again] == stamps
+    forced = build_model(SMALL, out, fmi_version="3", force=True)
+    assert forced.rebuilt and forced.fmi_version == "3" and forced.fmu.stat().st_mtime_ns != stamps[1]
+    fmi2 = build_model(SMALL, out)
+    assert not fmi2.rebuilt and fmi2.fmu.stat().st_mtime_ns == stamps[0]
+
+
+def test_fmi_version_in_the_up_to_date_check(tmp_path):
+    """An FMU of the other FMI version under a model's name is not taken for up to date (the
+    quick check of commands that build on demand, and the build itself rebuilds it)."""
+    from cosim.compiler.build import build_model, fmu_path
+    from cosim.compiler.library import fmu_up_to_date
+
+    out = tmp_path / "out"
+    fmi3 = build_model(SMALL, out, fmi_version="3").fmu
+    assert fmu_up_to_date(SMALL, fmi3, fmi_version="3") and not fmu_up_to_date(SMALL, fmi3)
+    fmi2 = fmu_path(SMALL, out)
+    shutil.copyfile(fmi3, fmi2)  # an FMI 3 FMU where the FMI 2 one belongs
+    result = build_model(SMALL, out)
+    assert result.rebuilt and fmu_up_to_date(SMALL, fmi2)
+
+
+@pytest.mark.parametrize("versions", [("4",), (), ("2", "x")], ids=["four", "none", "two-and-garbage"])
+def test_bad_fmi_version_refused_before_any_work(tmp_path, versions):
+    from cosim.compiler.build import build
+    from cosim.errors import ParameterError
+
+    with pytest.raises(ParameterError, match="FMI version"):
+        build([SMALL], tmp_path / "out", fmi_versions=versions)
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").rglob("*.fmu"))
+
+
+@pytest.mark.parametrize("argv", [["--fmi-version", "3", SMALL], [SMALL, "--fmi-version", "3"],
+                                  ["--fmi-version", "2", "--fmi-version", "3", SMALL], ["--fmi-version", "2", "3", SMALL]],
+                         ids=["version-then-model", "model-then-version", "repeated", "listed"])
+def test_cli_fmi_version_forms(argv):
+    """The forms of --fmi-version: a model name right after the option is a model, not a version."""
+    from cosim.cli import parser
+
+    args = parser().parse_args(["build", *argv])
+    assert (args.models or []) + getattr(args, "models_after_versions", []) == [SMALL]
+    assert args.fmi_version == ([v for v in argv if v in ("2", "3")])
+
+
+def _variables(spec):
+    """Variables in value-reference order from (name, role, initial, derivative_of) tuples."""
+    from cosim.compiler.description import Variable
+
+    return [Variable(name=name, vr=vr, role=role, causality="local", variability="continuous", initial=initial,
+                     start=0.0 if initial == "exact" else None, derivative_of=derivative_of)
+            for vr, (name, role, initial, derivative_of) in enumerate(spec)]
+
+
+@pytest.mark.parametrize("spec, expected", [
+    ([("x[1]", "state", "exact", None), ("x[2]", "state", "exact", None),
+      ("der(x[1])", "derivative", "calculated", 0), ("der(x[2])", "derivative", "calculated", 1)],
+     {0: ("x", 2), 2: ("der(x)", 2)}),
+    # x[1] computed, x[2] exact: not one declaration's uniform elements, both stay scalars (their derivatives too)
+    ([("x[1]", "state", "calculated", None), ("x[2]", "state", "exact", None),
+      ("der(x[1])", "derivative", "calculated", 0), ("der(x[2])", "derivative", "calculated", 1)], {}),
+    # the derivatives in another order than the states: no array
+    ([("x[1]", "state", "exact", None), ("x[2]", "state", "exact", None),
+      ("der(x[1])", "derivative", "calculated", 1), ("der(x[2])", "derivative", "calculated", 0)], {}),
+    # not consecutive (another variable between the elements)
+    ([("x[1]", "state", "exact", None), ("y", "state", "exact", None), ("x[2]", "state", "exact", None),
+      ("der(x[1])", "derivative", "calculated", 0), ("der(y)", "derivative", "calculated", 1),
+      ("der(x[2])", "derivative", "calculated", 2)], {}),
+    # local arrays stay scalars (FMI3_ARRAY_ROLES), as does a one-element array
+    ([("r[1]", "algebraic", "calculated", None), ("r[2]", "algebraic", "calculated", None),
+      ("s[1]", "state", "exact", None), ("der(s[1])", "derivative", "calculated", 2)], {}),
+], ids=["pade-like", "mixed-initial", "derivatives-permuted", "interleaved", "locals-and-single"])
+def test_fmi3_arrays_group_only_uniform_consecutive_state_arrays(spec, expected):
+    from cosim.compiler.description import fmi3_arrays
+
+    assert fmi3_arrays(_variables(spec)) == expected

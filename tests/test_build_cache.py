@@ -1,6 +1,7 @@
-"""The cache of the compiled runtime (``$XDG_CACHE_HOME/cosim/runtime/<key>/fmi2_runtime.o.entry``):
+"""The cache of the compiled runtime (``$XDG_CACHE_HOME/cosim/runtime/<key>/<stem>.o.entry``, one
+entry per runtime source: the core ``cosim_runtime.c`` and the API ``fmi2_api.c`` of an FMI 2 FMU):
 reused by the next build, rebuilt when the compiler changes, a corrupt entry ignored (and
-replaced), concurrent builds safe; an FMU built from the cached object is the same, byte for
+replaced), concurrent builds safe; an FMU built from the cached objects is the same, byte for
 byte, as one built without the cache."""
 from __future__ import annotations
 
@@ -18,6 +19,7 @@ from cosim.compiler.build import build, build_model, runtime_cache
 from cosim.compiler.library import load_library
 
 SMALL = ("Bicycle.Control.PD", "Bicycle.Control.Proportional")
+FMI2_RUNTIME = ("cosim_runtime.c", "fmi2_api.c")  # the runtime sources of an FMI 2 FMU
 
 
 @pytest.fixture(scope="module")
@@ -45,8 +47,15 @@ def compiles(monkeypatch):
     return seen
 
 
-def _entries() -> list[Path]:
-    return sorted(runtime_cache().glob("*/fmi2_runtime.o.entry"))
+def _entries(source: str = "*") -> list[Path]:
+    """The cache entries (of the runtime source ``source``, default: of all)."""
+    stem = "*" if source == "*" else Path(source).stem
+    return sorted(runtime_cache().glob(f"*/{stem}.o.entry"))
+
+
+def _runtime(compiles: list[str]) -> list[str]:
+    """The runtime sources among the compiled files, sorted."""
+    return sorted(c for c in compiles if c in fmu_module.RUNTIME_SOURCES)
 
 
 def _binary(fmu: Path) -> bytes:
@@ -62,19 +71,21 @@ def _valid(entry: Path) -> bool:
 
 def test_runtime_compiled_once_and_reused(library, tmp_path, compiles):
     build_model(SMALL[0], tmp_path, library)
-    assert compiles.count("fmi2_runtime.c") == 1
-    [entry] = _entries()
-    assert _valid(entry)
-    before = entry.stat()
+    assert _runtime(compiles) == list(FMI2_RUNTIME)
+    entries = _entries()
+    assert sorted(e.name for e in entries) == ["cosim_runtime.o.entry", "fmi2_api.o.entry"]
+    assert all(map(_valid, entries))
+    before = [e.stat().st_mtime_ns for e in entries]
     compiles.clear()
     build_model(SMALL[1], tmp_path, library)
     build_model(SMALL[0], tmp_path, library, force=True)
-    assert "fmi2_runtime.c" not in compiles, "the cached runtime object was compiled again"
+    assert not _runtime(compiles), "a cached runtime object was compiled again"
     # a small model's C files are compiled as one translation unit (fmu.UNITY_FILE), not shipped
     assert compiles == [fmu_module.UNITY_FILE] * 2, "the model-specific C must still be compiled"
-    assert _entries() == [entry] and entry.stat().st_mtime_ns == before.st_mtime_ns
+    assert _entries() == entries and [e.stat().st_mtime_ns for e in entries] == before
     with zipfile.ZipFile(tmp_path / "Bicycle_Control_PD.fmu") as archive:
-        assert "sources/fmi2_runtime.c" in archive.namelist(), "the FMU must still ship the runtime source"
+        for name in FMI2_RUNTIME:
+            assert f"sources/{name}" in archive.namelist(), "the FMU must still ship the runtime sources"
         assert "sources/model.c" in archive.namelist()
         assert not any(fmu_module.UNITY_FILE in name for name in archive.namelist())
 
@@ -93,7 +104,7 @@ def test_new_compiler_gets_its_own_object(library, tmp_path, compiles, monkeypat
     """Another compiler (here a wrapper of gcc at another path) does not use the object of the
     first: a second cache entry is compiled; the first is kept."""
     build_model(SMALL[0], tmp_path / "out", library)
-    [first] = _entries()
+    first = _entries()
     wrapper = tmp_path / "bin" / "cc-wrapper"
     wrapper.parent.mkdir()
     wrapper.write_text(f'#!/bin/sh\nexec {shutil.which("gcc")} "$@"\n')
@@ -101,22 +112,22 @@ def test_new_compiler_gets_its_own_object(library, tmp_path, compiles, monkeypat
     monkeypatch.setenv("CC", str(wrapper))
     compiles.clear()
     build_model(SMALL[0], tmp_path / "out", library, force=True)
-    assert compiles.count("fmi2_runtime.c") == 1
+    assert _runtime(compiles) == list(FMI2_RUNTIME)
     entries = _entries()
-    assert len(entries) == 2 and first in entries and all(_valid(e) for e in entries)
+    assert len(entries) == 4 and set(first) < set(entries) and all(_valid(e) for e in entries)
 
 
 @pytest.mark.parametrize("damage", ["truncated", "flipped-byte", "empty", "foreign"])
 def test_corrupt_entry_is_ignored_and_replaced(library, tmp_path, compiles, damage):
     good = build_model(SMALL[0], tmp_path, library).fmu.read_bytes()
-    [entry] = _entries()
+    [entry] = _entries("cosim_runtime.c")
     data = entry.read_bytes()
     broken = {"truncated": data[: len(data) // 2], "empty": b"", "foreign": b"\x7fELF" + data[4:],
               "flipped-byte": data[:-100] + bytes([data[-100] ^ 0xFF]) + data[-99:]}[damage]
     entry.write_bytes(broken)
     compiles.clear()
     result = build_model(SMALL[0], tmp_path, library, force=True)
-    assert compiles.count("fmi2_runtime.c") == 1, "a damaged entry must not be used"
+    assert _runtime(compiles) == ["cosim_runtime.c"], "a damaged entry must not be used (the intact one is)"
     assert result.fmu.read_bytes() == good
     assert _valid(entry) and entry.read_bytes() == data, "the entry is replaced by a good one"
 
@@ -126,7 +137,7 @@ def test_unwritable_cache_only_costs_time(library, tmp_path, compiles):
     runtime_cache().parent.mkdir(parents=True)
     runtime_cache().write_text("not a folder")
     result = build_model(SMALL[0], tmp_path, library)
-    assert result.rebuilt and compiles.count("fmi2_runtime.c") == 1
+    assert result.rebuilt and _runtime(compiles) == list(FMI2_RUNTIME)
     assert runtime_cache().read_text() == "not a folder"
 
 
@@ -136,8 +147,27 @@ def test_concurrent_builds_share_one_complete_entry(tmp_path):
     entry (renamed into place), the last one stays, no partial file is left."""
     results = build(list(SMALL), output=tmp_path, jobs=2)
     assert all(r.rebuilt for r in results)
-    [entry] = _entries()
-    assert _valid(entry)
-    assert [p.name for p in entry.parent.iterdir()] == [entry.name], "partial cache file left behind"
+    entries = _entries()
+    assert len(entries) == len(FMI2_RUNTIME) and all(map(_valid, entries))
+    for entry in entries:
+        assert [p.name for p in entry.parent.iterdir()] == [entry.name], "partial cache file left behind"
     again = build(list(SMALL), output=tmp_path, jobs=2, force=True)
     assert [_binary(r.fmu) for r in again] == [_binary(r.fmu) for r in results]
+
+
+def test_fmi3_runtime_objects_cached_beside_fmi2(library, tmp_path, compiles):
+    """An FMI 3 FMU has the core and the FMI 3 API: both compiled by the first FMI 3 build (the
+    core's object depends on the FMI headers beside it, so FMI 2's is not taken), then reused; the
+    FMI 2 entries stay as they were."""
+    build_model(SMALL[0], tmp_path, library)
+    fmi2_entries = {e: e.stat().st_mtime_ns for e in _entries()}
+    compiles.clear()
+    build_model(SMALL[0], tmp_path, library, fmi_version="3")
+    assert _runtime(compiles) == ["cosim_runtime.c", "fmi3_api.c"]
+    compiles.clear()
+    build_model(SMALL[1], tmp_path, library, fmi_version="3")
+    assert not _runtime(compiles) and compiles == [fmu_module.UNITY_FILE]
+    entries = _entries()
+    assert len(entries) == 4 and sorted(e.name for e in entries if e not in fmi2_entries) == [
+        "cosim_runtime.o.entry", "fmi3_api.o.entry"]
+    assert all(e.stat().st_mtime_ns == stamp for e, stamp in fmi2_entries.items())

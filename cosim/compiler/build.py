@@ -1,4 +1,8 @@
-"""`cosim build`: Modelica model -> FMU, incremental and in parallel.
+"""`cosim build`: Modelica model -> FMU (FMI 2.0 and/or 3.0), incremental and in parallel.
+
+An FMI 2.0 FMU goes to ``OUTPUT/NAME.fmu``, an FMI 3.0 FMU to ``OUTPUT/fmi3/NAME.fmu``: the two
+versions of one model are built from one flattening and one symbolic differentiation and never
+invalidate each other.
 
 Safe to run concurrently and to kill:
 
@@ -31,12 +35,13 @@ from cosim.processes import die_with_parent
 from cosim.compiler import fmu as fmu_files
 from cosim.compiler.library import compiler_digest  # noqa: F401 (cosim.compiler.build.compiler_digest)
 from cosim.compiler.library import tool_versions as _tool_versions
-from cosim.compiler.codegen import casadi_functions, generated_sources, unoptimized_sources, write_sources
+from cosim.compiler.codegen import (FMI_VERSIONS, casadi_functions, generated_sources, unoptimized_sources,
+                                    write_sources)
 from cosim.compiler.description import describe
 from cosim.compiler.flatten import fewer_collections, flatten
 from cosim.compiler.fmu import MANIFEST, compile_binary, pack, platform_folder, read_manifest
 from cosim.compiler.library import Library, load_library
-from cosim.compiler.model_description import model_description_xml
+from cosim.compiler.model_description import build_description_xml, model_description_xml
 from cosim.compiler.ode import make_explicit
 
 # Where `cosim build` and every command that builds on demand put FMUs: fmus/ of the working
@@ -63,6 +68,7 @@ class BuildResult:
     fmu: Path
     rebuilt: bool
     seconds: float = 0.0
+    fmi_version: str = "2"  # "2": FMI 2.0, "3": FMI 3.0
 
 
 def _fingerprint(flat, entry) -> str:
@@ -80,8 +86,33 @@ def _fingerprint(flat, entry) -> str:
     return h.hexdigest()
 
 
-def fmu_path(model_name: str, output: Path) -> Path:
-    return Path(output) / f"{model_name.replace('.', '_')}.fmu"
+# Subfolder of the output folder for FMI 3.0 FMUs (FMI 2.0 FMUs keep the output folder itself).
+FMI3_FOLDER = "fmi3"
+
+
+def fmu_path(model_name: str, output: Path, fmi_version: str = "2") -> Path:
+    """Where `cosim build` puts the FMU of ``model_name``: ``OUTPUT/NAME.fmu`` for FMI 2.0,
+    ``OUTPUT/fmi3/NAME.fmu`` for FMI 3.0 (``fmi_version`` "2" or "3")."""
+    folder = Path(output) / FMI3_FOLDER if _fmi_version(fmi_version) == "3" else Path(output)
+    return folder / f"{model_name.replace('.', '_')}.fmu"
+
+
+def _fmi_version(value) -> str:
+    """``value`` ("2", "3", 2, 3, "2.0", "3.0") as "2" or "3"; ParameterError otherwise."""
+    version = str(value).strip().removesuffix(".0")
+    if version not in FMI_VERSIONS:
+        raise ParameterError(f"FMI version must be 2 or 3, got {value!r}")
+    return version
+
+
+def _fmi_versions(values) -> tuple[str, ...]:
+    """The FMI versions to build, without repeats, in the order 2, 3."""
+    if isinstance(values, (str, int)):
+        values = (values,)
+    versions = {_fmi_version(v) for v in values}
+    if not versions:
+        raise ParameterError("no FMI version to build (choose 2, 3 or both)")
+    return tuple(v for v in FMI_VERSIONS if v in versions)
 
 
 # --- one build of a model into a folder at a time ---------------------------------------------
@@ -147,8 +178,8 @@ def _remove_stale_lock(target: Path) -> None:
 
 
 def build_model(model_name: str, output: str | Path = DEFAULT_OUTPUT, library: Library | None = None,
-                force: bool = False) -> BuildResult:
-    """Compile one Modelica model to ``OUTPUT/<identifier>.fmu`` (ME + CS), unless up to date.
+                force: bool = False, fmi_version: str = "2") -> BuildResult:
+    """Compile one Modelica model to an FMU (ME + CS), unless up to date.
 
     A concurrent build of the same model into the same folder is waited for (then the FMU is
     usually up to date); the FMU appears under its name only when complete.
@@ -163,6 +194,8 @@ def build_model(model_name: str, output: str | Path = DEFAULT_OUTPUT, library: L
         Default: ``load_library()`` (``$COSIM_MODELICA_PATH``, else the shipped library).
     force : bool
         Rebuild even if up to date.
+    fmi_version : {"2", "3"}
+        FMI 2.0 (``OUTPUT/<identifier>.fmu``) or FMI 3.0 (``OUTPUT/fmi3/<identifier>.fmu``).
 
     Returns
     -------
@@ -171,35 +204,63 @@ def build_model(model_name: str, output: str | Path = DEFAULT_OUTPUT, library: L
 
     Raises
     ------
-    UnknownModelError, ModelicaError, ModelStructureError, ParameterError, BuildError
+    UnknownModelError, ModelicaError, ModelStructureError, BuildError
+    ParameterError
+        If ``fmi_version`` is not 2 or 3 (or a parameter of the model is invalid).
     OutputError
         If the output folder cannot be written (before any work) or the FMU cannot be stored.
     """
+    return build_versions(model_name, output, library, force, (fmi_version,))[0]
+
+
+def build_versions(model_name: str, output: str | Path = DEFAULT_OUTPUT, library: Library | None = None,
+                   force: bool = False, fmi_versions=("2",)) -> list[BuildResult]:
+    """:func:`build_model` for several FMI versions at once: the model is flattened and
+    differentiated once for all of them. Returns one result per version, in the order 2, 3."""
     started = time.perf_counter()
+    versions = _fmi_versions(fmi_versions)
     output = check_output_folder(output)
     library = library or load_library()
     entry = library.entry(model_name)
-    target = fmu_path(model_name, output)
-    if target.is_dir():
-        raise OutputError(f"cannot write the FMU '{target}': a folder of that name is in the way")
-    with _build_lock(target), fewer_collections():
-        return _build_locked(model_name, target, library, entry, force, started)
+    targets = {v: fmu_path(model_name, output, v) for v in versions}
+    for target in targets.values():
+        if target.is_dir():
+            raise OutputError(f"cannot write the FMU '{target}': a folder of that name is in the way")
+    with contextlib.ExitStack() as locks:
+        for version in versions:  # always in the order 2, 3: two builds cannot wait on each other
+            locks.enter_context(_build_lock(targets[version]))
+        locks.enter_context(fewer_collections())
+        return _build_locked(model_name, targets, library, entry, force, started)
 
 
-def _build_locked(model_name, target, library, entry, force, started) -> BuildResult:
-    manifest = read_manifest(target) if target.exists() else None
+def _up_to_date(manifest: dict | None, version: str, key: str, value: str) -> bool:
+    return bool(manifest) and manifest.get("fmi_version", "2") == version and manifest.get(key) == value
+
+
+def _build_locked(model_name, targets, library, entry, force, started) -> list[BuildResult]:
+    manifests = {v: read_manifest(target) if target.exists() else None for v, target in targets.items()}
+    results = {}
+
+    def up_to_date(key, value):
+        for version, manifest in manifests.items():
+            if version not in results and not force and _up_to_date(manifest, version, key, value):
+                results[version] = BuildResult(model_name, targets[version], False, time.perf_counter() - started,
+                                               version)
+        return len(results) == len(targets)
+
     # Fast path: no source file and no part of the compiler changed since the FMU was built.
     sources_digest = hashlib.sha256((library.digest() + compiler_digest()).encode()).hexdigest()
-    if not force and manifest and manifest.get("sources_digest") == sources_digest:
-        return BuildResult(model_name, target, False, time.perf_counter() - started)
+    if up_to_date("sources_digest", sources_digest):
+        return [results[v] for v in targets]
     flat = flatten(library, model_name)
     fingerprint = _fingerprint(flat, entry)
-    if not force and manifest and manifest.get("fingerprint") == fingerprint:
-        return BuildResult(model_name, target, False, time.perf_counter() - started)
+    if up_to_date("fingerprint", fingerprint):
+        return [results[v] for v in targets]
 
     model = make_explicit(flat)
     info = describe(entry, flat, model)
     functions = casadi_functions(model)
+    # The GUID (FMI 3: instantiationToken) identifies the model, the same in both FMI versions.
     guid_source = hashlib.sha256(fingerprint.encode())
     for f in functions:
         guid_source.update(f.serialize().encode())
@@ -207,29 +268,38 @@ def _build_locked(model_name, target, library, entry, force, started) -> BuildRe
     versions = _tool_versions()
     tool = f"cosim {versions['cosim']} (pymoca {versions['pymoca']}, CasADi {versions['casadi']})"
 
-    with _scratch_folder() as tmp:
-        staging = Path(tmp) / "fmu"
-        sources = staging / "sources"
-        files = write_sources(info, model, sources, functions)
-        (staging / "modelDescription.xml").write_bytes(model_description_xml(info, tool))
-        binaries = staging / "binaries" / platform_folder()
-        binaries.mkdir(parents=True)
-        compile_binary(sources, info.identifier, binaries / f"{info.identifier}.so", generated=tuple(generated_sources(info)),
-                       unoptimized=tuple(unoptimized_sources(info)),
-                       objects=Path(tmp) / "objects", cache=runtime_cache())
-        source_hashes = {name: hashlib.sha256((sources / name).read_bytes()).hexdigest() for name in files}
-        (staging / MANIFEST).parent.mkdir(parents=True, exist_ok=True)
-        (staging / MANIFEST).write_text(json.dumps({
-            "model": model_name,
-            "fingerprint": fingerprint,
-            "sources_digest": sources_digest,
-            "guid": info.guid,
-            "modelica_files": [library.relative_name(p) for p in library.files],
-            "tools": versions,
-            "sources": source_hashes,
-        }, indent=2, sort_keys=True) + "\n")
-        pack(staging, target)
-    return BuildResult(model_name, target, True, time.perf_counter() - started)
+    for version, target in targets.items():
+        if version in results:
+            continue
+        with _scratch_folder() as tmp:
+            staging = Path(tmp) / "fmu"
+            sources = staging / "sources"
+            files = write_sources(info, model, sources, functions, version)
+            if version == "3":
+                (sources / "buildDescription.xml").write_bytes(build_description_xml(info))
+                files = sorted(files + ["buildDescription.xml"])
+            (staging / "modelDescription.xml").write_bytes(model_description_xml(info, tool, version))
+            binaries = staging / "binaries" / platform_folder(version)
+            binaries.mkdir(parents=True)
+            compile_binary(sources, info.identifier, binaries / f"{info.identifier}.so",
+                           generated=tuple(generated_sources(info, version)),
+                           unoptimized=tuple(unoptimized_sources(info, version)),
+                           objects=Path(tmp) / "objects", cache=runtime_cache())
+            source_hashes = {name: hashlib.sha256((sources / name).read_bytes()).hexdigest() for name in files}
+            (staging / MANIFEST).parent.mkdir(parents=True, exist_ok=True)
+            (staging / MANIFEST).write_text(json.dumps({
+                "model": model_name,
+                "fmi_version": version,
+                "fingerprint": fingerprint,
+                "sources_digest": sources_digest,
+                "guid": info.guid,
+                "modelica_files": [library.relative_name(p) for p in library.files],
+                "tools": versions,
+                "sources": source_hashes,
+            }, indent=2, sort_keys=True) + "\n")
+            pack(staging, target)
+        results[version] = BuildResult(model_name, target, True, time.perf_counter() - started, version)
+    return [results[v] for v in targets]
 
 
 # --- pool workers die with their parent (cosim.processes), leaving nothing behind ------------
@@ -299,11 +369,18 @@ def _init_worker(parent: int, scratch_root: str | None = None) -> None:
 
 
 def _build_one(args):
-    model_name, output, library_path, force = args
+    """One task: the FMUs of one model in the FMI versions asked for (a list of results), or the error."""
+    model_name, output, library_path, force, versions = args
     try:
-        return build_model(model_name, output, load_library(library_path), force)
+        return build_versions(model_name, output, load_library(library_path), force, versions)
     except CosimError as exc:
         return exc
+
+
+def _remove_stale_locks(task) -> None:
+    model_name, output, _, _, versions = task
+    for version in versions:
+        _remove_stale_lock(fmu_path(model_name, Path(output), version))
 
 
 def _stop_pool(pool: ProcessPoolExecutor) -> None:
@@ -338,7 +415,7 @@ def _run_pool(tasks: list[tuple], jobs: int, scratch_root: str) -> list:
             try:
                 results.append(future.result())
             except BrokenProcessPool:
-                _remove_stale_lock(fmu_path(task[0], Path(task[1])))
+                _remove_stale_locks(task)
                 results.append(BuildError(f"{task[0]}: a build worker died unexpectedly (killed, or out of "
                                           "memory?) while this model was built or waiting; nothing was "
                                           "written for it"))
@@ -347,7 +424,7 @@ def _run_pool(tasks: list[tuple], jobs: int, scratch_root: str) -> list:
         # A worker killed before its cleanup ran (e.g. SIGKILL after the grace period of a
         # loaded machine) leaves its lock file: the workers are gone now, so remove the stale ones.
         for task in tasks:
-            _remove_stale_lock(fmu_path(task[0], Path(task[1])))
+            _remove_stale_locks(task)
         raise
     pool.shutdown(wait=True)
     return results
@@ -368,8 +445,9 @@ def _combined(errors: list[Exception]) -> Exception:
 
 
 def build(models: list[str] | None = None, output: str | Path = DEFAULT_OUTPUT, jobs: int = 1,
-          library_path: str | None = None, force: bool = False) -> list[BuildResult]:
-    """Build several models (default: every exported model), ``jobs`` at a time.
+          library_path: str | None = None, force: bool = False, fmi_versions=("2",)) -> list[BuildResult]:
+    """Build several models (default: every exported model), ``jobs`` at a time, as FMI 2.0
+    and/or FMI 3.0 FMUs.
 
     All models are attempted; if any fails, the first error is raised after the others finished
     (their FMUs are complete, the failed one leaves nothing behind; the error's ``results``
@@ -388,16 +466,20 @@ def build(models: list[str] | None = None, output: str | Path = DEFAULT_OUTPUT, 
         Modelica library folder (default: ``$COSIM_MODELICA_PATH``, else the shipped library).
     force : bool
         Rebuild even if up to date.
+    fmi_versions : sequence of {"2", "3"}
+        The FMI versions to build (default: FMI 2.0 only): FMI 2.0 FMUs go to ``output``, FMI 3.0
+        FMUs to ``output/fmi3``. Both versions of a model are built by one task from one
+        flattening and differentiation.
 
     Returns
     -------
     list of BuildResult
-        One per model, in the order given; ``seconds`` [s] each.
+        One per model and FMI version, in the order given (FMI 2 before FMI 3); ``seconds`` [s] each.
 
     Raises
     ------
     ParameterError
-        If ``jobs`` < 1.
+        If ``jobs`` < 1 or an FMI version is not 2 or 3.
     OutputError
         If ``output`` cannot be a writable folder (before any work).
     UnknownModelError
@@ -405,6 +487,7 @@ def build(models: list[str] | None = None, output: str | Path = DEFAULT_OUTPUT, 
     """
     if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
         raise ParameterError(f"-j/--jobs must be >= 1, got {jobs!r}")
+    versions = _fmi_versions(fmi_versions)
     output = check_output_folder(output)
     library = load_library(library_path)
     names = list(dict.fromkeys(models)) if models else [e.name for e in library.models(exported_only=True)]
@@ -413,11 +496,12 @@ def build(models: list[str] | None = None, output: str | Path = DEFAULT_OUTPUT, 
             library.entry(name)  # unknown names fail before any work starts
         except ModelicaError:
             pass  # a model of a file that did not parse fails in its turn; the others are built
-    tasks = [(name, str(output), library_path, force) for name in names]
+    tasks = [(name, str(output), library_path, force, versions) for name in names]
     if jobs > 1 and len(tasks) > 1:
-        results = _run_parallel(tasks, jobs)
+        outcomes = _run_parallel(tasks, jobs)
     else:
-        results = [_build_one(task) for task in tasks]
+        outcomes = [_build_one(task) for task in tasks]
+    results = [r for outcome in outcomes for r in (outcome if isinstance(outcome, list) else [outcome])]
     errors = [r for r in results if isinstance(r, Exception)]
     if not models:  # "everything" includes the files that did not parse (once each)
         errors += [e for e in library.errors.values() if not any(str(e) in str(r) for r in errors)]

@@ -1,5 +1,6 @@
 """Model-specific C: CasADi generates the functions, a small template wraps them into the
-``cosim_model`` tables that the shared runtime (``runtime/fmi2_runtime.c``) expects."""
+``cosim_model`` tables (``runtime/cosim_model.h``) that the shared runtime expects: its core
+``runtime/cosim_runtime.c`` with the API of one FMI version, ``fmi2_api.c`` or ``fmi3_api.c``."""
 from __future__ import annotations
 
 import shutil
@@ -11,8 +12,11 @@ from cosim.compiler.description import ModelInfo
 from cosim.compiler.ode import ExplicitModel
 
 RUNTIME_DIR = Path(__file__).resolve().parents[1] / "runtime"
-RUNTIME_SOURCES = ("fmi2_runtime.c", "cosim_model.h")
+RUNTIME_SOURCES = ("cosim_runtime.c", "fmi2_api.c", "cosim_runtime.h", "cosim_model.h")
 FMI_HEADERS = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
+# FMI 3.0 FMUs: the version-independent core of the runtime and its FMI 3 API, FMI 3's headers.
+FMI3_RUNTIME_SOURCES = ("cosim_runtime.c", "fmi3_api.c", "cosim_runtime.h", "cosim_model.h")
+FMI3_HEADERS = ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")
 # Above this many doubles the CasADi work array goes to the heap, not the stack (thread stacks are small).
 STACK_WORK_LIMIT = 16384
 # Newton solve of the initial equations: stop when max |residual| <= NEWTON_ABSTOL (or the step is
@@ -25,10 +29,12 @@ NEWTON_MAX_ITER = 50
 INIT_TOLERANCE = 1e-10
 # Algebraic variables per function (and C file) of eval_locals, see local_chunks.
 LOCALS_PER_FILE = 1000
+# The FMI versions an FMU can be built for ("2": FMI 2.0, "3": FMI 3.0).
+FMI_VERSIONS = ("2", "3")
 
 
 def fmi_header_dir() -> Path:
-    """FMI 2.0 standard headers as shipped by FMPy."""
+    """FMI 2.0 and 3.0 standard headers as shipped by FMPy."""
     import fmpy
 
     return Path(fmpy.__file__).resolve().parent / "c-code"
@@ -36,8 +42,14 @@ def fmi_header_dir() -> Path:
 
 def casadi_functions(model: ExplicitModel) -> list[ca.Function]:
     """The functions of the runtime contract, as CasADi functions: ``cosim_calc``, ``cosim_start``,
-    ``cosim_eval``, ``cosim_jvp``, ``cosim_hoist`` and the chunks ``cosim_locals<k>`` of
-    ``eval_locals`` (none if every algebraic variable is an output).
+    ``cosim_eval``, ``cosim_jvp``, ``cosim_hoist``, ``cosim_vjp`` and the chunks ``cosim_locals<k>``
+    of ``eval_locals`` (none if every algebraic variable is an output).
+
+    ``cosim_jvp`` (forward mode, directional derivatives) and ``cosim_vjp`` (reverse mode, adjoint
+    derivatives of FMI 3) differentiate the same outputs, der(x) and the output variables, with
+    respect to the same inputs, x, u and the Real parameters: ``cosim_vjp(t, x, u, p, wxdot, wz)``
+    returns ``(wx, wu, wp) = J^T (wxdot, wz)``, with exact zeros in ``wp`` for the Integer and
+    Boolean parameters (not differentiated).
 
     ``cosim_eval`` takes the parameter-only subexpressions of its outputs as an extra input q,
     which ``cosim_hoist`` computes from p (``nq = 0``: none); the runtime computes q once when the
@@ -60,6 +72,23 @@ def casadi_functions(model: ExplicitModel) -> list[ca.Function]:
     directional = (ca.jtimes(differentiated, ca.vertcat(x, u, p_real), seeds) if differentiated.numel()
                    else ca.SX(0, 1))
     nx = model.xdot.numel()
+    # Reverse mode (fmi3GetAdjointDerivative) of the same outputs: the weights w on (der(x), outputs)
+    # give J^T w for the same (x, u, p_real) in one reverse sweep, without forming the Jacobian.
+    wxdot, wz = ca.SX.sym("wxdot", nx), ca.SX.sym("wz", differentiated.numel() - nx)
+    weights = ca.vertcat(wxdot, wz)
+    knowns = ca.vertcat(x, u, p_real)
+    adjoint = (ca.jtimes(differentiated, knowns, weights, True) if differentiated.numel()
+               else ca.SX.zeros(knowns.numel()))
+    nu = u.numel()
+    real_slot = {k: j for j, k in enumerate(real)}
+    # every parameter gets an entry (densified: CasADi writes only the structural non-zeros of an
+    # output, the runtime expects every entry written); Integer/Boolean ones an exact 0
+    wp = ca.vertcat(*[adjoint[nx + nu + real_slot[k]] if k in real_slot else ca.SX.zeros(1)
+                      for k in range(p.numel())]) if p.numel() else ca.SX(0, 1)
+    adjoint_function = ca.Function(
+        "cosim_vjp", [t, x, u, p, wxdot, wz],
+        [ca.densify(adjoint[:nx]), ca.densify(adjoint[nx:nx + nu]), ca.densify(wp)],
+        ["t", "x", "u", "p", "wxdot", "wz"], ["wx", "wu", "wp"])
     # A subexpression of the parameters only (the linear bicycle's matrices, the Pade delay's
     # coefficients, the sines of the head angle) is the same in every evaluation; taken out, it is
     # computed once per parameter change (a third less time per co-simulation step of the linear
@@ -76,6 +105,7 @@ def casadi_functions(model: ExplicitModel) -> list[ca.Function]:
                                                             directional[nx:]],
                     ["t", "x", "u", "p", "dx", "du", "dp"], ["dxdot", "dz"]),
         ca.Function("cosim_hoist", [p], [q_value], ["p"], ["q"]),
+        adjoint_function,
         *(ca.Function(f"cosim_locals{k}", [t, x, u, p], [model.z[first:stop]], ["t", "x", "u", "p"], ["z"])
           for k, (first, stop) in enumerate(local_chunks(model))),
     ]
@@ -99,27 +129,51 @@ def local_chunks(model: ExplicitModel | ModelInfo) -> list[tuple[int, int]]:
     return [(k, min(k + LOCALS_PER_FILE, nz)) for k in range(0, nz, LOCALS_PER_FILE)] if any_local else []
 
 
-def source_files(model: ExplicitModel | ModelInfo) -> list[str]:
-    """The C sources of the FMU, in compile order (also listed in modelDescription.xml): those
-    CasADi writes, then the tables and the runtime."""
-    return generated_sources(model) + ["model.c", "fmi2_runtime.c"]
+def runtime_files(fmi_version: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """The runtime's files of an FMU of ``fmi_version``: those of ``cosim/runtime`` (C sources and
+    headers) and the FMI standard's headers (from FMPy, :func:`fmi_header_dir`)."""
+    if _check_version(fmi_version) == "3":
+        return FMI3_RUNTIME_SOURCES, FMI3_HEADERS
+    return RUNTIME_SOURCES, FMI_HEADERS
 
 
-def generated_sources(model: ExplicitModel | ModelInfo) -> list[str]:
+def source_files(model: ExplicitModel | ModelInfo, fmi_version: str = "2") -> list[str]:
+    """The C sources of the FMU of ``fmi_version``, in compile order (listed in FMI 2's
+    modelDescription.xml and FMI 3's buildDescription.xml): those CasADi writes, then the tables
+    and the runtime."""
+    runtime = [name for name in runtime_files(fmi_version)[0] if name.endswith(".c")]
+    return generated_sources(model, fmi_version) + ["model.c", *runtime]
+
+
+def generated_sources(model: ExplicitModel | ModelInfo, fmi_version: str = "2") -> list[str]:
     """The C files CasADi writes: the small functions with ``eval``; the Jacobian-vector product,
-    the largest function, in a file of its own so that gcc compiles it in parallel with the rest
-    (the build time of a large model is mostly gcc's); the chunks of ``eval_locals``."""
-    return ["model_functions.c", *unoptimized_sources(model)]
+    the largest function, and (FMI 3 only) the vector-Jacobian product, each in a file of its own
+    so that gcc compiles them in parallel with the rest (the build time of a large model is mostly
+    gcc's); the chunks of ``eval_locals``."""
+    return ["model_functions.c", *unoptimized_sources(model, fmi_version)]
 
 
-def unoptimized_sources(model: ExplicitModel | ModelInfo) -> list[str]:
+def unoptimized_sources(model: ExplicitModel | ModelInfo, fmi_version: str = "2") -> list[str]:
     """The C files that no integration step runs, compiled without optimization: the
-    Jacobian-vector product (directional derivatives, called per linearization) and the chunks of
+    Jacobian-vector product (directional derivatives, called per linearization), the
+    vector-Jacobian product (adjoint derivatives, ``fmi3GetAdjointDerivative``) and the chunks of
     ``eval_locals`` (called when an importer reads a local variable). They are most of gcc's time
     for the nonlinear bicycles (-O1: 2.0 s of 2.9 s of CPU for the one with a rider); at -O0 the
     1001-speed linearization sweep of the Whipple bicycle takes 0.09 s instead of 0.06 s, and
-    its results do not change by a bit."""
-    return ["model_jvp.c", *(f"model_locals{k}.c" for k in range(len(local_chunks(model))))]
+    its results do not change by a bit.
+
+    FMI 2 has no adjoint derivatives: its FMUs have no vector-Jacobian product (``vjp = NULL``),
+    which would cost them about as much gcc time as the Jacobian-vector product for nothing
+    (0.34 s of CPU at -O0 for the nonlinear bicycle with a rider; FMI 3 builds of every model take
+    about 6 % more CPU than FMI 2 builds)."""
+    adjoint = ["model_vjp.c"] if _check_version(fmi_version) == "3" else []
+    return ["model_jvp.c", *adjoint, *(f"model_locals{k}.c" for k in range(len(local_chunks(model))))]
+
+
+def _check_version(fmi_version: str) -> str:
+    if fmi_version not in FMI_VERSIONS:
+        raise ValueError(f"FMI version must be one of {', '.join(FMI_VERSIONS)}, got {fmi_version!r}")
+    return fmi_version
 
 
 def start_function(model: ExplicitModel) -> ca.Function:
@@ -201,9 +255,11 @@ def _wrapper(f: ca.Function, signature: str, args: list[str], results: list[str]
     return "\n".join(lines) + "\n"
 
 
-def model_c(info: ModelInfo, functions: list[ca.Function]) -> str:
-    """The tables and wrappers of ``model.c``."""
-    calc, start, evaluate, jvp, hoist, *chunks = functions
+def model_c(info: ModelInfo, functions: list[ca.Function], fmi_version: str = "2") -> str:
+    """The tables and wrappers of ``model.c`` of an FMU of ``fmi_version`` ("2" or "3": the same
+    tables; only FMI 3 has the vector-Jacobian product)."""
+    fmi3 = _check_version(fmi_version) == "3"  # adjoint derivatives and arrays
+    calc, start, evaluate, jvp, hoist, vjp, *chunks = functions
     types = [f"COSIM_{v.type.upper()}" for v in info.variables]
     starts = [_c_double(v.start) for v in info.variables]
     names = [_c_string(v.name) for v in info.variables]
@@ -214,15 +270,22 @@ def model_c(info: ModelInfo, functions: list[ca.Function]) -> str:
     outputs = iter(range(info.sizes["nz"]))
     jvp_slots = [str(next(outputs)) if v.causality == "output" else "-1" for v in info.by_role("algebraic")]
     s = info.sizes
+    # FMI 3 arrays (cosim_model.h): 1 for a scalar, n for the first element of an array, 0 after it
+    lengths = ["1"] * len(info.variables)
+    for first, (_, n) in (info.fmi3_arrays.items() if fmi3 else ()):
+        lengths[first:first + n] = [str(n)] + ["0"] * (n - 1)
+    arrays = fmi3 and any(length != "1" for length in lengths)
     return (
         f"/* Generated by cosim for {info.name}. Do not edit: run `cosim build` instead. */\n"
         "#include <math.h>\n#include <stdlib.h>\n#include \"cosim_model.h\"\n"
-        + "".join(f"#include \"{Path(name).with_suffix('.h')}\"\n" for name in generated_sources(info)) + "\n"
+        + "".join(f"#include \"{Path(name).with_suffix('.h')}\"\n"
+                  for name in generated_sources(info, fmi_version)) + "\n"
         + _array("cosim_type", "types", types)
         + _array("double", "start", starts)
         + _array("unsigned char", "state_start_calculated", calculated_start)
         + _array("char *const", "names", names)
         + _array("int", "z_jvp_slot", jvp_slots)
+        + (_array("int", "fmi3_length", lengths) if arrays else "")
         + "\n"
         + _wrapper(calc, "const double *p, double *c", ["p"], ["c"])
         + _start_wrapper(info, start)
@@ -231,6 +294,7 @@ def model_c(info: ModelInfo, functions: list[ca.Function]) -> str:
         + _wrapper(jvp, "double t, const double *x, const double *u, const double *p, const double *dx, "
                         "const double *du, const double *dp, double *dxdot, double *dz",
                    ["&t", "x", "u", "p", "dx", "du", "dp"], ["dxdot", "dz"])
+        + (_vjp_wrapper(info, vjp) if fmi3 else "")
         + "\nconst cosim_model COSIM_MODEL = {\n"
         f"    \"{info.guid}\",\n"
         f"    {s['nx']}, {s['nu']}, {s['np']}, {s['nc']}, {s['nz']},\n"
@@ -242,9 +306,26 @@ def model_c(info: ModelInfo, functions: list[ca.Function]) -> str:
         f"    {_c_string(info.init_unknowns) if info.init_unknowns else '0'},\n"
         f"    {'z_jvp_slot' if jvp_slots else '0'},\n"
         f"    {'call_locals' if chunks else '0'},\n"
-        f"    {hoist.numel_out(0)}, call_hoist, eval_hoisted\n"
+        f"    {hoist.numel_out(0)}, call_hoist, eval_hoisted,\n"
+        f"    {'call_vjp' if fmi3 else '0'},\n"
+        f"    {'fmi3_length' if arrays else '0'}\n"
         "};\n"
     )
+
+
+def _vjp_wrapper(info: ModelInfo, vjp: ca.Function) -> str:
+    """``call_vjp`` of the runtime contract: ``cosim_vjp`` writes the weights of the model's
+    parameters; the runtime's own parameters after them (``solver.fixedStepSize``), which no
+    equation uses, get 0."""
+    signature = ("double t, const double *x, const double *u, const double *p, const double *wxdot, "
+                 "const double *wz, double *wx, double *wu, double *wp")
+    n_model, n_all = vjp.numel_out(2), info.sizes["np"]
+    return (_wrapper(vjp, signature, ["&t", "x", "u", "p", "wxdot", "wz"], ["wx", "wu", "wp"], "vjp_model")
+            + f"static int call_vjp({signature}) {{\n"
+            "    int i;\n"
+            f"    for (i = {n_model}; i < {n_all}; i++) wp[i] = 0.0;\n"
+            "    return vjp_model(t, x, u, p, wxdot, wz, wx, wu, wp);\n"
+            "}\n")
 
 
 def _eval_wrappers(info: ModelInfo, evaluate: ca.Function, nq: int, chunks: list[ca.Function]) -> str:
@@ -324,22 +405,23 @@ def _start_wrapper(info: ModelInfo, start: ca.Function) -> str:
 
 
 def write_sources(info: ModelInfo, model: ExplicitModel, folder: Path,
-                  functions: list[ca.Function] | None = None) -> list[str]:
-    """Write every C source and header of the FMU into ``folder``; returns the file names.
-    ``functions``: those of :func:`casadi_functions` if the caller has them already (building
-    them again costs a second symbolic differentiation of the model)."""
+                  functions: list[ca.Function] | None = None, fmi_version: str = "2") -> list[str]:
+    """Write every C source and header of the FMU of ``fmi_version`` ("2" or "3") into ``folder``;
+    returns the file names. ``functions``: those of :func:`casadi_functions` if the caller has
+    them already (building them again costs a second symbolic differentiation of the model)."""
     folder.mkdir(parents=True, exist_ok=True)
     functions = functions if functions is not None else casadi_functions(model)
-    calc, start, evaluate, jvp, hoist, *chunks = functions
-    for file, group in zip(generated_sources(model), ([calc, start, evaluate, hoist], [jvp],
-                                                      *([c] for c in chunks))):
+    calc, start, evaluate, jvp, hoist, vjp, *chunks = functions
+    groups = [[calc, start, evaluate, hoist], [jvp], *([[vjp]] if fmi_version == "3" else []), *([c] for c in chunks)]
+    for file, group in zip(generated_sources(model, fmi_version), groups, strict=True):
         generator = ca.CodeGenerator(file, {"with_header": True, "casadi_real": "double"})
         for f in group:
             generator.add(f)
         generator.generate(str(folder) + "/")
-    (folder / "model.c").write_text(model_c(info, functions))
-    for name in RUNTIME_SOURCES:
+    (folder / "model.c").write_text(model_c(info, functions, fmi_version))
+    runtime, headers = runtime_files(fmi_version)
+    for name in runtime:
         shutil.copyfile(RUNTIME_DIR / name, folder / name)
-    for name in FMI_HEADERS:
+    for name in headers:
         shutil.copyfile(fmi_header_dir() / name, folder / name)
     return sorted(p.name for p in folder.iterdir())

@@ -6,6 +6,7 @@ ModelStructure index of a variable is its value reference + 1.
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 
 import casadi as ca
@@ -16,6 +17,15 @@ from cosim.compiler.ode import ExplicitModel
 
 FIXED_STEP_PARAMETER = "solver.fixedStepSize"
 DEFAULT_TOLERANCE = 1e-6
+# The element of a one-dimensional array: ``x[3]`` or ``der(x[3])`` (array ``x``, resp. ``der(x)``).
+ARRAY_ELEMENT = re.compile(r"^(?P<der>der\()?(?P<array>.+)\[(?P<index>[1-9][0-9]*)\](?(der)\))$")
+# Roles whose arrays FMI 3 exports as arrays (<Dimension>): the states (one fmi3GetFloat64 reads
+# the Pade delay's state vector) and their derivatives. The local variables of the component
+# bicycles (the position vectors r[3] of every frame) stay scalars, as in FMI 2: an importer
+# finds them under the names it knows.
+FMI3_ARRAY_ROLES = ("state", "derivative")
+# The attributes the elements of an FMI 3 array share (its start values may differ).
+_SHARED = ("role", "causality", "variability", "initial", "type", "unit", "display_unit", "quantity", "min", "max")
 
 
 @dataclass
@@ -75,6 +85,60 @@ class ModelInfo:
     @property
     def fixed_step_vr(self) -> int:
         return self.variable(FIXED_STEP_PARAMETER).vr
+
+    @property
+    def fmi3_arrays(self) -> dict[int, tuple[str, int]]:
+        """The FMI 3 array variables: value reference of the first element -> (name, number of
+        elements), see :func:`fmi3_arrays`."""
+        return fmi3_arrays(self.variables)
+
+    @property
+    def independent_vr(self) -> int:
+        """Value reference of FMI 3's independent variable ``time``: one past the value array
+        (``nv``, see ``runtime/cosim_model.h``); FMI 2 does not list time."""
+        return len(self.variables)
+
+
+def fmi3_arrays(variables: list[Variable], roles=FMI3_ARRAY_ROLES) -> dict[int, tuple[str, int]]:
+    """The elements ``a[1]``, ..., ``a[n]`` (n >= 2) of one declared one-dimensional Modelica array,
+    at consecutive value references with the same FMI attributes and a role of ``roles``, as one
+    FMI 3 array variable ``a``: value reference of ``a[1]`` -> (``a``, n). ``variables`` are in
+    value-reference order (``variables[vr].vr == vr``).
+
+    A state array is one only with its derivative array (``der(a)``, whose elements are the
+    derivatives of ``a[1]``, ..., ``a[n]`` in order): FMI 3's ``derivative`` attribute names one
+    variable. Everything else stays a scalar."""
+    elements: dict[str, list[tuple[int, Variable]]] = {}
+    for v in variables:
+        match = ARRAY_ELEMENT.match(v.name)
+        if match and v.role in roles:
+            name = f"der({match['array']})" if match["der"] else match["array"]
+            elements.setdefault(name, []).append((int(match["index"]), v))
+    every = {}
+    for v in variables:
+        match = ARRAY_ELEMENT.match(v.name)
+        if match:
+            name = f"der({match['array']})" if match["der"] else match["array"]
+            every[name] = every.get(name, 0) + 1
+    arrays = {}
+    for name, items in elements.items():
+        items.sort(key=lambda item: item[0])
+        first = items[0][1]
+        if (len(items) >= 2 and len(items) == every[name]
+                and [k for k, _ in items] == list(range(1, len(items) + 1))
+                and [v.vr for _, v in items] == list(range(first.vr, first.vr + len(items)))
+                and all(getattr(v, a) == getattr(first, a) for _, v in items for a in _SHARED)):
+            arrays[first.vr] = (name, len(items))
+    for head, (name, n) in list(arrays.items()):
+        v = variables[head]
+        if v.role == "derivative":
+            state = v.derivative_of
+            consistent = (arrays.get(state, (None, 0))[1] == n
+                          and all(variables[head + j].derivative_of == state + j for j in range(n)))
+            if not consistent:
+                del arrays[head]
+    derivative_arrays = {variables[h].derivative_of for h in arrays if variables[h].role == "derivative"}
+    return {h: a for h, a in arrays.items() if variables[h].role != "state" or h in derivative_arrays}
 
 
 def model_identifier(model_name: str) -> str:

@@ -560,12 +560,12 @@ def sources_digest(path=None) -> str:
     return hashlib.sha256((library_digest(path) + compiler_digest()).encode()).hexdigest()
 
 
-def fmu_up_to_date(model_name: str, fmu: Path, path=None) -> bool:
-    """True if ``fmu`` was built by cosim from ``model_name`` and the library at ``path`` and
-    compiler exactly as they are now (no source file, no part of the compiler changed): the fast
-    path of :func:`cosim.compiler.build.build_model`, answered without parsing the library and
-    without importing pymoca or CasADi. False means "not known to be up to date" (the build
-    decides), never an error.
+def fmu_up_to_date(model_name: str, fmu: Path, path=None, fmi_version: str = "2") -> bool:
+    """True if ``fmu`` was built by cosim from ``model_name`` as an FMU of ``fmi_version`` ("2"
+    or "3") and the library at ``path`` and compiler exactly as they are now (no source file, no
+    part of the compiler changed): the fast path of :func:`cosim.compiler.build.build_model`,
+    answered without parsing the library and without importing pymoca or CasADi. False means
+    "not known to be up to date" (the build decides), never an error.
     """
     import json
     import zipfile
@@ -577,6 +577,7 @@ def fmu_up_to_date(model_name: str, fmu: Path, path=None) -> bool:
     except (OSError, KeyError, zipfile.BadZipFile, ValueError):
         return False
     return (isinstance(manifest, dict) and manifest.get("model") == model_name
+            and manifest.get("fmi_version", "2") == str(fmi_version)
             and manifest.get("sources_digest") == expected)
 
 
