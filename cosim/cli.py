@@ -86,6 +86,10 @@ not divide stop - start, the last step is the shorter remainder, so the run ends
 (the message reports the end time and the number of steps). step must be finite, > 0 and not
 longer than the run; start and stop finite with stop > start.
 
+FMI versions: components may be FMI 2.0 or 3.0 Co-Simulation FMUs (fmu = "x.fmu"), mixed freely; a
+model component is built as FMI 2.0 unless its table says fmi_version = 3 (OUTPUT/fmi3/NAME.fmu).
+FMI 3 inputs are held over each communication step (FMI 3 has no input derivatives).
+
 {RESULTS} A run that ends by the fall criterion is complete (exit 3).
 
 {FMU_FOLDER}
@@ -94,8 +98,13 @@ longer than the run; start and stop finite with stop > start.
 
 LINEARIZE_EPILOG = """\
 A, B, C, D are the Jacobians at the initial point (after initialization) with the states in the
-FMU's order; "eigenvalues" are those of A. Directional derivatives are exact (automatic
-differentiation) for FMUs built here.
+FMU's order; "eigenvalues" are those of A. FMI 2.0 and 3.0 FMUs with Model Exchange; inputs and
+outputs of type Real (FMI 3: Float64) with continuous variability. Directional derivatives are
+exact (automatic differentiation) for FMUs built here; an FMU without them is linearized by central
+finite differences ("method"). An FMI 3 FMU that also provides adjoint derivatives has its Jacobian
+computed a second time from fmi3GetAdjointDerivative (v^T (J u) = (J^T v)^T u, entry by entry):
+"adjoint_difference" is the largest difference relative to the largest entry, and one above 1e-12
+is refused with the entry named.
 
 nonlinear bicycles (Bicycle.Bicycles.Whipple, WhippleRider): --speed V sets upright straight
 running at forward speed V (u_R0 = -V/rR, pitch 0 upright with zero steer). The output adds
@@ -151,6 +160,21 @@ def _finite(text: str) -> float:
     return value
 
 
+class _FmiVersions(argparse.Action):
+    """``--fmi-version 2 3`` (or repeated): the FMI versions to build. The option takes one or
+    more values, so model names right after it (``cosim build --fmi-version 3 MODEL``) would be
+    taken for versions: they are the models, as if given before the option."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        first_model = next((k for k, v in enumerate(values) if v not in ("2", "3")), len(values))
+        versions = values[:first_model]
+        if not versions:
+            parser.error(f"argument {option_string}: invalid FMI version '{values[0]}' (choose 2, 3 or both)")
+        setattr(namespace, self.dest, (getattr(namespace, self.dest) or []) + versions)
+        # argparse sets the positional models after this action: keep these apart, _cmd_build joins them
+        namespace.models_after_versions = getattr(namespace, "models_after_versions", []) + values[first_model:]
+
+
 def _cmd_build(args) -> int:
     from cosim.compiler.build import build
 
@@ -159,7 +183,9 @@ def _cmd_build(args) -> int:
             print(f"{'built ' if r.rebuilt else 'up to date'} {r.fmu}  ({r.seconds:.1f} s)")
 
     try:
-        results = build(args.models or None, args.output, jobs=args.jobs, force=args.force)
+        models = (args.models or []) + getattr(args, "models_after_versions", [])
+        results = build(models or None, args.output, jobs=args.jobs, force=args.force,
+                        fmi_versions=args.fmi_version or ("2",))
     except CosimError as exc:
         report(getattr(exc, "results", []))  # what did build is kept and shown before the error
         raise
@@ -208,25 +234,29 @@ def _cmd_info(args) -> int:
 def _cmd_validate(args) -> int:
     """Each target is validated; one that cannot be read as an FMU (or built) gets its error
     line and the others are still checked."""
+    from cosim.fmu.access import ALL_FMI_VERSIONS
     from cosim.fmu.target import resolve_fmu
-    from cosim.fmu.validate import validate
+    from cosim.fmu.validate import validate_report
 
     failed = unreadable = 0
     for target in args.targets:
         try:
-            fmu = resolve_fmu(target)
-            problems = validate(fmu)
+            fmu = resolve_fmu(target, versions=ALL_FMI_VERSIONS)
+            report = validate_report(fmu)
         except CosimError as exc:
             unreadable += 1
             print(f"cosim validate: error: {exc}", file=sys.stderr)
             continue
-        if problems:
+        what = f"FMI {report.fmi_version}, {len(report.checks)} checks"
+        if report.problems:
             failed += 1
-            print(f"{fmu}: {len(problems)} problem(s)")
-            for p in problems:
+            print(f"{fmu}: {len(report.problems)} problem(s) ({what})")
+            for p in report.problems:
                 print(f"  - {p}")
         else:
-            print(f"{fmu}: valid")
+            print(f"{fmu}: valid ({what})")
+        for s in report.skipped:  # what does not apply to this FMU: not a problem, but not checked
+            print(f"  skipped: {s}")
     return EXIT_BAD_INPUT if unreadable else (EXIT_CHECK_FAILED if failed else EXIT_OK)
 
 
@@ -269,7 +299,7 @@ def _write_incomplete(exc, output: Path, plot_path: str | None, title: str, verb
 
 
 def _cmd_simulate(args) -> int:
-    from cosim.fmu.access import read_fmu
+    from cosim.fmu.access import ALL_FMI_VERSIONS, read_fmu
     from cosim.fmu.parameters import from_command_line
     from cosim.fmu.simulate import IncompleteResult, check_run, input_signals, plot, simulate, write_result
     from cosim.fmu.target import resolve_fmu
@@ -278,8 +308,8 @@ def _cmd_simulate(args) -> int:
     _check_outputs(output, args.plot)  # before any build or run
     params = from_command_line(args.target, args.param, parameter_set=args.params)
     check_run(None, args.stop_time, args.step, args.fmi_type, parameters=params)
-    fmu = resolve_fmu(args.target)
-    md = read_fmu(fmu)
+    fmu = resolve_fmu(args.target, versions=ALL_FMI_VERSIONS)  # FMI 2.0 and 3.0 (FMPy runs both)
+    md = read_fmu(fmu, ALL_FMI_VERSIONS)
     t0, t1 = check_run(md, args.stop_time, args.step, args.fmi_type, parameters=params)
     inputs = input_signals(fmu, args.input, t0, t1)
     outputs = [v.name for v in md.modelVariables if v.causality == "output"]
@@ -314,6 +344,7 @@ def _operating_point(target: str, assignments: list[str]) -> dict:
 
 
 def _cmd_linearize(args) -> int:
+    from cosim.fmu.access import ALL_FMI_VERSIONS
     from cosim.fmu.linearize import NotSteadyMotion, is_bicycle, linearize, steady_motion
     from cosim.fmu.parameters import from_command_line
     from cosim.fmu.target import resolve_fmu
@@ -327,7 +358,7 @@ def _cmd_linearize(args) -> int:
     params = from_command_line(args.target, args.param, parameter_set=args.params, speed=args.speed,
                                input_hint="give its operating-point value with --input {name}=VALUE")
     inputs = _operating_point(args.target, args.input)
-    result = linearize(resolve_fmu(args.target), params, inputs or None)
+    result = linearize(resolve_fmu(args.target, versions=ALL_FMI_VERSIONS), params, inputs or None)
     steady = note = None
     if is_bicycle(result):  # a nonlinear bicycle: its exact lateral linearization (see the help)
         try:
@@ -372,6 +403,7 @@ def _cmd_linearize(args) -> int:
 
 def _linearize_sweep(args) -> int:
     """``cosim linearize MODEL --speeds ...``: :func:`cosim.fmu.linearize.linearize_speeds`."""
+    from cosim.fmu.access import ALL_FMI_VERSIONS
     from cosim.fmu.linearize import NotSteadyMotion, linearize_speeds, parse_speeds
     from cosim.fmu.parameters import declarations, forward_speed, from_command_line
     from cosim.fmu.target import resolve_fmu
@@ -379,7 +411,7 @@ def _linearize_sweep(args) -> int:
     speeds = parse_speeds(args.speeds)
     if not speeds:
         raise ParameterError(f"--speeds {args.speeds}: no speeds")
-    fmu = resolve_fmu(args.target)
+    fmu = resolve_fmu(args.target, versions=ALL_FMI_VERSIONS)
     declared = declarations(str(fmu))
     fs = forward_speed(str(fmu), declared)
     hint = "give its operating-point value with --input {name}=VALUE"
@@ -473,14 +505,14 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_export_ssp(args) -> int:
-    from cosim.cosimulation.ssp import export_ssp
+    from cosim.cosimulation.ssp import FileNote, export_ssp
     from cosim.cosimulation.system import load_system
     from cosim.outputs import check_output
 
     check_output(args.output, "SSP file")  # before anything is built
-    path, notes = export_ssp(load_system(args.system), args.output)
+    path, notes = export_ssp(load_system(args.system), args.output, fmi_version=args.fmi_version)
     for note in notes:
-        print(f"twin: {note}")
+        print(f"{'note' if isinstance(note, FileNote) else 'twin'}: {note}")
     print(f"wrote {path}")
     return EXIT_OK
 
@@ -558,13 +590,16 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action="version", version=f"cosim {__version__}")
     sub = p.add_subparsers(dest="command", required=True, metavar="VERB")
 
-    b = sub.add_parser("build", help="compile Modelica models to FMUs (ME + CS)", formatter_class=raw,
+    b = sub.add_parser("build", help="compile Modelica models to FMI 2.0 / 3.0 FMUs (ME + CS)", formatter_class=raw,
                        epilog=f"{FMU_FOLDER}\n\n{EXIT_CODES}")
     b.add_argument("models", nargs="*", help="model names (default: every exported model)")
     b.add_argument("-o", "--output", default=None, help="output folder (default: ./fmus or $COSIM_FMU_DIR)")
     b.add_argument("-j", "--jobs", type=positive_int, default=os.cpu_count() or 1,
                    help="parallel builds (>= 1; default: number of CPUs)")
     b.add_argument("--force", action="store_true", help="rebuild even if up to date")
+    b.add_argument("--fmi-version", action=_FmiVersions, nargs="+", metavar="{2,3}",
+                   help="FMI version(s) to build: 2 (OUTPUT/NAME.fmu, the default), 3 (OUTPUT/fmi3/NAME.fmu); "
+                        "repeat or list both (--fmi-version 2 3) to build both from one compilation")
     library_option(b)
     b.set_defaults(func=_cmd_build)
 
@@ -581,8 +616,18 @@ def parser() -> argparse.ArgumentParser:
     library_option(i)
     i.set_defaults(func=_cmd_info)
 
-    v = sub.add_parser("validate", help="check FMUs (FMPy validation + own checks)", formatter_class=raw,
-                       epilog="Every target is checked; a file that cannot be read as an FMU gets an error line "
+    v = sub.add_parser("validate", help="check FMI 2.0/3.0 FMUs (FMPy's static validation + calls into the binary)",
+                       formatter_class=raw,
+                       epilog="Static checks (FMPy's validate_fmu, sources, binary) and checks that call the binary:\n"
+                              "token (a wrong GUID/instantiationToken is refused), state-machine (calls in a wrong\n"
+                              "state are refused), directional-derivatives (against central differences, relative\n"
+                              "1e-6), adjoint-derivatives (FMI 3: v^T(Ju) = (J^T v)^T u to 1e-12), fmu-state (get/\n"
+                              "set/serialize round trips bit-identical), cs-step (FMI 3: earlyReturn and\n"
+                              "lastSuccessfulTime of fmi3DoStep), me-run and cs-run (a short run, finite values).\n"
+                              "Each problem is one line naming its check; checks the FMU does not declare\n"
+                              "are listed as skipped. A crash of the binary is reported as a problem of the check\n"
+                              "it happened in (the checks run in a child process).\n\n"
+                              "Every target is checked; a file that cannot be read as an FMU gets an error line "
                               "(exit 2), an FMU with problems lists them (exit 1).\n\n" + EXIT_CODES)
     v.add_argument("targets", nargs="+", help="FMU files or model names")
     library_option(v)
@@ -650,6 +695,10 @@ def parser() -> argparse.ArgumentParser:
                                 f"{FMU_FOLDER}\n\n{EXIT_CODES}")
     ssp.add_argument("system", help="system file (TOML); Python blocks must be replaced by Modelica twins")
     ssp.add_argument("-o", "--output", required=True, help="the .ssp file to write")
+    ssp.add_argument("--fmi-version", choices=("2", "3"), default=None,
+                     help="build every model (and Python block twin) as an FMI 2.0 or 3.0 FMU (default: each "
+                          "component's fmi_version in the system file, else 2); FMU files keep theirs. "
+                          "Ecos runs both, libcosim FMI 2.0 only")
     library_option(ssp)
     ssp.set_defaults(func=_cmd_export_ssp)
 

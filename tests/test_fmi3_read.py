@@ -1,6 +1,6 @@
 """FMI 3.0 FMUs: `cosim info` reads their model description (FMPy checks it against the FMI 3
-schema); every command that runs an FMU refuses them with one clear line (exit 2, no traceback)
-until FMI 3 is run (docs/design/fmi3.md)."""
+schema); the commands that run an FMU accept FMI 3 (issue 15) and refuse one without a binary in
+one clear line (exit 2, no traceback). Running FMI 3 FMUs: tests/test_fmi3_import.py."""
 from __future__ import annotations
 
 import json
@@ -64,9 +64,10 @@ def test_info_reads_an_fmi3_model_description(fmi3_fmu):
     assert info["variables"]["independent"][0]["name"] == "time"
 
 
-@pytest.mark.parametrize("command", [["validate"], ["simulate", "--stop-time", "1"], ["linearize"], ["run"]],
-                         ids=["validate", "simulate", "linearize", "run-system"])
-def test_commands_that_run_fmus_refuse_fmi3_in_one_line(fmi3_fmu, tmp_path, command):
+@pytest.mark.parametrize("command", [["simulate", "--stop-time", "1"], ["linearize"], ["run"]],
+                         ids=["simulate", "linearize", "run-system"])
+def test_commands_that_run_fmus_read_fmi3_and_name_the_missing_binary(fmi3_fmu, tmp_path, command):
+    """(`cosim validate` lists the missing binary among its problems: tests of validate.)"""
     if command[0] == "run":  # a system with the FMU as a component
         system = tmp_path / "system.toml"
         system.write_text(f'[system]\nstop = 1.0\nstep = 0.01\n[components.oscillator]\nfmu = "{fmi3_fmu}"\n')
@@ -77,11 +78,13 @@ def test_commands_that_run_fmus_refuse_fmi3_in_one_line(fmi3_fmu, tmp_path, comm
     assert result.returncode == 2, (result.stdout, result.stderr)
     assert "Traceback" not in result.stderr
     lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1 and "FMI 3.0 FMUs are not supported yet" in lines[0] and "cosim info" in lines[0], lines
+    assert len(lines) == 1 and lines[0].startswith(f"cosim {command[0]}: error: {fmi3_fmu}: "), lines
+    assert "no binary for this platform (binaries/x86_64-linux/VanDerPol.so is missing from the archive)" in lines[0]
     assert not [p for p in tmp_path.iterdir() if p.name.startswith("run")], "nothing written"
 
 
-def test_reading_for_info_does_not_let_fmi3_into_the_runners(fmi3_fmu):
+def test_reading_for_info_does_not_let_fmi3_into_callers_that_run_fmi2_only(fmi3_fmu):
+    """A caller that does not pass the versions it handles gets FMI 2.0 only (SUPPORTED_FMI_VERSIONS)."""
     assert access.read_fmu(fmi3_fmu, versions=access.READABLE_FMI_VERSIONS).fmiVersion == "3.0"
     with pytest.raises(FMUError, match="FMI 3.0 FMUs are not supported yet"):
         access.read_fmu(fmi3_fmu)  # the cached description is checked again

@@ -13,9 +13,7 @@ runs the CLI on them in-process (``cosim.cli.main``). For every example:
 """
 from __future__ import annotations
 
-import contextlib
 import io
-import os
 import tempfile
 import uuid
 import zipfile
@@ -27,8 +25,7 @@ hypothesis = pytest.importorskip("hypothesis")
 from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
-from conftest import toml_value  # noqa: E402
-from cosim.cli import main  # noqa: E402
+from conftest import cli_in_process, toml_value  # noqa: E402
 
 EXPECTED_STATUS = {0, 2, 3, 4}
 SETTINGS = settings(max_examples=40, deadline=None, derandomize=True,
@@ -44,18 +41,7 @@ def real_fmus(fmus):
 
 def run(argv: list[str], cwd: Path) -> tuple[int, str, str]:
     """``cosim ARGV`` in-process in ``cwd``: (exit status, stdout, stderr)."""
-    out, err = io.StringIO(), io.StringIO()
-    here = os.getcwd()
-    os.chdir(cwd)
-    try:
-        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-            try:
-                status = main(argv)
-            except SystemExit as exc:  # argparse usage errors exit 2
-                status = exc.code if isinstance(exc.code, int) else 2
-    finally:
-        os.chdir(here)
-    return status, out.getvalue(), err.getvalue()
+    return cli_in_process(argv, cwd)
 
 
 def files_under(folder: Path) -> set[Path]:
@@ -101,10 +87,31 @@ XML_EDITS = [
 ]
 
 
+#: The same for an FMI 3.0 FMU (the Reference VanDerPol: instantiationToken, typed variables,
+#: ModelStructure with ContinuousStateDerivative, the independent time).
+FMI3_XML_EDITS = [
+    ('fmiVersion="3.0"', 'fmiVersion="2.0"'),
+    ('fmiVersion="3.0"', 'fmiVersion="3.9"'),
+    ("instantiationToken=", "instantiationTokn="),
+    ('instantiationToken="{BD4', 'instantiationToken="{0D4'),
+    ('modelIdentifier="VanDerPol"', 'modelIdentifier="Other"'),
+    ('causality="independent"', 'causality="output"'),
+    ('valueReference="3"', 'valueReference="1"'),
+    ('derivative="1"', 'derivative="99"'),
+    ('derivative="3"', 'derivative="5"'),
+    ('<Float64 name="mu"', '<Float46 name="mu"'),
+    ('<ContinuousStateDerivative valueReference="4"/>', ""),
+    ('<Output valueReference="3"/>', '<Output valueReference="77"/>'),
+    ('start="2"', 'start="x"'),
+    ('variability="fixed"', 'variability="constant"'),
+    ("</fmiModelDescription>", ""),
+]
+
+
 @st.composite
-def fmu_archives(draw, original: bytes, escape: str):
+def fmu_archives(draw, original: bytes, escape: str, xml_edits=tuple(XML_EDITS)):
     """Bytes of a damaged FMU: random bytes, a truncation, a traversal member, or a damaged
-    modelDescription.xml in an otherwise real archive."""
+    modelDescription.xml (``xml_edits``) in an otherwise real archive."""
     kind = draw(st.sampled_from(["random", "truncated", "traversal", "xml-cut", "xml-edit", "xml-missing",
                                  "xml-noise", "binary-missing"]))
     if kind == "random":
@@ -121,7 +128,7 @@ def fmu_archives(draw, original: bytes, escape: str):
     elif kind == "xml-cut":
         members["modelDescription.xml"] = xml[:draw(st.integers(0, len(xml) - 1))].encode()
     elif kind == "xml-edit":
-        edits = draw(st.lists(st.sampled_from(XML_EDITS), min_size=1, max_size=3, unique=True))
+        edits = draw(st.lists(st.sampled_from(list(xml_edits)), min_size=1, max_size=3, unique=True))
         for old, new in edits:
             xml = xml.replace(old, new, 1)
         members["modelDescription.xml"] = xml.encode()
@@ -159,6 +166,41 @@ def test_damaged_fmu_gets_one_message(verb, real_fmus):
                 (folder / "system.toml").write_text(
                     'connections = []\n[system]\nstop = 0.5\nstep = 0.1\n[components.bike]\nfmu = "model.fmu"\n')
                 argv, outputs = ["run", "system.toml", "-o", "out.csv"], ["out.csv"]
+            else:
+                argv = [verb, "model.fmu"]
+            before = files_under(folder)
+            status, out, err = run(argv, folder)
+            check_answer(argv, status, out, err, folder, before, outputs, escape)
+
+    property_()
+
+
+@pytest.fixture(scope="module")
+def fmi3_fmu(tmp_path_factory):
+    """A foreign FMI 3.0 FMU with ME, CS, directional and adjoint derivatives: the Reference
+    VanDerPol compiled from the vendored sources (tests/reference_fmus.py)."""
+    from reference_fmus import reference_fmu
+
+    return reference_fmu("VanDerPol", tmp_path_factory.mktemp("fmi3"))
+
+
+@pytest.mark.parametrize("verb", ["info", "simulate", "simulate-me", "linearize"])
+def test_damaged_fmi3_fmu_gets_one_message(verb, fmi3_fmu):
+    original = fmi3_fmu.read_bytes()
+    escape = f"cosim-escape-{uuid.uuid4().hex}"
+
+    @SETTINGS
+    @given(data=fmu_archives(original, escape, tuple(FMI3_XML_EDITS)))
+    def property_(data):
+        with tempfile.TemporaryDirectory(prefix="cosim-hostile-") as tmp:
+            folder = Path(tmp) / "work"
+            folder.mkdir()
+            (folder / "model.fmu").write_bytes(data)
+            outputs = []
+            if verb.startswith("simulate"):
+                kind = "me" if verb == "simulate-me" else "cs"
+                argv = ["simulate", "model.fmu", "--stop-time", "0.5", "--fmi-type", kind, "-o", "out.csv"]
+                outputs = ["out.csv"]
             else:
                 argv = [verb, "model.fmu"]
             before = files_under(folder)

@@ -21,7 +21,7 @@ rejected step is not retried), so the protocol has no get/set-state methods.
 """
 from __future__ import annotations
 
-from ctypes import POINTER, c_double, c_uint
+from ctypes import POINTER, addressof, byref, c_bool, c_double, c_uint
 from pathlib import Path
 
 import numpy as np
@@ -99,7 +99,7 @@ class Component:
 
 
 class StepFailed(SimulationError):
-    """An FMU's ``fmi2DoStep`` (or a get/set around it) failed part-way through a run.
+    """An FMU's ``fmi2DoStep``/``fmi3DoStep`` (or a get/set around it) failed part-way through a run.
 
     Attributes
     ----------
@@ -110,7 +110,8 @@ class StepFailed(SimulationError):
     status : int
         The FMI status returned (2 Discard, 3 Error, 4 Fatal).
     last_successful_time : float or None
-        ``fmi2LastSuccessfulTime`` after a Discard, where the FMU reports it [s].
+        After a Discard, how far the FMU got [s]: ``fmi2LastSuccessfulTime`` (FMI 2, where the
+        FMU reports it) or fmi3DoStep's ``lastSuccessfulTime``.
     fmu_message : str or None
         The FMU's last logged error message.
     """
@@ -125,29 +126,53 @@ class StepFailed(SimulationError):
 STATUS_NAMES = {0: "OK", 1: "Warning", 2: "Discard", 3: "Error", 4: "Fatal", 5: "Pending"}
 
 
+def _is_real_scalar(v) -> bool:
+    """A variable the master connects: FMI 2 ``Real``, FMI 3 ``Float64`` without dimensions."""
+    return v.type == "Real" or (v.type == "Float64" and not v.dimensions)
+
+
+def _signal_type(v) -> str:
+    """The variable's type as a refused connection names it (FMI 3 arrays as such)."""
+    return f"{v.type} array" if getattr(v, "dimensions", None) else v.type
+
+
+#: The calls of a communication step by FMI version: (set inputs, step, get outputs), as messages name them.
+CALLS = {"2": ("fmi2SetReal", "fmi2DoStep", "fmi2GetReal"), "3": ("fmi3SetFloat64", "fmi3DoStep", "fmi3GetFloat64")}
+
+
 class FMUComponent(Component):
-    """An FMI 2.0 Co-Simulation FMU behind the component protocol.
+    """An FMI 2.0 or FMI 3.0 Co-Simulation FMU behind the component protocol.
 
-    Inputs and outputs are the FMU's Real variables of causality input/output; value references
-    and ctypes buffers are prepared once, so a step costs three calls into the FMU.
+    Inputs and outputs are the FMU's scalar real variables (FMI 2 ``Real``, FMI 3 ``Float64``
+    without dimensions) of causality input/output; value references and ctypes buffers are
+    prepared once, so a step costs three calls into the FMU.
 
-    The worst FMI status seen (``status``) decides what :meth:`close` may still call: after
-    fmi2Discard the instance is terminated and freed, after fmi2Error only freed (FMI 2.0 allows
-    no fmi2Terminate in the error state), after fmi2Fatal left alone.
+    Both versions are driven through the FMI 2 signatures of ``fmi2SetReal``, ``fmi2DoStep`` and
+    ``fmi2GetReal`` (``_set_real``, ``_do_step``, ``_get_real`` on ``_component``): an FMI 3 FMU
+    through the adapters of fastloop.c (:func:`~cosim.cosimulation.fastloop.fmi3_adapters`),
+    whose ``_component`` is an :class:`~cosim.cosimulation.fastloop.Fmi3Adapter`. FMI 3 inputs
+    are held over each step (zero-order hold; FMI 3 has no input derivatives, and the FMU is
+    instantiated without event mode, early return or intermediate update).
+
+    The worst FMI status seen (``status``) decides what :meth:`close` may still call: after a
+    Discard the instance is terminated and freed, after an Error only freed (FMI allows no
+    Terminate in the error state), after Fatal left alone.
     """
 
     def __init__(self, name: str, path: str | Path, parameters: dict | None = None, tolerance: float | None = None):
-        from cosim.fmu.access import FMU
+        from cosim.fmu.access import ALL_FMI_VERSIONS, FMU
 
         super().__init__(name)
-        self.fmu = FMU(path)
+        self.fmu = FMU(path, versions=ALL_FMI_VERSIONS)
         md = self.fmu.description
         if md.coSimulation is None:
             raise SimulationError(f"{name}: {path} does not support Co-Simulation")
+        self.calls = CALLS[self.fmu.fmi_version[:1]]
+        self._prefix = self.calls[0][:4]  # fmi2 or fmi3, for messages
         # Every variable by name: (causality, type), to explain a connection that cannot be made.
-        self.variables = {v.name: (v.causality, v.type) for v in md.modelVariables}
-        self.inputs = [v.name for v in md.modelVariables if v.causality == "input" and v.type == "Real"]
-        self.outputs = [v.name for v in md.modelVariables if v.causality == "output" and v.type == "Real"]
+        self.variables = {v.name: (v.causality, _signal_type(v)) for v in md.modelVariables}
+        self.inputs = [v.name for v in md.modelVariables if v.causality == "input" and _is_real_scalar(v)]
+        self.outputs = [v.name for v in md.modelVariables if v.causality == "output" and _is_real_scalar(v)]
         self.parameters = dict(parameters or {})
         self.tolerance = tolerance
         self._depends = self._output_dependencies()
@@ -158,8 +183,9 @@ class FMUComponent(Component):
         self._in_ptr = self._in.ctypes.data_as(POINTER(c_double))
         self._out_ptr = self._out.ctypes.data_as(POINTER(c_double))
         self.instance = None
+        self._adapter = None  # FMI 3: the Fmi3Adapter the calls go through (see setup)
         self.status = 0
-        self.last_outputs: dict[str, float] = {}  # outputs at fmi2LastSuccessfulTime after a Discard
+        self.last_outputs: dict[str, float] = {}  # outputs at the last successful time after a Discard
         self.now = 0.0  # the FMU's communication point [s]: start, then t + h of each step
 
     def _output_dependencies(self) -> dict[str, set[str]]:
@@ -198,9 +224,45 @@ class FMUComponent(Component):
         self.now = float(start_time)
         # The raw C functions (argument types already declared by FMPy): no wrapper per call.
         functions = self.instance._functions
+        if self.fmu.is_fmi3:
+            self._setup_fmi3(functions)
+            return
         self._component = self.instance.component
         self._set_real, self._get_real = functions["fmi2SetReal"], functions["fmi2GetReal"]
         self._do_step = functions["fmi2DoStep"]
+
+    def _setup_fmi3(self, functions) -> None:
+        """The FMI 2 signatures on an FMI 3 instance: fastloop.c's adapters, or where the loop's
+        library cannot be had (no C compiler) the same adaptation in Python."""
+        from cosim.cosimulation.fastloop import Fmi3Adapter, address, fmi3_adapters, library
+
+        set_float64, get_float64 = functions["fmi3SetFloat64"], functions["fmi3GetFloat64"]
+        do_step = functions["fmi3DoStep"]
+        adapter = self._adapter = Fmi3Adapter(self.instance.component, address(set_float64), address(get_float64),
+                                              address(do_step), 0, 0, 0, 0, self.now)
+        lib = library()
+        if lib is not None:
+            self._component = addressof(adapter)
+            self._set_real, self._get_real, self._do_step = fmi3_adapters(lib)
+            return
+        self._component = self.instance.component
+
+        def set_real(instance, vr, n, values):
+            return set_float64(instance, vr, n, values, n)
+
+        def get_real(instance, vr, n, values):
+            return get_float64(instance, vr, n, values, n)
+
+        def step(instance, t, h, no_set_state_prior):  # as cosim_fmi3_do_step in fastloop.c
+            flags, last = [c_bool(False) for _ in range(3)], c_double(t)
+            status = do_step(instance, t, h, bool(no_set_state_prior), *map(byref, flags), byref(last))
+            adapter.status = status
+            adapter.event_handling_needed, adapter.terminate_simulation, adapter.early_return = (
+                int(f.value) for f in flags)
+            adapter.last_successful_time = last.value
+            return 2 if status <= 1 and (flags[1].value or flags[2].value) else status
+
+        self._set_real, self._get_real, self._do_step = set_real, get_real, step
 
     def enter_initialization(self, start_time: float, kind: str = "cs") -> None:
         """A fresh instance (``kind`` 'cs' or 'me') with the parameters set, in initialization
@@ -217,12 +279,16 @@ class FMUComponent(Component):
         except FMICallException as exc:
             self.status = max(self.status, int(getattr(exc, "status", 3) or 3))
             raise SimulationError(f"{self.name}: setting the parameters failed: {self.fmu_said() or exc}") from None
+        if self.fmu.is_fmi3:  # FMI 3 has no setupExperiment: the experiment comes with initialization
+            self._call("fmi3EnterInitializationMode", lambda: self.instance.enterInitializationMode(
+                tolerance=self.tolerance, startTime=start_time))
+            return
         self._call("fmi2SetupExperiment", lambda: self.instance.setupExperiment(tolerance=self.tolerance,
                                                                                startTime=start_time))
         self._call("fmi2EnterInitializationMode", self.instance.enterInitializationMode)
 
     def end_initialization(self) -> None:
-        self._call("fmi2ExitInitializationMode", self.instance.exitInitializationMode)
+        self._call(f"{self._prefix}ExitInitializationMode", self.instance.exitInitializationMode)
 
     def initial_inputs(self) -> np.ndarray:
         if len(self._in):
@@ -234,46 +300,65 @@ class FMUComponent(Component):
         self.status = max(self.status, int(status))
         last = None
         self.last_outputs = {}
-        if status == 2:  # after fmi2Discard the FMU says how far it got, and its outputs there
+        requested = self._fmi3_request(what)
+        if status == 2:  # after a Discard the FMU says how far it got, and its outputs there
             try:
-                from fmpy.fmi2 import fmi2LastSuccessfulTime
+                if self._adapter is not None:
+                    last = float(self._adapter.last_successful_time) if what == self.calls[1] else None
+                    values = self.instance.getFloat64(list(self._out_vr))
+                else:
+                    from fmpy.fmi2 import fmi2LastSuccessfulTime
 
-                last = float(self.instance.getRealStatus(fmi2LastSuccessfulTime))
-                values = self.instance.getReal(list(self._out_vr))
+                    last = float(self.instance.getRealStatus(fmi2LastSuccessfulTime))
+                    values = self.instance.getReal(list(self._out_vr))
                 self.last_outputs = {f"{self.name}.{n}": float(v) for n, v in zip(self.outputs, values)}
             except FMICallException:  # the FMU does not tell: the last communicated values remain
-                last = None
+                last = None if self._adapter is None else last
         said = self.fmu_said()
-        message = f"{self.name}: {what} failed at t = {t:g} s (status {STATUS_NAMES.get(status, status)})"
+        if requested:
+            message = f"{self.name}: {what} at t = {t:g} s: {requested}"
+        else:
+            message = f"{self.name}: {what} failed at t = {t:g} s (status {STATUS_NAMES.get(status, status)})"
         if last is not None and last > t:
             message += f", last successful time {last:g} s"
         if said:
             message += f": {said}"
         return StepFailed(message, self.name, t, int(status), last, said)
 
+    def _fmi3_request(self, what: str) -> str | None:
+        """What an FMI 3 step that returned OK but ended the run asked for (None otherwise)."""
+        adapter = self._adapter
+        if adapter is None or what != self.calls[1] or adapter.status > 1:
+            return None
+        if adapter.terminate_simulation:
+            return "the FMU asks to terminate the simulation (terminateSimulation)"
+        if adapter.early_return:
+            return "the FMU returned early (earlyReturn), which its instantiation did not allow"
+        return None
+
     def set_inputs(self, values: np.ndarray) -> None:
         if len(self._in):
             self._in[:] = values
             status = self._set_real(self._component, self._in_vr, len(self._in), self._in_ptr)
             if status > 1:
-                raise self.failed("fmi2SetReal", self.now, status)
+                raise self.failed(self.calls[0], self.now, status)
 
     def get_outputs(self) -> np.ndarray:
         if len(self._out):
             status = self._get_real(self._component, self._out_vr, len(self._out), self._out_ptr)
             if status > 1:
-                raise self.failed("fmi2GetReal", self.now, status)
+                raise self.failed(self.calls[2], self.now, status)
         return self._out
 
     def step(self, t: float, h: float) -> None:
         status = self._do_step(self._component, t, h, 1)
-        if status > 1:  # fmi2Discard or worse
-            raise self.failed("fmi2DoStep", t, status)
+        if status > 1:  # Discard or worse (or an FMI 3 request to stop, see cosim_fmi3_do_step)
+            raise self.failed(self.calls[1], t, status)
         self.now = t + h  # the C loop (fastloop.c) keeps the same time
 
     def close(self) -> None:
-        """Terminate (where FMI allows it) and free the instance; raises only if fmi2Terminate
-        fails after a run without failures."""
+        """Terminate (where FMI allows it) and free the instance; raises only if the Terminate
+        call fails after a run without failures."""
         instance, self.instance = self.instance, None
         error = None
         if instance is not None and self.status < 4:
@@ -283,7 +368,7 @@ class FMUComponent(Component):
                 except Exception as exc:
                     if self.status == 0:  # a run that went well must not hide this
                         said = instance.log.last_error() if getattr(instance, "log", None) else None
-                        error = SimulationError(f"{self.name}: fmi2Terminate failed: {said or exc}")
+                        error = SimulationError(f"{self.name}: {self._prefix}Terminate failed: {said or exc}")
             try:
                 instance.freeInstance()
             except Exception:  # nothing more can be done for this instance

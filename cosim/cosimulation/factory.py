@@ -24,7 +24,8 @@ def python_block(name: str, block: str, parameters: dict, where: str = "system")
 
 
 def create_components(spec: SystemSpec, fmu_dir: str | Path | None = None) -> dict[str, Component]:
-    """Component objects for every entry of the system (models are built into ``fmu_dir``)."""
+    """Component objects for every entry of the system (models are built into ``fmu_dir``, as
+    FMI 2.0 or 3.0 FMUs by their ``fmi_version``; FMU files may be either)."""
     from cosim.compiler.build import DEFAULT_OUTPUT, build_model
     from cosim.compiler.library import load_library
     from cosim.fmu.parameters import check, declarations
@@ -37,7 +38,9 @@ def create_components(spec: SystemSpec, fmu_dir: str | Path | None = None) -> di
                 created[name] = python_block(name, entry.source, entry.parameters, where)
                 continue
             if entry.kind == "model":
-                fmu = build_model(entry.source, fmu_dir or DEFAULT_OUTPUT, load_library()).fmu
+                # FMI 2 builds go to OUTPUT/NAME.fmu, FMI 3 ones to OUTPUT/fmi3/NAME.fmu
+                fmu = build_model(entry.source, fmu_dir or DEFAULT_OUTPUT, load_library(),
+                                  fmi_version=entry.fmi_version).fmu
             else:
                 fmu = Path(entry.source)
                 if not fmu.is_file():

@@ -2,7 +2,8 @@
  * fastloop.c -- the stepping loop of the co-simulation master for systems of FMUs and native blocks.
  *
  * Python sets the system up (instantiation, parameters, initialization) and hands over the raw
- * FMI function pointers and instance handles, and for each Python block with a native form
+ * FMI function pointers and instance handles (an FMI 3 FMU's through the adapters below, which give
+ * its functions the FMI 2 signatures), and for each Python block with a native form
  * (registry.Native: affine, linear, exact delay) its matrices and state arrays; this loop then
  * does exactly what the Python loop in master.py does, without an interpreter round trip per call.
  *
@@ -11,12 +12,62 @@
  * with -ffp-contract=off), so both loops give bit-identical results.
  */
 #include <math.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <string.h>
 
 typedef int (*set_real_fn)(void *, const unsigned int *, size_t, const double *);
 typedef int (*get_real_fn)(void *, const unsigned int *, size_t, double *);
 typedef int (*do_step_fn)(void *, double, double, int);
+
+/* ------------------------------------------------------------------ FMI 3 adapters
+ *
+ * The loop calls every FMU through the three FMI 2 signatures above. An FMI 3 Co-Simulation FMU
+ * gets them from these adapters, whose first argument is an fmi3_adapter (the "instance" of the
+ * loop's component) instead of the FMU's instance: fmi3SetFloat64/fmi3GetFloat64 take the number
+ * of values besides the number of value references (equal here: the master connects scalars
+ * only), and fmi3DoStep reports through four out-arguments what FMI 2 left to fmi2GetStatus. An
+ * FMI 2 component calls the FMU directly, so its cost per call is the same as before FMI 3. */
+typedef int (*fmi3_set_float64_fn)(void *, const unsigned int *, size_t, const double *, size_t);
+typedef int (*fmi3_get_float64_fn)(void *, const unsigned int *, size_t, double *, size_t);
+typedef int (*fmi3_do_step_fn)(void *, double, double, bool, bool *, bool *, bool *, double *);
+
+typedef struct {
+    void *instance;                     /* the fmi3Instance */
+    fmi3_set_float64_fn set_float64;
+    fmi3_get_float64_fn get_float64;
+    fmi3_do_step_fn do_step;
+    /* what the last fmi3DoStep said (component.FMUComponent.failed reads them) */
+    int status;                         /* the fmi3Status it returned */
+    int event_handling_needed, terminate_simulation, early_return;
+    double last_successful_time;        /* [s] */
+} fmi3_adapter;
+
+int cosim_fmi3_set_real(void *adapter, const unsigned int *vr, size_t n, const double *values) {
+    const fmi3_adapter *a = adapter;
+    return a->set_float64(a->instance, vr, n, values, n);
+}
+
+int cosim_fmi3_get_real(void *adapter, const unsigned int *vr, size_t n, double *values) {
+    const fmi3_adapter *a = adapter;
+    return a->get_float64(a->instance, vr, n, values, n);
+}
+
+/* fmi3DoStep as fmi2DoStep. The instance was made without event mode and without early return,
+   so eventHandlingNeeded asks nothing of the master (the FMU handles its events inside the step);
+   an early return (forbidden then) or a request to terminate ends the run as a Discard would, with
+   the flags and the last successful time kept for the message. */
+int cosim_fmi3_do_step(void *adapter, double t, double h, int no_set_state_prior) {
+    fmi3_adapter *a = adapter;
+    bool event = false, terminate = false, early = false;
+    double last = t;
+    int status = a->do_step(a->instance, t, h, no_set_state_prior != 0, &event, &terminate, &early, &last);
+    a->status = status;
+    a->event_handling_needed = event, a->terminate_simulation = terminate, a->early_return = early;
+    a->last_successful_time = last;
+    if (status <= 1 && (terminate || early)) return 2;
+    return status;
+}
 
 enum { BLOCK_AFFINE = 1, BLOCK_LINEAR = 2, BLOCK_DELAY = 3 };
 

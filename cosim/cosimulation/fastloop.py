@@ -7,7 +7,7 @@ import os
 import shutil
 import subprocess
 import tempfile
-from ctypes import CDLL, POINTER, Structure, c_double, c_int, c_longlong, c_uint, c_void_p, cast
+from ctypes import CDLL, POINTER, Structure, c_double, c_int, c_longlong, c_size_t, c_uint, c_void_p, cast
 from functools import lru_cache
 from pathlib import Path
 
@@ -44,6 +44,31 @@ class FastComponent(Structure):
         ("n_out", c_int), ("out_vr", POINTER(c_uint)), ("out_offset", c_int), ("multiple", c_int),
         ("block", POINTER(FastBlock)), ("in_target", POINTER(c_int)), ("now", c_double),
     ]
+
+
+class Fmi3Adapter(Structure):
+    """fastloop.c's ``fmi3_adapter``: an FMI 3 Co-Simulation instance with its raw fmi3SetFloat64,
+    fmi3GetFloat64 and fmi3DoStep, and what the last fmi3DoStep reported (``status``, its flags,
+    ``last_successful_time`` [s])."""
+
+    _fields_ = [
+        ("instance", c_void_p), ("set_float64", c_void_p), ("get_float64", c_void_p), ("do_step", c_void_p),
+        ("status", c_int), ("event_handling_needed", c_int), ("terminate_simulation", c_int),
+        ("early_return", c_int), ("last_successful_time", c_double),
+    ]
+
+
+def fmi3_adapters(lib):
+    """The adapters of fastloop.c (``cosim_fmi3_set_real``, ``cosim_fmi3_get_real``,
+    ``cosim_fmi3_do_step``): FMI 3 calls with the FMI 2 signatures the loop calls, their first
+    argument a pointer to an :class:`Fmi3Adapter`."""
+    set_real, get_real, do_step = lib.cosim_fmi3_set_real, lib.cosim_fmi3_get_real, lib.cosim_fmi3_do_step
+    set_real.argtypes = [c_void_p, POINTER(c_uint), c_size_t, POINTER(c_double)]
+    get_real.argtypes = [c_void_p, POINTER(c_uint), c_size_t, POINTER(c_double)]
+    do_step.argtypes = [c_void_p, c_double, c_double, c_int]
+    for function in (set_real, get_real, do_step):
+        function.restype = c_int
+    return set_real, get_real, do_step
 
 
 def _pointer(array, ctype, keep: list, shared: bool = False, size: int | None = None):

@@ -175,7 +175,7 @@ class System:
                 raise SystemError_(f"{where}: connection '{c}': causality mismatch: '{comp}.{var}' is "
                                    f"{'an' if causality[0] in 'aeiou' else 'a'} {causality}, not an {kind}")
             raise SystemError_(f"{where}: connection '{c}': type mismatch: '{comp}.{var}' is {type_}; "
-                               "connections carry Real signals")
+                               "connections carry Real signals (FMI 3: scalar Float64)")
 
     def _gauss_seidel_order(self, where: str) -> list[str]:
         """Topological order of the components along connections with direct feedthrough.
@@ -457,8 +457,8 @@ class System:
         name = self.names[failed.value]
         if status == 4:  # a bound of TransportDelay.native was wrong: a bug, not the user's
             raise RuntimeError(f"{name}: the native delay's sample ring is full at t = {t:g} s")
-        call = ("fmi2SetReal", "fmi2DoStep", "fmi2GetReal")[failed_call.value]
-        error = self.components[name].failed(call, failed_time.value, fmi_status.value)
+        component = self.components[name]
+        error = component.failed(component.calls[failed_call.value], failed_time.value, fmi_status.value)
         return self._failed_outcome(name, t, str(error)), rows
 
     def _check_outcome(self, t: float) -> Outcome | None:

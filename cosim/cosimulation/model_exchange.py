@@ -10,8 +10,9 @@ in one Modelica model that connects the same parts:
 
 * an FMU takes part through its FMI 2.0 Model Exchange interface (``fmi2SetTime``,
   ``fmi2SetContinuousStates``, ``fmi2SetReal`` of its inputs, ``fmi2GetReal`` of its outputs,
-  ``fmi2GetDerivatives``); the coupling handles no events, so an FMU with event indicators or
-  time events is refused;
+  ``fmi2GetDerivatives``) or its FMI 3.0 one (the same with ``fmi3SetFloat64``,
+  ``fmi3GetFloat64`` and ``fmi3GetContinuousStateDerivatives``); the coupling handles no
+  events, so an FMU with event indicators or time events is refused;
 * a Python block takes part through its continuous-time linear model ``x' = A x + B u``,
   ``y = C x + D u + r(t)`` (:meth:`~cosim.cosimulation.registry.Block.linear` and
   :meth:`~cosim.cosimulation.registry.Block.exogenous`); a block that is no finite-dimensional
@@ -32,7 +33,7 @@ so with a jump the scheme is first order in the step (smooth systems: fourth ord
 """
 from __future__ import annotations
 
-from ctypes import POINTER, byref, c_double, c_int, c_uint
+from ctypes import POINTER, byref, c_bool, c_double, c_int, c_uint
 from dataclasses import dataclass
 
 import numpy as np
@@ -43,6 +44,10 @@ from cosim.cosimulation.registry import Block
 from cosim.cosimulation.system import Connection, SystemError_
 
 ALGORITHM = "model-exchange"
+#: The Model Exchange calls of F(t, X) by their FMI 2 names (without the prefix) in FMI 3.
+FMI3_CALLS = {"SetReal": "fmi3SetFloat64", "GetReal": "fmi3GetFloat64", "SetTime": "fmi3SetTime",
+              "SetContinuousStates": "fmi3SetContinuousStates", "GetDerivatives": "fmi3GetContinuousStateDerivatives",
+              "CompletedIntegratorStep": "fmi3CompletedIntegratorStep"}
 
 
 class _FMUModel:
@@ -89,17 +94,22 @@ class _FMUModel:
         comp.enter_initialization(start_time, "me")
         functions = comp.instance._functions  # the raw C functions: no FMPy wrapper per call
         self._c = comp.instance.component
-        self._f = {k: functions[f"fmi2{k}"] for k in ("SetReal", "GetReal", "SetTime", "SetContinuousStates",
-                                                     "GetDerivatives", "CompletedIntegratorStep")}
+        self._names = FMI3_CALLS if comp.fmu.is_fmi3 else {k: f"fmi2{k}" for k in FMI3_CALLS}
+        self._f = {k: functions[name] for k, name in self._names.items()}
+        if comp.fmu.is_fmi3:  # fmi3Set/GetFloat64 also take the number of values (scalars here: the same)
+            set_float64, get_float64 = self._f["SetReal"], self._f["GetReal"]
+            self._f["SetReal"] = lambda c, vr, n, values: set_float64(c, vr, n, values, n)
+            self._f["GetReal"] = lambda c, vr, n, values: get_float64(c, vr, n, values, n)
         self.t = float(start_time)
 
     def initial_inputs(self) -> np.ndarray:
         if self.inputs:
-            self._check(self._f["GetReal"](self._c, self._in_vr, len(self.inputs), self._ptr["_u"]), "fmi2GetReal")
+            self._check(self._f["GetReal"](self._c, self._in_vr, len(self.inputs), self._ptr["_u"]),
+                        self._names["GetReal"])
         return self._u.copy()
 
     def end_initialization(self) -> np.ndarray:
-        """Leave initialization, settle the event mode FMI 2.0 enters then, switch to
+        """Leave initialization, settle the event mode FMI 2.0 and 3.0 enter then, switch to
         continuous time; the initial states.
 
         Raises
@@ -108,10 +118,12 @@ class _FMUModel:
             If the FMU asks for a time event or to terminate: the coupling handles no events.
         """
         comp, instance = self.component, self.component.instance
-        comp._call("fmi2ExitInitializationMode", instance.exitInitializationMode)
+        fmi = comp.calls[0][:4]  # fmi2 or fmi3
+        comp._call(f"{fmi}ExitInitializationMode", instance.exitInitializationMode)
+        update = (("fmi3UpdateDiscreteStates", instance.updateDiscreteStates) if comp.fmu.is_fmi3
+                  else ("fmi2NewDiscreteStates", instance.newDiscreteStates))
         for _ in range(100):  # event iteration at the start (these models need none)
-            needed, terminate, _, _, time_event, next_time = comp._call("fmi2NewDiscreteStates",
-                                                                        instance.newDiscreteStates)
+            needed, terminate, _, _, time_event, next_time = comp._call(*update)
             if terminate:
                 raise SimulationError(f"{self.name}: the FMU asks to terminate at the start (t = {self.t:g} s)")
             if time_event:
@@ -121,15 +133,15 @@ class _FMUModel:
                 break
         else:
             raise SimulationError(f"{self.name}: the FMU's event iteration at the start does not settle")
-        comp._call("fmi2EnterContinuousTimeMode", instance.enterContinuousTimeMode)
+        comp._call(f"{fmi}EnterContinuousTimeMode", instance.enterContinuousTimeMode)
         if self.nx:
-            comp._call("fmi2GetContinuousStates", lambda: instance.getContinuousStates(self._ptr["_x"], self.nx))
+            comp._call(f"{fmi}GetContinuousStates", lambda: instance.getContinuousStates(self._ptr["_x"], self.nx))
         return self._x.copy()
 
     # ------------------------------------------------------------------ F(t, X)
 
     def _check(self, status: int, what: str) -> None:
-        if status > 1:  # fmi2Discard or worse: record it for close(), quote the FMU
+        if status > 1:  # Discard or worse: record it for close(), quote the FMU
             comp = self.component
             comp.status = max(comp.status, int(status))
             said = comp.fmu_said()
@@ -139,31 +151,34 @@ class _FMUModel:
 
     def set_point(self, t: float, x: np.ndarray) -> None:
         self.t = t
-        self._check(self._f["SetTime"](self._c, t), "fmi2SetTime")
+        self._check(self._f["SetTime"](self._c, t), self._names["SetTime"])
         if self.nx:
             self._x[:] = x
-            self._check(self._f["SetContinuousStates"](self._c, self._ptr["_x"], self.nx), "fmi2SetContinuousStates")
+            self._check(self._f["SetContinuousStates"](self._c, self._ptr["_x"], self.nx),
+                        self._names["SetContinuousStates"])
 
     def feed(self, u: np.ndarray) -> None:
         self._u[:] = u
-        self._check(self._f["SetReal"](self._c, self._in_vr, len(self.inputs), self._ptr["_u"]), "fmi2SetReal")
+        self._check(self._f["SetReal"](self._c, self._in_vr, len(self.inputs), self._ptr["_u"]), self._names["SetReal"])
 
     def read(self) -> np.ndarray:
         if self.outputs:
-            self._check(self._f["GetReal"](self._c, self._out_vr, len(self.outputs), self._ptr["_y"]), "fmi2GetReal")
+            self._check(self._f["GetReal"](self._c, self._out_vr, len(self.outputs), self._ptr["_y"]),
+                        self._names["GetReal"])
         return self._y
 
     def derivatives(self) -> np.ndarray:
         if self.nx:
-            self._check(self._f["GetDerivatives"](self._c, self._ptr["_dx"], self.nx), "fmi2GetDerivatives")
+            self._check(self._f["GetDerivatives"](self._c, self._ptr["_dx"], self.nx), self._names["GetDerivatives"])
         return self._dx
 
     def completed_step(self) -> None:
-        """``fmi2CompletedIntegratorStep`` at the accepted point (FMI 2.0 requires the call);
-        a step event it reports cannot be handled and ends the run."""
-        event, terminate = c_int(0), c_int(0)
+        """``fmi2CompletedIntegratorStep``/``fmi3CompletedIntegratorStep`` at the accepted point
+        (FMI requires the call); a step event it reports cannot be handled and ends the run."""
+        flag = c_bool if self.component.fmu.is_fmi3 else c_int  # fmi3Boolean is C's bool
+        event, terminate = flag(0), flag(0)
         self._check(self._f["CompletedIntegratorStep"](self._c, 1, byref(event), byref(terminate)),
-                    "fmi2CompletedIntegratorStep")
+                    self._names["CompletedIntegratorStep"])
         if event.value or terminate.value:
             what = "a step event" if event.value else "to terminate"
             raise StepFailed(f"{self.name}: the FMU asks for {what} at t = {self.t:g} s; algorithm = "

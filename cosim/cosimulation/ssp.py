@@ -3,6 +3,11 @@
 The archive holds ``SystemStructure.ssd`` and the FMUs under ``resources/``. Parameters are
 bound inline (ssv:ParameterSet per component); the base step and per-component step sizes go
 into OSP annotations, which libcosim reads.
+
+The models of the system are built as FMI 2.0 FMUs, or as FMI 3.0 FMUs with ``fmi_version="3"``
+(``cosim export-ssp --fmi-version 3``); SSP 1.0 types the connectors and parameters of both the
+same way (FMI 3 ``Float64`` is ``ssc:Real``). Ecos runs either; libcosim has no FMI 3.0 (see
+:mod:`cosim.fmu.engines`).
 """
 from __future__ import annotations
 
@@ -22,7 +27,14 @@ NS = {
 # One parameter-set name for all components: libcosim applies every binding; Ecos applies the
 # set named at initialization (``init(parameter_set="initialValues")``).
 PARAMETER_SET = "initialValues"
-TYPES = {"Real": "Real", "Integer": "Integer", "Boolean": "Boolean", "String": "String"}
+#: SSP 1.0 types of the FMI 2 and FMI 3 variable types a connector or parameter may have.
+TYPES = {"Real": "Real", "Integer": "Integer", "Boolean": "Boolean", "String": "String",
+         "Float64": "Real", "Float32": "Real", "Int32": "Integer", "Int16": "Integer", "Int8": "Integer",
+         "UInt16": "Integer", "UInt8": "Integer"}
+
+
+class FileNote(str):
+    """A note of :func:`export_ssp` on an FMU file of the system (copied as it is), not on a twin."""
 
 
 def _q(prefix: str, tag: str) -> str:
@@ -39,7 +51,7 @@ def _literal(value, kind: str) -> str:
 
 def system_structure(spec: SystemSpec, fmus: dict[str, Path]) -> bytes:
     """The SystemStructure.ssd text; ``fmus`` maps component names to their FMU files."""
-    from cosim.fmu.access import read_fmu
+    from cosim.fmu.access import ALL_FMI_VERSIONS, read_fmu
 
     # libcosim's parser wants the literal prefixes ssd: ssc: ssv: osp: declared on the root.
     root = ET.Element("ssd:SystemStructureDescription", {
@@ -50,13 +62,13 @@ def system_structure(spec: SystemSpec, fmus: dict[str, Path]) -> bytes:
         system.set("description", spec.description)
     elements = ET.SubElement(system, "ssd:Elements")
     for name, fmu in fmus.items():
-        md = read_fmu(fmu)
+        md = read_fmu(fmu, ALL_FMI_VERSIONS)
         variables = {v.name: v for v in md.modelVariables}
         component = ET.SubElement(elements, "ssd:Component", {
             "name": name, "source": f"resources/{name}.fmu", "type": "application/x-fmu-sharedlibrary"})
         connectors = ET.SubElement(component, "ssd:Connectors")
         for v in md.modelVariables:
-            if v.causality in ("input", "output") and v.type in TYPES:
+            if v.causality in ("input", "output") and v.type in TYPES and not getattr(v, "dimensions", None):
                 connector = ET.SubElement(connectors, "ssd:Connector", name=v.name, kind=v.causality)
                 ET.SubElement(connector, f"ssc:{TYPES[v.type]}")
         parameters = spec.components[name].parameters
@@ -69,7 +81,7 @@ def system_structure(spec: SystemSpec, fmus: dict[str, Path]) -> bytes:
             for pname, value in parameters.items():
                 v = variables[pname]
                 entry = ET.SubElement(container, "ssv:Parameter", name=pname)
-                ET.SubElement(entry, f"ssv:{TYPES[v.type]}", value=_literal(value, v.type))
+                ET.SubElement(entry, f"ssv:{TYPES[v.type]}", value=_literal(value, TYPES[v.type]))
         multiple = spec.components[name].step_multiple
         if multiple != 1:
             annotations = ET.SubElement(component, "ssd:Annotations")
@@ -88,16 +100,44 @@ def system_structure(spec: SystemSpec, fmus: dict[str, Path]) -> bytes:
     return ET.tostring(root, encoding="UTF-8", xml_declaration=True) + b"\n"
 
 
-def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | None = None
-               ) -> tuple[Path, list[str]]:
+def _built_as(spec: SystemSpec, fmi_version: str) -> SystemSpec:
+    """The system with every model component built as ``fmi_version`` ("2" or "3")."""
+    import dataclasses
+
+    from cosim.cosimulation.system import FMI_VERSIONS
+
+    version = {"2.0": "2", "3.0": "3"}.get(fmi_version, fmi_version)
+    if version not in FMI_VERSIONS:
+        raise SystemError_(f"FMI version '{fmi_version}' cannot be exported (choose 2 or 3)")
+    return dataclasses.replace(spec, components={
+        name: dataclasses.replace(entry, fmi_version=version) if entry.kind == "model" else entry
+        for name, entry in spec.components.items()})
+
+
+def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | None = None,
+               fmi_version: str | None = None) -> tuple[Path, list[str]]:
     """Write the system as an SSP archive; Python blocks are replaced by their Modelica twins.
 
-    Returns the archive path and one note per replaced block.
+    Parameters
+    ----------
+    spec : SystemSpec
+        The system.
+    destination : str or Path
+        The ``.ssp`` file to write.
+    fmu_dir : str or Path, optional
+        Where models are built (default: ``COSIM_FMU_DIR`` or ``./fmus``).
+    fmi_version : {"2", "3"}, optional
+        Build every model (and twin) as this FMI version; None: each component's own
+        ``fmi_version`` (default 2). FMU files given in the system keep theirs (noted).
+
+    Returns the archive path and one note per replaced block (and per FMU file of another FMI
+    version than ``fmi_version``).
 
     Raises
     ------
     SystemError_
-        If a Python block has no Modelica twin, or the system is not fixed-step Jacobi.
+        If a Python block has no Modelica twin, ``fmi_version`` is not 2 or 3, or the system is
+        not fixed-step Jacobi.
     """
     from cosim.outputs import atomic_output, check_output
     from cosim.cosimulation.factory import create_components
@@ -106,6 +146,8 @@ def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | 
 
     destination = check_output(destination, "SSP file")  # before anything is built
     spec, notes = with_twins(spec)
+    if fmi_version is not None:
+        spec = _built_as(spec, str(fmi_version))
     if spec.algorithm != "jacobi":
         raise SystemError_(f"{spec.path or spec.name}: SSP export describes a fixed-step Jacobi system "
                            f"(OSP FixedStepAlgorithm); the system uses '{spec.algorithm}'")
@@ -120,6 +162,11 @@ def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | 
 
         assemble(spec, components)  # checks the wiring before anything is written
         fmus = {name: Path(comp.fmu.path) for name, comp in components.items() if isinstance(comp, FMUComponent)}
+        if fmi_version is not None:
+            notes += [FileNote(f"{name}: the FMU file {comp.fmu.path.name} is FMI {comp.fmu.fmi_version}, "
+                               "copied as it is")
+                      for name, comp in components.items()
+                      if isinstance(comp, FMUComponent) and comp.fmu.fmi_version[:1] != str(fmi_version)[:1]]
     finally:
         for comp in components.values():
             comp.close()

@@ -16,6 +16,7 @@ Example (``connections`` stands before the first table, as TOML requires of top-
 
     [components.bike]
     model = "Bicycle.Bicycles.WhippleLinear"      # or fmu = "path.fmu", or python = "TransportDelay"
+    fmi_version = 2                               # a model is built as FMI 2.0 (default) or 3.0
     params = "benchmark"                          # a Meijaard parameter set (name or TOML file)
     step_multiple = 1
     parameters = { v = 4.0 }
@@ -54,6 +55,7 @@ class ComponentSpec:
     parameters: dict = field(default_factory=dict)
     step_multiple: int = 1
     parameter_set: str | None = None  # Meijaard parameter set (name or TOML) applied before `parameters`
+    fmi_version: str = "2"  # a model component: the FMI version it is built as ("2" or "3")
 
 
 @dataclass
@@ -143,8 +145,10 @@ def load_system(path: str | Path) -> SystemSpec:
 
 SYSTEM_KEYS = ("name", "description", "start", "stop", "step", "algorithm", "initialize", "fall", "record",
                "sampling")
-COMPONENT_KEYS = ("model", "fmu", "python", "parameters", "step_multiple", "params")
+COMPONENT_KEYS = ("model", "fmu", "python", "parameters", "step_multiple", "params", "fmi_version")
 KINDS = ("model", "fmu", "python")
+#: The FMI versions a model component is built as (``fmi_version``; an FMU file has its own).
+FMI_VERSIONS = ("2", "3")
 DEFAULTS = {"start": 0.0, "stop": 10.0, "step": 0.01}
 #: Most communication steps one run takes (a guard against ``stop = 1e9, step = 1e-9``).
 MAX_STEPS = 10_000_000
@@ -325,10 +329,11 @@ def _component(problems: _Problems, name: str, entry, path: Path | None) -> Comp
         problems.add(f"{key} step_multiple", f"must be a positive integer, got {type_name(multiple)}")
         multiple = None
     parameters = _parameters(problems, f"{key} parameters", entry.get("parameters", {}))
+    fmi_version = _fmi_version(problems, key, kind, entry)
     parameter_set = entry.get("params")
     if parameter_set is not None:
         parameter_set = _string(problems, f"{key} params", parameter_set)
-    if source is None or multiple is None or ("params" in entry and parameter_set is None):
+    if source is None or multiple is None or fmi_version is None or ("params" in entry and parameter_set is None):
         return None
     if kind == "fmu" and path is not None and not Path(source).is_absolute():
         source = str((path.parent / source).resolve())
@@ -345,7 +350,23 @@ def _component(problems: _Problems, name: str, entry, path: Path | None) -> Comp
         except FileNotFoundError:
             problems.add(f"{key} params", f"no such bundled parameter set or file '{entry['params']}'")
             return None
-    return ComponentSpec(name, kind, source, parameters, multiple, parameter_set)
+    return ComponentSpec(name, kind, source, parameters, multiple, parameter_set, fmi_version)
+
+
+def _fmi_version(problems: _Problems, key: str, kind: str, entry: dict) -> str | None:
+    """The checked ``fmi_version`` of a component ("2" where not given); None after a problem."""
+    if "fmi_version" not in entry:
+        return "2"
+    value = entry["fmi_version"]
+    if kind != "model":
+        what = "an FMU file has its own FMI version" if kind == "fmu" else "a Python block is no FMU"
+        problems.add(f"{key} fmi_version", f"applies to model components only ({what})")
+        return None
+    text = str(value) if isinstance(value, (int, float, str)) and not isinstance(value, bool) else None
+    version = {"2": "2", "2.0": "2", "3": "3", "3.0": "3"}.get(text.strip() if text else "")
+    if version is None:
+        problems.add(f"{key} fmi_version", f"must be 2 or 3, got {type_name(value)}")
+    return version
 
 
 def system_from_dict(data: dict, path: Path | None = None) -> SystemSpec:

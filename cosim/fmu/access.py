@@ -39,6 +39,9 @@ READABLE_FMI_VERSIONS = ALL_FMI_VERSIONS
 #: Largest total unpacked size of an FMU's members [bytes]; beyond it the archive is refused.
 MAX_UNPACKED_BYTES = 2 * 1024**3
 MODEL_DESCRIPTION = "modelDescription.xml"
+#: Most fmi3UpdateDiscreteStates calls of an initial event iteration (a guard against an FMU
+#: that always asks for another one).
+MAX_EVENT_ITERATIONS = 1000
 
 _DESCRIPTIONS: dict[tuple, object] = {}  # (path, size, mtime) -> checked model description
 _EXTRACTED: dict[tuple, str] = {}  # (path, size, mtime) -> unzip folder
@@ -82,10 +85,11 @@ def check_fmi_version(path: Path, version: str | None, versions: tuple[str, ...]
         return
     if version is None or not version.strip():
         raise FMUError(f"{path}: modelDescription.xml has no fmiVersion attribute")
+    runs = " and ".join(versions)
     if version.startswith("3."):
         readable = " (`cosim info` reads its model description)" if version in READABLE_FMI_VERSIONS else ""
-        raise FMUError(f"{path}: FMI {version} FMUs are not supported yet (this tool runs FMI 2.0){readable}")
-    raise FMUError(f"{path}: FMI version '{version}' is not supported (this tool runs FMI 2.0)")
+        raise FMUError(f"{path}: FMI {version} FMUs are not supported yet (this command runs FMI {runs}){readable}")
+    raise FMUError(f"{path}: FMI version '{version}' is not supported (this command runs FMI {runs})")
 
 
 def _open_archive(path: Path) -> zipfile.ZipFile:
@@ -169,12 +173,33 @@ def read_fmu(path: str | os.PathLike, versions: tuple[str, ...] = SUPPORTED_FMI_
             problems = [str(p).strip() for p in exc.problems]
             more = f" (and {len(problems) - 3} more)" if len(problems) > 3 else ""
             raise FMUError(f"{path}: {MODEL_DESCRIPTION} is invalid: {'; '.join(problems[:3])}{more}") from None
-        except Exception as exc:  # FMPy raises bare Exception, ValueError, KeyError, ... on odd XML
+        except KeyError as exc:
+            if not (exc.args and isinstance(exc.args[0], int)):
+                raise FMUError(f"{path}: cannot read {MODEL_DESCRIPTION}: KeyError: {exc}") from None
+            # FMPy looks a value reference up (ModelStructure, derivative=...) that no variable has
+            raise FMUError(f"{path}: {MODEL_DESCRIPTION} refers to value reference {exc.args[0]}, which no "
+                           "variable has (or which two variables share)") from None
+        except Exception as exc:  # FMPy raises bare Exception, ValueError, ... on odd XML
             raise FMUError(f"{path}: cannot read {MODEL_DESCRIPTION}: {type(exc).__name__}: {exc}") from None
     if md.modelExchange is None and md.coSimulation is None:
         raise FMUError(f"{path}: {MODEL_DESCRIPTION} declares neither ModelExchange nor CoSimulation")
+    if md.fmiVersion.startswith("3."):
+        _fmi3_capabilities(md, root)
     _DESCRIPTIONS[key] = md
     return md
+
+
+def _fmi3_capabilities(md, root) -> None:
+    """Copy FMI 3's ``providesDirectionalDerivatives`` (plural) onto FMPy's ``providesDirectionalDerivative``.
+
+    FMPy 0.3.32 copies only the attributes its classes name, and it names the FMI 2 spelling: an
+    FMI 3 FMU read by it never provides directional derivatives (``providesAdjointDerivatives``
+    has the FMI 3 spelling and is read). Every caller asks ``providesDirectionalDerivative``, for
+    either version."""
+    for tag, section in (("ModelExchange", md.modelExchange), ("CoSimulation", md.coSimulation)):
+        element = root.find(tag)
+        if section is not None and element is not None:
+            section.providesDirectionalDerivative = element.get("providesDirectionalDerivatives") in ("true", "1")
 
 
 def _extract_members(path: Path, folder: Path) -> None:
@@ -264,6 +289,16 @@ def get_continuous_states(instance, nx: int) -> np.ndarray:
     if nx:
         instance.getContinuousStates(x, nx)
     return np.array(x[:])
+
+
+def get_state_derivatives(instance, nx: int) -> np.ndarray:
+    """The time derivatives of the continuous states of an FMPy Model Exchange instance
+    (``fmi2GetDerivatives`` or ``fmi3GetContinuousStateDerivatives``)."""
+    dx = (c_double * nx)()
+    if nx:
+        get = getattr(instance, "getContinuousStateDerivatives", None) or instance.getDerivatives
+        get(dx, nx)
+    return np.array(dx[:])
 
 
 def set_continuous_states(instance, x) -> None:
@@ -422,6 +457,39 @@ class FMU:
     def derivatives(self) -> list[str]:
         return [d.variable.name for d in self.description.derivatives]
 
+    def size(self, name: str) -> int:
+        """The number of values of a variable: 1 for a scalar, the product of its ``<Dimension>``
+        sizes for an FMI 3 array (a size given by a structural parameter takes that parameter's
+        start value: structural parameters change only in Configuration Mode, which is not used)."""
+        v = self.variables[name]
+        n = 1
+        for d in getattr(v, "dimensions", None) or ():
+            if d.start not in (None, ""):
+                n *= int(d.start)
+            else:
+                sizes = [x for x in self.description.modelVariables if x.valueReference == d.valueReference]
+                if not sizes or sizes[0].start in (None, ""):
+                    raise FMUError(f"{self.path}: the size of the array '{name}' refers to value reference "
+                                   f"{d.valueReference}, which has no start value")
+                n *= int(sizes[0].start)
+        return n
+
+    def elements(self, names: list[str]) -> list[str]:
+        """The names of the values of ``names``: a scalar's name, ``x[1]``, ``x[2]``, ... for the
+        elements of an FMI 3 array ``x`` (1-based, as in Modelica; its value reference is one)."""
+        found = []
+        for name in names:
+            if getattr(self.variables[name], "dimensions", None):
+                found += [f"{name}[{k}]" for k in range(1, self.size(name) + 1)]
+            else:
+                found.append(name)
+        return found
+
+    @property
+    def n_states(self) -> int:
+        """The number of continuous state values (FMI 3 arrays count each element)."""
+        return sum(self.size(n) for n in self.states)
+
     def library(self, kind: str = "cs") -> Path:
         """The shared library of the interface ``kind`` for this platform.
 
@@ -464,12 +532,72 @@ class FMU:
                 instance.instantiate(loggingOn=False, logMessage=log.fmi3_logger)
             else:
                 instance.instantiate(loggingOn=False, callbacks=log.callbacks())
+        except AttributeError as exc:  # FMPy looks up every function of the standard: one is missing
+            missing = re.search(r"undefined symbol: (\w+)", str(exc))
+            what = missing.group(1) if missing else str(exc)
+            raise FMUError(f"{self.path}: {library.name} does not export {what}, a function every FMI "
+                           f"{self.fmi_version} binary must have") from None
         except Exception as exc:  # FMPy raises bare Exception for a library that does not load
             said = log.last_error()
             raise FMUError(f"{self.path}: cannot instantiate {library.name}: {exc}"
                            + (f" (the FMU says: {said})" if said else "")) from None
         instance.log = log
         return instance
+
+    def provides_adjoint_derivatives(self, kind: str = "me") -> bool:
+        """Whether the interface ``kind`` offers ``fmi3GetAdjointDerivative`` (never in FMI 2)."""
+        section = self.description.coSimulation if kind == "cs" else self.description.modelExchange
+        return bool(self.is_fmi3 and section is not None and getattr(section, "providesAdjointDerivatives", False))
+
+    def initialize_me(self, instance, start_time: float = 0.0) -> None:
+        """Initialize a Model Exchange instance at ``start_time`` [s] and enter Continuous-Time Mode.
+
+        FMI 2: ``fmi2SetupExperiment``, ``fmi2Enter/ExitInitializationMode``,
+        ``fmi2EnterContinuousTimeMode`` (the FMUs built here have no discrete states, and the
+        linearization of FMI 2 FMUs has always gone this way). FMI 3:
+        ``fmi3EnterInitializationMode(startTime)``, ``fmi3ExitInitializationMode``, then
+        ``fmi3UpdateDiscreteStates`` until no discrete state needs an update (the initial event
+        iteration FMI 3 requires in Event Mode), ``fmi3EnterContinuousTimeMode``.
+
+        Raises
+        ------
+        fmpy.fmi1.FMICallException
+            A call the FMU refused (as FMPy raises it; the caller names the FMU).
+        FMUError
+            The FMU asks to terminate during the initial event iteration, or it does not end.
+        """
+        if not self.is_fmi3:
+            instance.setupExperiment(startTime=start_time)
+            instance.enterInitializationMode()
+            instance.exitInitializationMode()
+            instance.enterContinuousTimeMode()
+            return
+        instance.enterInitializationMode(startTime=start_time)
+        instance.exitInitializationMode()
+        self.initial_event_iteration(instance)
+        instance.enterContinuousTimeMode()
+
+    def initial_event_iteration(self, instance) -> None:
+        """FMI 3 Model Exchange after ``fmi3ExitInitializationMode`` (Event Mode):
+        ``fmi3UpdateDiscreteStates`` until no discrete state needs an update.
+
+        Raises
+        ------
+        fmpy.fmi1.FMICallException
+            The FMU refused the call.
+        FMUError
+            The FMU asks to terminate, or the iteration does not end after
+            :data:`MAX_EVENT_ITERATIONS` calls.
+        """
+        for _ in range(MAX_EVENT_ITERATIONS):
+            update, terminate, *_ = instance.updateDiscreteStates()
+            if terminate:
+                raise FMUError(f"{self.path}: the FMU asks to terminate during its initial event iteration")
+            if not update:
+                break
+        else:
+            raise FMUError(f"{self.path}: the initial event iteration did not end after "
+                           f"{MAX_EVENT_ITERATIONS} fmi3UpdateDiscreteStates calls")
 
     def set(self, instance, values: dict) -> None:
         """Set values by name, each with the setter of its type (FMI 2 or FMI 3)."""

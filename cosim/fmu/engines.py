@@ -2,6 +2,10 @@
 
 Used to prove that the FMUs load and run unmodified in other tools; both engines step with a
 fixed communication step and the results are returned as FMPy-style structured arrays.
+
+Ecos runs FMI 2.0 and FMI 3.0 Co-Simulation FMUs (and SSPs of either). libcosim has no FMI 3.0:
+it crashes the process on an FMI 3 FMU, so its runners refuse one (:class:`EngineUnsupported`)
+before libcosim is loaded.
 """
 from __future__ import annotations
 
@@ -21,6 +25,71 @@ NANOSECONDS = 1_000_000_000
 
 class EngineUnavailable(CosimError, ImportError):
     """An independent FMI engine cannot be loaded here; the message says what is missing."""
+
+
+class EngineUnsupported(CosimError, ValueError):
+    """An FMU or SSP the engine cannot run (libcosim and FMI 3.0); the message names the FMUs
+    and what runs them instead."""
+
+
+LIBCOSIM_NO_FMI3 = "libcosim has no FMI 3.0 support (an FMI 3 FMU crashes it)"
+
+
+def _fmi_version(description: bytes) -> str | None:
+    """The ``fmiVersion`` attribute of a modelDescription.xml (None if it cannot be read)."""
+    import xml.etree.ElementTree as ET
+
+    try:
+        return ET.fromstring(description).get("fmiVersion")
+    except ET.ParseError:
+        return None
+
+
+def _refuse_fmi3_fmu_in_libcosim(fmu: str | Path) -> None:
+    """:class:`EngineUnsupported` if ``fmu`` is an FMI 3 FMU (other problems are left to libcosim)."""
+    import zipfile
+
+    try:
+        with zipfile.ZipFile(fmu) as archive:
+            version = _fmi_version(archive.read("modelDescription.xml"))
+    except (OSError, KeyError, zipfile.BadZipFile):
+        return
+    if version and version.startswith("3."):
+        raise EngineUnsupported(f"{fmu}: {LIBCOSIM_NO_FMI3}, and this FMU is FMI {version}; run it in Ecos "
+                                "(cosim.fmu.engines.run_ecos) or use its FMI 2.0 build (cosim build --fmi-version 2)")
+
+
+def fmi3_components(ssp: str | Path) -> dict[str, str]:
+    """The components of an SSP archive whose FMU is FMI 3: name -> its path in the archive (read
+    from SystemStructure.ssd and each FMU's modelDescription.xml, nothing extracted)."""
+    import io
+    import xml.etree.ElementTree as ET
+    import zipfile
+
+    found = {}
+    with zipfile.ZipFile(ssp) as archive:
+        root = ET.fromstring(archive.read("SystemStructure.ssd"))
+        for component in root.iter("{http://ssp-standard.org/SSP1/SystemStructureDescription}Component"):
+            source = component.get("source", "")
+            try:
+                with zipfile.ZipFile(io.BytesIO(archive.read(source))) as fmu:
+                    version = _fmi_version(fmu.read("modelDescription.xml"))
+            except (KeyError, zipfile.BadZipFile):  # not in the archive, or not an FMU: libcosim says so
+                continue
+            if version and version.startswith("3."):
+                found[component.get("name", source)] = source
+    return found
+
+
+def _refuse_fmi3_ssp_in_libcosim(ssp: str | Path) -> None:
+    """:class:`EngineUnsupported` naming the FMI 3 components of ``ssp``, if it has any."""
+    found = fmi3_components(ssp)
+    if found:
+        listed = ", ".join(f"{name} ({source})" for name, source in found.items())
+        raise EngineUnsupported(f"{ssp}: {LIBCOSIM_NO_FMI3}, and component{'s' if len(found) > 1 else ''} "
+                                f"{listed} {'are' if len(found) > 1 else 'is'} FMI 3.0; run the SSP in Ecos "
+                                "(cosim.fmu.engines.run_ssp_ecos) or export it with FMI 2.0 components "
+                                "(cosim export-ssp --fmi-version 2)")
 
 
 def _preload_tbb() -> None:
@@ -82,7 +151,14 @@ def _steps(stop_time: float, step: float) -> int:
 
 def run_libcosim(fmu: str | Path, stop_time: float, step: float, start_values: dict | None = None,
                  outputs: list[str] | None = None) -> np.ndarray:
-    """Simulate one FMU in libcosim with a fixed step; returns time and the ``outputs`` columns."""
+    """Simulate one FMU in libcosim with a fixed step; returns time and the ``outputs`` columns.
+
+    Raises
+    ------
+    EngineUnsupported
+        If the FMU is FMI 3.0 (refused before libcosim is loaded: it would crash the process).
+    """
+    _refuse_fmi3_fmu_in_libcosim(fmu)
     libcosimpy()
     from libcosimpy import _internal
     from libcosimpy.CosimExecution import CosimExecution
@@ -128,7 +204,8 @@ def run_libcosim(fmu: str | Path, stop_time: float, step: float, start_values: d
 
 def run_ecos(fmu: str | Path, stop_time: float, step: float, start_values: dict | None = None,
              outputs: list[str] | None = None) -> np.ndarray:
-    """Simulate one FMU in Ecos with a fixed step; returns time and the ``outputs`` columns."""
+    """Simulate one FMU (FMI 2.0 or 3.0 Co-Simulation) in Ecos with a fixed step; returns time and
+    the ``outputs`` columns."""
     ecospy()
     from ecospy import EcosSimulation
     from ecospy.EcosSimulationStructure import EcosSimulationStructure
@@ -158,7 +235,15 @@ def run_ecos(fmu: str | Path, stop_time: float, step: float, start_values: dict 
 
 def run_ssp_libcosim(ssp: str | Path, signals: list[str], stop_time: float | None = None,
                      step: float | None = None) -> np.ndarray:
-    """Run an SSP archive in libcosim and record ``signals`` ("component.variable") after each step."""
+    """Run an SSP archive in libcosim and record ``signals`` ("component.variable") after each step.
+
+    Raises
+    ------
+    EngineUnsupported
+        If a component's FMU is FMI 3.0 (refused before libcosim is loaded: it would crash the
+        process); the message lists them.
+    """
+    _refuse_fmi3_ssp_in_libcosim(ssp)
     libcosimpy()
     from libcosimpy import _internal
     from libcosimpy.CosimExecution import CosimExecution
@@ -198,7 +283,8 @@ def run_ssp_libcosim(ssp: str | Path, signals: list[str], stop_time: float | Non
 
 def run_ssp_ecos(ssp: str | Path, signals: list[str], stop_time: float | None = None,
                  step: float | None = None) -> np.ndarray:
-    """Run an SSP archive in Ecos and record ``signals`` ("component.variable") after each step."""
+    """Run an SSP archive (FMI 2.0 and/or 3.0 components) in Ecos and record ``signals``
+    ("component.variable") after each step."""
     ecospy()
     from ecospy import EcosSimulation
 

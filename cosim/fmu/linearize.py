@@ -1,7 +1,11 @@
 """Linearize an FMU about its initial point: A, B, C, D from directional derivatives.
 
-``fmi2GetDirectionalDerivative`` gives exact Jacobians for FMUs built here; for foreign FMUs
-without it, central finite differences are used.
+FMI 2.0 and 3.0 FMUs with Model Exchange. ``fmi2GetDirectionalDerivative`` /
+``fmi3GetDirectionalDerivative`` give exact Jacobians for FMUs built here; for foreign FMUs
+without them, central finite differences are used. Where an FMI 3 FMU also provides
+``fmi3GetAdjointDerivative``, the whole Jacobian is computed a second time from it (one adjoint
+seed per unknown: ``(J^T v)^T u = v^T (J u)`` for unit vectors ``u``, ``v``, entry by entry) and a
+disagreement beyond :data:`ADJOINT_TOLERANCE` is refused with the entry named.
 
 For the nonlinear bicycles (``Bicycle.Bicycles.Whipple``, ``WhippleRider``) :func:`steady_motion`
 reduces the linearization about upright straight running exactly to its lateral dynamics (see
@@ -20,9 +24,14 @@ import numpy as np
 from fmpy.fmi1 import FMICallException
 
 from cosim.errors import FMUError, ParameterError, SimulationError
-from cosim.fmu.access import FMU, get_continuous_states, set_continuous_states
+from cosim.fmu.access import (ALL_FMI_VERSIONS, FMU, get_continuous_states, get_state_derivatives,
+                              set_continuous_states)
 
 FD_STEP = 1e-6  # relative step of the central differences
+#: Largest difference between the Jacobian from directional and the one from adjoint derivatives,
+#: relative to the largest entry (at least 1): the two are exact derivatives of the same function,
+#: so they differ by rounding only (CasADi's forward and reverse modes sum in other orders).
+ADJOINT_TOLERANCE = 1e-12
 
 
 @dataclass
@@ -42,6 +51,9 @@ class Linearization:
     #: The operating point: state values and their time derivatives (FMU state order; SI units).
     x0: np.ndarray | None = field(default=None, repr=False)
     xdot0: np.ndarray | None = field(default=None, repr=False)
+    #: Largest difference between the directional and the adjoint Jacobian relative to the largest
+    #: entry (at least 1); None where the FMU has no adjoint derivatives (FMI 2, most foreign FMUs).
+    adjoint_difference: float | None = None
 
     @property
     def eigenvalues(self) -> np.ndarray:
@@ -60,7 +72,7 @@ class Linearization:
             "inputs": self.inputs, "outputs": self.outputs,
             "A": self.A.tolist(), "B": self.B.tolist(), "C": self.C.tolist(), "D": self.D.tolist(),
             "eigenvalues": [[float(e.real), float(e.imag)] for e in self.eigenvalues],
-            "method": self.method,
+            "method": self.method, "adjoint_difference": self.adjoint_difference,
         }
 
     def to_json(self) -> str:
@@ -74,18 +86,15 @@ class _Point:
         self.fmu = fmu
         self.me = fmu.instantiate("me")
         self.status = 0  # worst FMI status seen (decides the clean-up, see close)
+        self.nx = fmu.n_states
         try:
             fmu.set(self.me, parameters)
-            self.me.setupExperiment(startTime=0.0)
-            self.me.enterInitializationMode()
-            self.me.exitInitializationMode()
-            self.me.enterContinuousTimeMode()
-        except FMICallException as exc:  # the FMU refused the parameters or the initialization
+            fmu.initialize_me(self.me, start_time=0.0)
+            self.x0 = self.get_states()  # refused by an FMU whose binary has another number of states
+        except (FMICallException, FMUError) as exc:  # the FMU refused the parameters or the initialization
             self.fail(exc)
             self.close()
             raise SimulationError(f"{fmu.path}: initialization failed: {self.said(exc)}") from None
-        self.nx = len(fmu.states)
-        self.x0 = self.get_states()
 
     def fail(self, exc: Exception) -> None:
         self.status = max(self.status, int(getattr(exc, "status", 3) or 3))
@@ -100,8 +109,23 @@ class _Point:
     def set_states(self, x) -> None:
         set_continuous_states(self.me, x)
 
+    def get_reals(self, vrs, n: int | None = None) -> np.ndarray:
+        """Real (FMI 3: Float64) values by value reference; ``n`` values in all (FMI 3 arrays: more
+        than one per value reference; default one each)."""
+        if not vrs:
+            return np.zeros(0)
+        return np.array(self.me.getFloat64(vrs, n) if self.fmu.is_fmi3 else self.me.getReal(vrs))
+
+    def set_reals(self, names, vrs, values) -> None:
+        """Set real inputs: FMI 3 one fmi3SetFloat64 of every value (arrays included), FMI 2 by name."""
+        if self.fmu.is_fmi3:
+            if vrs:
+                self.me.setFloat64(vrs, [float(v) for v in values])
+        else:
+            self.fmu.set(self.me, dict(zip(names, values)))
+
     def close(self):
-        """fmi2Terminate where FMI allows it (not after fmi2Error), then fmi2FreeInstance."""
+        """Terminate where FMI allows it (not after Error), then free the instance (FMI 2 and 3)."""
         if self.status >= 4:
             return
         if self.status < 3:
@@ -122,7 +146,7 @@ def linearize(fmu_path: str | Path, parameters: dict | None = None, inputs: dict
     Parameters
     ----------
     fmu_path : path
-        FMI 2.0 FMU with Model Exchange.
+        FMI 2.0 or 3.0 FMU with Model Exchange.
     parameters : dict, optional
         Start values of parameters (name -> value), in the SI units the FMU declares
         (e.g. ``V`` [m/s], ``m`` [kg]).
@@ -136,25 +160,38 @@ def linearize(fmu_path: str | Path, parameters: dict | None = None, inputs: dict
     -------
     Linearization
         Matrices with states ordered as the FMU's ModelStructure/Derivatives, inputs and outputs
-        in modelDescription order; the operating point's states ``x0`` and derivatives ``xdot0``.
+        (those of type Real, FMI 3 Float64: :data:`REAL_TYPES`) in modelDescription order; the operating point's states ``x0`` and derivatives ``xdot0``;
+        ``adjoint_difference`` where the FMU has adjoint derivatives (see the module docstring).
+
+    Raises
+    ------
+    FMUError
+        The FMU cannot be opened, has no Model Exchange, or (``method='directional'``) no
+        directional derivatives.
+    SimulationError
+        The FMU refuses the initialization or a call at the operating point, or its directional and
+        adjoint derivatives disagree (the entry named).
 
     See Also
     --------
     steady_motion : the exact lateral dynamics of a nonlinear bicycle about upright straight running.
     """
     parameters = dict(parameters or {})
-    with FMU(fmu_path) as fmu:
+    with FMU(fmu_path, versions=ALL_FMI_VERSIONS) as fmu:
         md = fmu.description
         if md.modelExchange is None:
             raise FMUError(f"{fmu_path}: linearization needs Model Exchange, which the FMU does not offer")
         if method not in ("auto", "directional", "finite-differences"):
             raise ParameterError(f"method must be 'auto', 'directional' or 'finite-differences', got '{method}'")
-        use_dd = method == "directional" or (method == "auto" and md.modelExchange.providesDirectionalDerivative)
-        states, derivatives = fmu.states, fmu.derivatives
-        input_names, output_names = fmu.names("input"), fmu.names("output")
+        provided = md.modelExchange.providesDirectionalDerivative
+        if method == "directional" and not provided:
+            raise FMUError(f"{fmu_path}: the FMU does not provide directional derivatives; use central finite "
+                           "differences (method 'auto' or 'finite-differences')")
+        use_dd = method == "directional" or (method == "auto" and provided)
+        structure = _Structure.of(fmu)
         point = _Point(fmu, {**parameters, **(inputs or {})})
         try:
-            return _jacobians(fmu, md, point, use_dd, parameters, states, derivatives, input_names, output_names)
+            return _jacobians(fmu, md, point, use_dd, parameters, structure)
         except FMICallException as exc:  # an FMI call refused at the operating point
             point.fail(exc)
             raise SimulationError(f"{fmu_path}: linearization failed: {point.said(exc)}") from None
@@ -162,32 +199,88 @@ def linearize(fmu_path: str | Path, parameters: dict | None = None, inputs: dict
             point.close()
 
 
-def _jacobians(fmu, md, point, use_dd, parameters, states, derivatives, input_names, output_names):
+#: The variable types that are linearized (FMI 2 ``Real``, FMI 3 ``Float64``); inputs and outputs
+#: of other types (integers, Booleans, strings, FMI 3 ``Float32``) or with discrete variability
+#: (changed in Event Mode only, so they have no derivative in Continuous-Time Mode) are left out
+#: of B, C, D.
+REAL_TYPES = ("Real", "Float64")
+
+
+def real_names(fmu: FMU, causality: str) -> list[str]:
+    """Names of the continuous variables of ``causality`` with a type of :data:`REAL_TYPES`, in
+    modelDescription order."""
+    return [n for n in fmu.names(causality)
+            if fmu.variables[n].type in REAL_TYPES and fmu.variables[n].variability in (None, "continuous")]
+
+
+@dataclass
+class _Structure:
+    """What is differentiated, value by value (an FMI 3 array ``x`` has the values ``x[1]``,
+    ``x[2]``, ... at one value reference): the unknowns are the state derivatives and the outputs
+    that are not states, the knowns the states and the inputs."""
+
+    states: list[str]  # names of the state values, in the FMU's order
+    inputs: list[str]
+    outputs: list[str]
+    unknowns: list[str]  # derivative values, then the values of the computed outputs
+    knowns: list[str]  # state values, then input values
+    unknown_vrs: list[int]  # one per variable (an array once)
+    known_vrs: list[int]
+    input_names: list[str]  # variables
+    input_vrs: list[int]
+    state_index: dict[str, int]  # state value name -> column
+    computed: list[str]  # values of the outputs that are not states
+
+    @classmethod
+    def of(cls, fmu: FMU) -> "_Structure":
+        states, derivatives = fmu.states, fmu.derivatives
+        input_names, output_names = real_names(fmu, "input"), real_names(fmu, "output")
+        # Outputs that are states have an identity row; the others are unknowns to differentiate.
+        computed = [n for n in output_names if n not in set(states)]
+        x = fmu.elements(states)
+        return cls(x, fmu.elements(input_names), fmu.elements(output_names),
+                   fmu.elements(derivatives) + fmu.elements(computed), x + fmu.elements(input_names),
+                   [fmu.vr[n] for n in derivatives + computed], [fmu.vr[n] for n in states + input_names],
+                   input_names, [fmu.vr[n] for n in input_names], {n: k for k, n in enumerate(x)},
+                   fmu.elements(computed))
+
+    def output_matrices(self, J: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """C and D from the Jacobian ``J`` (unknowns x knowns, or a stack of them)."""
+        nx, nu, stack = len(self.states), len(self.inputs), J.shape[:-2]
+        C, D = np.zeros((*stack, len(self.outputs), nx)), np.zeros((*stack, len(self.outputs), nu))
+        for row, name in enumerate(self.outputs):
+            if name in self.state_index:
+                C[..., row, self.state_index[name]] = 1.0
+            else:
+                k = nx + self.computed.index(name)
+                C[..., row, :], D[..., row, :] = J[..., k, :nx], J[..., k, nx:]
+        return C, D
+
+
+def _jacobians(fmu, md, point, use_dd, parameters, st: _Structure):
     """The matrices at the point (see :func:`linearize`)."""
     x0 = point.x0
-    u0 = fmu.get_real(point.me, input_names)
-    state_index = {n: k for k, n in enumerate(states)}
-    # Outputs that are states have an identity row; the others are unknowns to differentiate.
-    computed = [n for n in output_names if n not in state_index]
-    unknowns = derivatives + computed
-    unknown_vrs = [fmu.vr[n] for n in unknowns]
-    knowns = states + input_names
-    known_vrs = [fmu.vr[n] for n in knowns]
-    nx, nu = len(states), len(input_names)
-    J = np.zeros((len(unknowns), nx + nu))
+    nx, nu, n_unknown = len(st.states), len(st.inputs), len(st.unknowns)
+    u0 = point.get_reals(st.input_vrs, nu)
+    J = np.zeros((n_unknown, nx + nu))
+    adjoint = None
     if use_dd:
+        # FMI 3 sizes the sensitivity by values (arrays); FMPy's FMI 2 wrapper has no such argument
+        size = {"nSensitivity": n_unknown} if fmu.is_fmi3 else {}
         for k in range(nx + nu):
             seed = [0.0] * (nx + nu)
             seed[k] = 1.0
-            J[:, k] = point.me.getDirectionalDerivative(unknown_vrs, known_vrs, seed)
+            J[:, k] = point.me.getDirectionalDerivative(st.unknown_vrs, st.known_vrs, seed, **size)
+        if fmu.provides_adjoint_derivatives("me") and st.unknowns and st.knowns:
+            rows = adjoint_jacobian(point.me, st.unknown_vrs, st.known_vrs, n_unknown, nx + nu)
+            adjoint = check_adjoint(fmu, J, rows, st.unknowns, st.knowns)
     else:
         def evaluate(x, u):
             point.set_states(x)
-            fmu.set(point.me, dict(zip(input_names, u)))
-            return np.array(point.me.getReal(unknown_vrs))
+            point.set_reals(st.input_names, st.input_vrs, u)
+            return point.get_reals(st.unknown_vrs, n_unknown)
 
         for k in range(nx + nu):
-            x, u = x0.copy(), u0.copy()
             base = x0[k] if k < nx else u0[k - nx]
             h = FD_STEP * max(1.0, abs(base))
             values = []
@@ -201,21 +294,46 @@ def _jacobians(fmu, md, point, use_dd, parameters, states, derivatives, input_na
             J[:, k] = (values[0] - values[1]) / (2 * h)
         evaluate(x0, u0)
     A, B = J[:nx, :nx], J[:nx, nx:]
-    C = np.zeros((len(output_names), nx))
-    D = np.zeros((len(output_names), nu))
-    for row, name in enumerate(output_names):
-        if name in state_index:
-            C[row, state_index[name]] = 1.0
-        else:
-            k = nx + computed.index(name)
-            C[row], D[row] = J[k, :nx], J[k, nx:]
+    C, D = st.output_matrices(J)
     point.set_states(x0)
-    xdot0 = (c_double * nx)()
-    if nx:
-        point.me.getDerivatives(xdot0, nx)
-    return Linearization(md.modelName, parameters, states, input_names, output_names, A, B, C, D,
-                         "directional derivatives" if use_dd else "central finite differences",
-                         x0.copy(), np.array(xdot0[:], float))
+    xdot0 = get_state_derivatives(point.me, nx)
+    method = "directional derivatives" if use_dd else "central finite differences"
+    if adjoint is not None:
+        method += f" (adjoint derivatives agree to {adjoint:.1e})"
+    return Linearization(md.modelName, parameters, st.states, st.inputs, st.outputs, A, B, C, D,
+                         method, x0.copy(), xdot0, adjoint)
+
+
+def adjoint_jacobian(instance, unknown_vrs, known_vrs, n_unknown: int | None = None,
+                     n_known: int | None = None) -> np.ndarray:
+    """The Jacobian d(unknowns)/d(knowns) row by row from ``fmi3GetAdjointDerivative``: the seed
+    ``e_i`` (one per unknown value) gives ``J^T e_i``, the row ``i``. ``n_unknown``, ``n_known``:
+    the numbers of values (default: one per value reference; FMI 3 arrays have more)."""
+    n_unknown = len(unknown_vrs) if n_unknown is None else n_unknown
+    n_known = len(known_vrs) if n_known is None else n_known
+    rows = np.zeros((n_unknown, n_known))
+    for i in range(n_unknown):
+        seed = [0.0] * n_unknown
+        seed[i] = 1.0
+        # FMPy sizes the sensitivity by the unknowns unless told: the adjoint one has one per known
+        rows[i] = instance.getAdjointDerivative(unknown_vrs, known_vrs, seed, nSensitivity=n_known)
+    return rows
+
+
+def check_adjoint(fmu, J: np.ndarray, J_adjoint: np.ndarray, unknowns, knowns, where: str = "") -> float:
+    """The largest difference of the two Jacobians relative to the largest entry (at least 1);
+    :class:`SimulationError` naming the worst entry if it exceeds :data:`ADJOINT_TOLERANCE`."""
+    scale = max(1.0, float(np.max(np.abs(J))) if J.size else 1.0)
+    difference = np.abs(J - J_adjoint) / scale
+    worst = float(np.max(difference)) if difference.size else 0.0
+    if not worst <= ADJOINT_TOLERANCE:  # NaN fails too
+        i, k = np.unravel_index(np.nanargmax(difference) if np.isfinite(difference).any() else 0, J.shape)
+        raise SimulationError(
+            f"{fmu.path}: the FMU's directional and adjoint derivatives disagree{where}: "
+            f"d {unknowns[i]} / d {knowns[k]} = {J[i, k]:.17g} (fmi3GetDirectionalDerivative) but "
+            f"{J_adjoint[i, k]:.17g} (fmi3GetAdjointDerivative); relative difference {worst:.2e} > "
+            f"{ADJOINT_TOLERANCE:g} (one of them is wrong: the linearization is not trusted)")
+    return worst
 
 
 # --------------------------------------------------------------------------- steady motion
@@ -658,43 +776,60 @@ class _FastPoint:
 
     FMPy's wrappers convert and check every argument in Python on each call; here the C
     functions (argument types already declared by FMPy) are called with preallocated buffers,
-    and ``fmi2Reset`` replaces a new instance (no library load, no FMPy set-up) per point. Each
-    point is initialized from scratch exactly as :func:`linearize` does, so the results are the
-    same numbers."""
+    and ``fmi2Reset``/``fmi3Reset`` replaces a new instance (no library load, no FMPy set-up) per
+    point. Each point is initialized from scratch exactly as :func:`linearize` does, so the
+    results are the same numbers. FMI 3 takes the same path with the FMI 3 functions (the
+    ``nValues``/``nSeed``/``nSensitivity`` arguments, the initial event iteration) and, where the
+    FMU provides adjoint derivatives, checks the Jacobian against them at every point."""
 
-    def __init__(self, fmu: FMU, fixed: dict, varying: str, states, unknowns, knowns):
+    def __init__(self, fmu: FMU, fixed: dict, varying: str, st: _Structure):
         from ctypes import POINTER, c_uint
 
         self.fmu, self.me, self.varying = fmu, fmu.instantiate("me"), varying
         self.status = 0
+        self.fmi3 = fmu.is_fmi3
         f = self.me._functions
         self.c = self.me.component
-        self._reset, self._set_real = f["fmi2Reset"], f["fmi2SetReal"]
-        self._setup, self._enter = f["fmi2SetupExperiment"], f["fmi2EnterInitializationMode"]
-        self._exit, self._ct = f["fmi2ExitInitializationMode"], f["fmi2EnterContinuousTimeMode"]
-        self._get_x, self._get_dx = f["fmi2GetContinuousStates"], f["fmi2GetDerivatives"]
-        self._dd = f["fmi2GetDirectionalDerivative"]
-        # Real parameters through one fmi2SetReal; other types (rare) through the wrappers.
-        reals = {n: float(v) for n, v in fixed.items() if fmu.variables[n].type == "Real"}
+        fmi = "fmi3" if self.fmi3 else "fmi2"
+        self._reset = f[f"{fmi}Reset"]
+        self._set_real = f["fmi3SetFloat64" if self.fmi3 else "fmi2SetReal"]
+        self._setup = None if self.fmi3 else f["fmi2SetupExperiment"]
+        self._enter, self._exit = f[f"{fmi}EnterInitializationMode"], f[f"{fmi}ExitInitializationMode"]
+        self._ct, self._get_x = f[f"{fmi}EnterContinuousTimeMode"], f[f"{fmi}GetContinuousStates"]
+        self._get_dx = f["fmi3GetContinuousStateDerivatives" if self.fmi3 else "fmi2GetDerivatives"]
+        self._dd = f[f"{fmi}GetDirectionalDerivative"]
+        self._adjoint = f["fmi3GetAdjointDerivative"] if fmu.provides_adjoint_derivatives("me") else None
+        self.unknowns, self.knowns = list(st.unknowns), list(st.knowns)
+        self.adjoint_difference = 0.0 if self._adjoint is not None else None
+        # Real parameters through one fmi2SetReal/fmi3SetFloat64; other types (rare) through the wrappers.
+        real = "Float64" if self.fmi3 else "Real"
+        reals = {n: float(v) for n, v in fixed.items() if fmu.variables[n].type == real}
         self.other = {n: v for n, v in fixed.items() if n not in reals}
         names = list(reals) + [varying]
         self.set_vr = (c_uint * len(names))(*[fmu.vr[n] for n in names])
         self.set_values = (c_double * len(names))(*reals.values(), 0.0)
         self.n_set = len(names)
-        self.nx = len(states)
+        self.nx = len(st.states)
         self.x = (c_double * max(self.nx, 1))()
         self.dx = (c_double * max(self.nx, 1))()
-        self.u_vr = (c_uint * len(unknowns))(*[fmu.vr[n] for n in unknowns])
-        self.k_vr = (c_uint * len(knowns))(*[fmu.vr[n] for n in knowns])
-        self.nu, self.nk = len(unknowns), len(knowns)
+        self.u_vr = (c_uint * len(st.unknown_vrs))(*st.unknown_vrs)
+        self.k_vr = (c_uint * len(st.known_vrs))(*st.known_vrs)
+        # numbers of values (seeds, sensitivities) and of value references (equal unless FMI 3 arrays)
+        self.nu, self.nk = len(st.unknowns), len(st.knowns)
+        self.n_uvr, self.n_kvr = len(st.unknown_vrs), len(st.known_vrs)
         self.seeds = np.eye(max(self.nk, 1))
         self.column = np.zeros(max(self.nu, 1))
         P = POINTER(c_double)
         self.seed_ptrs = [self.seeds[k].ctypes.data_as(P) for k in range(self.nk)]
         self.column_ptr = self.column.ctypes.data_as(P)
+        if self._adjoint is not None:  # the rows of J from the adjoint seeds e_i, one per unknown
+            self.adjoint_seeds = np.eye(max(self.nu, 1))
+            self.adjoint_seed_ptrs = [self.adjoint_seeds[i].ctypes.data_as(P) for i in range(self.nu)]
+            self.row = np.zeros(max(self.nk, 1))
+            self.row_ptr = self.row.ctypes.data_as(P)
 
     def check(self, status: int, what: str, value: float) -> None:
-        if status > 1:  # fmi2Discard, fmi2Error, fmi2Fatal
+        if status > 1:  # Discard, Error, Fatal (the same codes in FMI 2 and 3)
             self.status = max(self.status, status)
             said = self.me.log.last_error()
             raise SimulationError(f"{self.fmu.path}: {what} failed at {self.varying} = {value:.15g}"
@@ -703,6 +838,8 @@ class _FastPoint:
     def evaluate(self, value: float, J: np.ndarray, x0: np.ndarray, xdot0: np.ndarray) -> None:
         """Initialize with the speed parameter = ``value``; fill the Jacobian ``J`` (unknowns x
         knowns), the states ``x0`` and their derivatives ``xdot0``."""
+        if self.fmi3:
+            return self._evaluate_fmi3(value, J, x0, xdot0)
         c = self.c
         self.check(self._reset(c), "fmi2Reset", value)
         if self.other:
@@ -723,6 +860,40 @@ class _FastPoint:
                        "fmi2GetDirectionalDerivative", value)
             J[:, k] = self.column[:self.nu]
 
+    def _evaluate_fmi3(self, value: float, J: np.ndarray, x0: np.ndarray, xdot0: np.ndarray) -> None:
+        """:meth:`evaluate` through the FMI 3 functions, with the adjoint cross-check."""
+        c = self.c
+        self.check(self._reset(c), "fmi3Reset", value)
+        if self.other:
+            self.fmu.set(self.me, self.other)
+        self.set_values[self.n_set - 1] = value
+        self.check(self._set_real(c, self.set_vr, self.n_set, self.set_values, self.n_set), "fmi3SetFloat64", value)
+        self.check(self._enter(c, False, 0.0, 0.0, False, 0.0), "initialization", value)
+        self.check(self._exit(c), "initialization", value)
+        try:  # the initial event iteration (FMPy's wrapper: six out-arguments, rarely more than one call)
+            self.fmu.initial_event_iteration(self.me)
+        except (FMICallException, FMUError) as exc:
+            self.check(int(getattr(exc, "status", 3) or 3), f"the initial event iteration ({exc})", value)
+        self.check(self._ct(c), "fmi3EnterContinuousTimeMode", value)
+        if self.nx:
+            self.check(self._get_x(c, self.x, self.nx), "fmi3GetContinuousStates", value)
+            self.check(self._get_dx(c, self.dx, self.nx), "fmi3GetContinuousStateDerivatives", value)
+            x0[:] = self.x[:self.nx]
+            xdot0[:] = self.dx[:self.nx]
+        for k in range(self.nk):
+            self.check(self._dd(c, self.u_vr, self.n_uvr, self.k_vr, self.n_kvr, self.seed_ptrs[k], self.nk,
+                                self.column_ptr, self.nu), "fmi3GetDirectionalDerivative", value)
+            J[:, k] = self.column[:self.nu]
+        if self._adjoint is not None and self.nu and self.nk:
+            rows = np.zeros((self.nu, self.nk))
+            for i in range(self.nu):
+                self.check(self._adjoint(c, self.u_vr, self.n_uvr, self.k_vr, self.n_kvr, self.adjoint_seed_ptrs[i],
+                                         self.nu, self.row_ptr, self.nk), "fmi3GetAdjointDerivative", value)
+                rows[i] = self.row[:self.nk]
+            difference = check_adjoint(self.fmu, J, rows, self.unknowns, self.knowns,
+                                       f" at {self.varying} = {value:.15g}")
+            self.adjoint_difference = max(self.adjoint_difference, difference)
+
     def close(self) -> None:
         _Point.close(self)
 
@@ -736,7 +907,7 @@ def linearize_speeds(fmu_path: str | Path, speeds, parameters: dict | None = Non
     Parameters
     ----------
     fmu_path : path
-        FMI 2.0 FMU with Model Exchange and directional derivatives (as built here).
+        FMI 2.0 or 3.0 FMU with Model Exchange and directional derivatives (as built here).
     speeds : sequence of float
         Forward speeds [m/s]; set as :class:`cosim.fmu.parameters.ForwardSpeed` says (``V`` or
         ``v``, or upright straight running ``u_R0 = -V/rR`` with ``V >= 0`` for the nonlinear
@@ -779,37 +950,31 @@ def linearize_speeds(fmu_path: str | Path, speeds, parameters: dict | None = Non
         raise ParameterError("no speeds to linearize at")
     known = {**starts(declared), **parameters}
     values = np.array([fs.values(float(v), known)[fs.parameter] for v in speeds])
-    with FMU(fmu_path) as fmu:
+    with FMU(fmu_path, versions=ALL_FMI_VERSIONS) as fmu:
         md = fmu.description
         if md.modelExchange is None:
             raise FMUError(f"{fmu_path}: linearization needs Model Exchange, which the FMU does not offer")
         if not md.modelExchange.providesDirectionalDerivative:
             raise FMUError(f"{fmu_path}: a speed sweep needs directional derivatives, which the FMU does not "
                            "provide; use linearize() per speed (central finite differences)")
-        states, derivatives = fmu.states, fmu.derivatives
-        input_names, output_names = fmu.names("input"), fmu.names("output")
-        state_index = {n: k for k, n in enumerate(states)}
-        computed = [n for n in output_names if n not in state_index]
-        unknowns, knowns = derivatives + computed, states + input_names
+        st = _Structure.of(fmu)
+        states, input_names, output_names = st.states, st.inputs, st.outputs
         nx, nu, N = len(states), len(input_names), len(speeds)
-        J = np.zeros((N, len(unknowns), nx + nu))
+        J = np.zeros((N, len(st.unknowns), nx + nu))
         x0, xdot0 = np.zeros((N, nx)), np.zeros((N, nx))
-        point = _FastPoint(fmu, {**parameters, **(inputs or {})}, fs.parameter, states, unknowns, knowns)
+        point = _FastPoint(fmu, {**parameters, **(inputs or {})}, fs.parameter, st)
         try:
             for k in range(N):
                 point.evaluate(float(values[k]), J[k], x0[k], xdot0[k])
         finally:
             point.close()
+    method = "directional derivatives"
+    if point.adjoint_difference is not None:
+        method += f" (adjoint derivatives agree to {point.adjoint_difference:.1e})"
     A, B = J[:, :nx, :nx], J[:, :nx, nx:]
-    C, D = np.zeros((N, len(output_names), nx)), np.zeros((N, len(output_names), nu))
-    for row, name in enumerate(output_names):
-        if name in state_index:
-            C[:, row, state_index[name]] = 1.0
-        else:
-            k = nx + computed.index(name)
-            C[:, row], D[:, row] = J[:, k, :nx], J[:, k, nx:]
+    C, D = st.output_matrices(J)
     sweep = SpeedSweep(md.modelName, parameters, fs.parameter, speeds, values, states, input_names, output_names,
-                       np.ascontiguousarray(A), np.ascontiguousarray(B), C, D, x0, xdot0, "directional derivatives")
+                       np.ascontiguousarray(A), np.ascontiguousarray(B), C, D, x0, xdot0, method)
     if names_of_bicycle() <= set(states) | set(output_names):
         # the rows of C and D of the outputs that alias the bicycle's states are the same at every
         # speed (checked, else the reduction goes one speed at a time)

@@ -35,6 +35,15 @@ class Declared:
     min: float | None = None
     max: float | None = None
     start: float | None = None  # the default (start) value where it is a number
+    range: tuple[int, int] | None = None  # the values an Integer can hold (None: 32 bit signed)
+
+
+#: FMI 3 variable types by the FMI 2 type whose values they take here (a value is checked as
+#: that type; the FMU is set with the setter of its own type, see cosim.fmu.access.FMU.set).
+FMI3_TYPES = {"Float64": "Real", "Float32": "Real", **{f"{s}Int{b}": "Integer" for s in ("", "U") for b in (8, 16, 32, 64)}}
+#: The values each FMI 3 integer type holds.
+INTEGER_RANGES = {**{f"Int{b}": (-2 ** (b - 1), 2 ** (b - 1) - 1) for b in (8, 16, 32, 64)},
+                  **{f"UInt{b}": (0, 2 ** b - 1) for b in (8, 16, 32, 64)}}
 
 
 def split_assignment(text: str, option: str = "--param") -> tuple[str, str]:
@@ -60,9 +69,11 @@ def declarations(target: str) -> dict[str, Declared]:
         If ``target`` is a model name that is not in the library or does not parse.
     """
     if is_fmu_path(target):
-        from cosim.fmu.access import read_fmu
+        from cosim.fmu.access import READABLE_FMI_VERSIONS, read_fmu
 
-        md = read_fmu(target)
+        # Only the model description is read here (FMI 2 or 3): the verb that runs the FMU decides
+        # which FMI versions it runs, and refuses the others when it opens the FMU.
+        md = read_fmu(target, READABLE_FMI_VERSIONS)
 
         def number(value):
             try:
@@ -77,13 +88,19 @@ def declarations(target: str) -> dict[str, Declared]:
                 return v.causality
             return "start value" if v.initial == "exact" else "start value (guess of the initial equations)"
 
-        found = {v.name: Declared(v.name, role(v), v.type,
+        # An output that is a continuous state with an exact start value (foreign FMUs, e.g. the
+        # Reference FMUs' VanDerPol x0, x1) is a start value too; other outputs are computed.
+        state_outputs = {d.variable.derivative.name for d in md.derivatives
+                         if d.variable.derivative is not None and d.variable.derivative.causality == "output"}
+        found = {v.name: Declared(v.name, role(v), FMI3_TYPES.get(v.type, v.type),
                                   getattr(v, "unit", None), number(getattr(v, "min", None)),
-                                  number(getattr(v, "max", None)), number(getattr(v, "start", None)))
+                                  number(getattr(v, "max", None)), number(getattr(v, "start", None)),
+                                  INTEGER_RANGES.get(v.type))
                  for v in md.modelVariables
                  if v.causality in ("parameter", "input")
                  or (v.causality in ("local", "output") and v.variability == "continuous"
-                     and (v.initial == "approx" or (v.causality == "local" and v.initial == "exact")))}
+                     and (v.initial == "approx" or (v.causality == "local" and v.initial == "exact")
+                          or (v.name in state_outputs and v.initial == "exact")))}
         solver = found.get(FIXED_STEP_PARAMETER)
         if solver is not None and solver.min is None:  # a step size is never negative
             solver.min = 0.0
@@ -125,8 +142,10 @@ def _convert(name: str, raw, d: Declared):
     if d.type in ("Integer", "Enumeration"):
         if value != int(value):
             raise ParameterError(f"parameter '{name}' is an {d.type}; {raw} is not a whole number")
-        if abs(value) > 2**31 - 1:
-            raise ParameterError(f"parameter '{name}' is an {d.type}; {raw} is out of range (32 bit)")
+        low, high = d.range or (-(2**31) + 1, 2**31 - 1)
+        if not low <= value <= high:
+            what = "32 bit" if d.range is None else f"{low} .. {high}"
+            raise ParameterError(f"parameter '{name}' is an {d.type}; {raw} is out of range ({what})")
         return int(value)
     return value
 

@@ -58,9 +58,9 @@ class IncompleteResult(SimulationError):
 
 
 def _variables(fmu: Path):
-    from cosim.fmu.access import read_fmu
+    from cosim.fmu.access import ALL_FMI_VERSIONS, read_fmu
 
-    md = read_fmu(fmu)
+    md = read_fmu(fmu, ALL_FMI_VERSIONS)
     return md, {v.name: v for v in md.modelVariables}
 
 
@@ -293,7 +293,7 @@ def simulate(fmu: str | Path, stop_time: float | None = None, step: float | None
     Parameters
     ----------
     fmu : path
-        The FMU file.
+        The FMU file (FMI 2.0 or 3.0).
     stop_time, start_time : float, optional
         Simulation interval in s (default: the FMU's DefaultExperiment).
     step : float, optional
@@ -319,13 +319,15 @@ def simulate(fmu: str | Path, stop_time: float | None = None, step: float | None
     """
     from fmpy import simulate_fmu
 
-    from cosim.fmu.access import FMU, FMULog
+    from cosim.fmu.access import ALL_FMI_VERSIONS, FMU, FMULog
 
     fmu = Path(fmu)
-    handle = FMU(fmu)
+    handle = FMU(fmu, versions=ALL_FMI_VERSIONS)  # FMPy's simulate_fmu runs FMI 2 and FMI 3 alike
     md = handle.description
     t0, t1 = check_run(md, stop_time, step, fmi_type, start_time, parameters)
     kind = "cs" if fmi_type == "cs" else "me"
+    if kind == "me":
+        _guard_cvode_cleanup()
     log = FMULog()
     instance = handle.instantiate(kind, name=md.modelName, log=log)
     bar = _Progress(t0, t1, progress)
@@ -358,9 +360,25 @@ def simulate(fmu: str | Path, stop_time: float | None = None, step: float | None
     return result
 
 
+def _guard_cvode_cleanup() -> None:
+    """Keep FMPy's CVode wrapper from printing a traceback after a failed start.
+
+    ``fmpy.sundials.CVodeSolver.__del__`` frees ``self.cvode_mem``, which ``__init__`` sets only
+    after its first calls into the FMU (``GetContinuousStates``, ``GetNominalsOfContinuousStates``).
+    An FMU that refuses one of them (e.g. a model description whose number of states differs from
+    the binary's) leaves a half-made solver whose ``__del__`` raises AttributeError, which Python
+    prints as "Exception ignored in ... Traceback" after our one-line message. A class-level
+    ``None`` makes that clean-up ``CVodeFree(NULL)``, which SUNDIALS ignores; a solver that was
+    made has its own attribute and is freed as before."""
+    from fmpy.sundials import CVodeSolver
+
+    if not hasattr(CVodeSolver, "cvode_mem"):
+        CVodeSolver.cvode_mem = None
+
+
 def _release(instance, status: int, terminated: bool = False) -> None:
-    """Terminate and free an instance as far as FMI 2.0 allows after ``status``: fmi2Terminate
-    is not allowed after fmi2Error, nothing at all after fmi2Fatal."""
+    """Terminate and free an instance as far as FMI allows after ``status`` (the same rule in FMI
+    2.0 and 3.0): Terminate is not allowed after Error, nothing at all after Fatal."""
     if status >= 4:
         return
     if status < 3 and not terminated:

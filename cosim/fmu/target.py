@@ -11,7 +11,7 @@ def is_fmu_path(target: str) -> bool:
     return target.endswith(".fmu") or Path(target).is_file()
 
 
-def resolve_fmu(target: str, output: str | Path | None = None) -> Path:
+def resolve_fmu(target: str, output: str | Path | None = None, versions: tuple[str, ...] | None = None) -> Path:
     """The FMU of ``target``: the file itself, or the model built (if needed) into ``output``.
 
     Model names are resolved in the Modelica library named by ``COSIM_MODELICA_PATH`` (which the
@@ -25,6 +25,10 @@ def resolve_fmu(target: str, output: str | Path | None = None) -> Path:
     output : path, optional
         Folder a model is built into (default: ``$COSIM_FMU_DIR``, else ``./fmus`` of the
         working directory); the build is incremental (nothing is done if the FMU is up to date).
+    versions : tuple of str, optional
+        The FMI versions the caller runs (default: :data:`cosim.fmu.access.SUPPORTED_FMI_VERSIONS`);
+        an FMU file of another version is refused in one line. A verb that handles FMI 3 passes
+        :data:`cosim.fmu.access.ALL_FMI_VERSIONS`.
 
     Returns
     -------
@@ -40,10 +44,11 @@ def resolve_fmu(target: str, output: str | Path | None = None) -> Path:
         The model cannot be found or built (see :func:`cosim.compiler.build.build_model`).
     """
     if is_fmu_path(target):
-        from cosim.fmu.access import read_fmu
+        from cosim.fmu.access import SUPPORTED_FMI_VERSIONS, read_fmu
 
         path = Path(target)
-        read_fmu(path)  # FMUError naming the file and the problem if it is not a usable FMU
+        # FMUError naming the file and the problem if it is not a usable FMU
+        read_fmu(path, SUPPORTED_FMI_VERSIONS if versions is None else versions)
         return path
     from cosim.compiler.library import fmu_up_to_date
 

@@ -1,0 +1,816 @@
+"""The dynamic checks of ``cosim validate``: each one loads the FMU's binary and calls it (FMI 2.0 and 3.0,
+Model Exchange and Co-Simulation), unlike FMPy's ``validate_fmu``, which reads the XML only.
+
+:data:`CHECKS` lists them in the order they run; each is a function ``check(session, findings)`` that
+reports every problem it finds through ``findings.problem(text)`` (it never stops at the first one) and
+every part that does not apply to this FMU through ``findings.skip(text)`` (an FMU that does not declare
+``canGetAndSetFMUState`` has no FMU state to check: that is skipped, not a problem). The runner
+(:func:`cosim.fmu.validate.validate_report`) prefixes each line with the check's name and runs the checks
+in a child process, so that a crash of the binary is reported instead of ending ``cosim validate``.
+
+Checks and their criteria:
+
+``token``
+    For each interface the FMU has: instantiation with the GUID (FMI 2) / ``instantiationToken``
+    (FMI 3) of ``modelDescription.xml`` succeeds (if it fails for every interface, the other checks
+    cannot run and are listed as skipped), instantiation with a wrong one is refused (NULL).
+``state-machine``
+    Calls the standard forbids in the instance's current state are refused with Error or Fatal:
+    ``DoStep`` before and during initialization and after ``Terminate``, ``ExitInitializationMode``
+    without ``EnterInitializationMode`` and twice, ``EnterInitializationMode`` after initialization,
+    ``SetReal`` (FMI 3: ``SetFloat64``) of a ``fixed`` parameter after initialization
+    (Co-Simulation); ``GetDerivatives`` (FMI 3: ``GetContinuousStateDerivatives``) and
+    ``EnterContinuousTimeMode`` before initialization, ``SetContinuousStates`` and
+    ``CompletedIntegratorStep`` in event mode, ``ExitInitializationMode`` twice, ``SetReal`` (FMI 3:
+    ``SetFloat64``) of a ``fixed`` parameter in continuous-time mode (Model Exchange). Each case runs on
+    a fresh instance. A call that returns OK or Warning is a problem ("accepted"), Discard as well
+    ("Discard instead of Error").
+``directional-derivatives``
+    Model Exchange, if ``providesDirectionalDerivative(s)``: the Jacobian of the state derivatives and
+    continuous outputs with respect to the states and continuous inputs, column by column from
+    ``GetDirectionalDerivative``, against central differences with the step
+    ``FD_STEP * max(1, |z|)``: every element within ``DERIVATIVE_RTOL * max(1, |fd|)``. Outputs
+    that are states themselves are not asked for (listed as skipped).
+``adjoint-derivatives``
+    FMI 3 Model Exchange, if ``providesAdjointDerivatives``: ``v^T (J u) = (J^T v)^T u`` for
+    ``ADJOINT_PAIRS`` seeded random pairs, within ``ADJOINT_RTOL * |v| |J|_F |u|`` (J from the
+    directional derivatives, or from central differences if the FMU has none).
+``fmu-state``
+    If ``canGetAndSetFMUState``: Co-Simulation: get the state, step, set it back: every Real/Float64
+    variable bit-identical to when the state was taken, and after the same step again to the first
+    step; with ``canSerializeFMUState`` the same through serialize + deserialize, and a truncated
+    serialized state (half its bytes) is refused. Model Exchange: the states and derivatives after
+    restoring a state taken before changing the states and time are bit-identical.
+``cs-step``
+    FMI 3 Co-Simulation: the steps of the short run (below) one by one, on an instance created without
+    early return: ``earlyReturn`` stays false, ``lastSuccessfulTime`` is the end of the step (within
+    ``TIME_RTOL``); ``terminateSimulation`` ends the loop without a problem.
+``me-run``, ``cs-run``
+    A short run (``RUN_FRACTION`` of the default experiment, at most ``RUN_MAX`` s, ``RUN_INTERVALS``
+    output intervals; FMPy's ``simulate_fmu``, ME with CVode; the CS communication step is rounded up
+    to a multiple of a declared ``fixedInternalStepSize``) reaches its stop time with finite values of
+    every recorded variable.
+"""
+from __future__ import annotations
+
+import math
+from ctypes import c_double
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from cosim.errors import FMUError
+
+#: Relative tolerance of a directional derivative against central differences (elementwise,
+#: relative to max(1, |fd|)).
+DERIVATIVE_RTOL = 1e-6
+#: Central-difference step relative to max(1, |z|): about eps**(1/3), which balances the
+#: truncation error (h**2) against the rounding error (eps/h).
+FD_STEP = 6e-6
+#: Tolerance of the adjoint identity v^T (J u) = (J^T v)^T u, relative to |v| |J|_F |u|.
+ADJOINT_RTOL = 1e-12
+#: Tolerance of fmi3DoStep's lastSuccessfulTime against the end of a complete step, relative to
+#: max(1, |t|) (the FMU may sum its internal steps in another order).
+TIME_RTOL = 1e-12
+#: Number of random seed pairs (u, v) of the adjoint check (fixed seed: the check is reproducible).
+ADJOINT_PAIRS = 3
+#: Offset added to the states / inputs before the derivative checks [state units], so that they
+#: are not evaluated at a trivial point (zero states where many terms vanish).
+OFFSET = 0.01
+#: Length of the short ME and CS runs: this fraction of the default experiment's duration ...
+RUN_FRACTION = 0.1
+#: ... and at most this long [s]; 50 output intervals (CS: communication steps).
+RUN_MAX = 2.0
+RUN_INTERVALS = 50
+#: A token no FMU has: used to check that a wrong GUID / instantiationToken is refused.
+WRONG_TOKEN = "{00000000-0000-0000-0000-000000000000}"
+
+_REAL_TYPES = ("Real", "Float64")
+_STATUS = ("OK", "Warning", "Discard", "Error", "Fatal", "Pending")
+
+
+class Findings:
+    """What one check found: problems and skipped parts (one line each, without the check's name)."""
+
+    def __init__(self, progress: Callable[[str], None] | None = None):
+        self.problems: list[str] = []
+        self.skipped: list[str] = []
+        self.current = ""  # what the check is calling (see doing)
+        self.stop_reason = ""  # set: the checks after this one cannot run (listed as skipped)
+        self._progress = progress
+
+    def problem(self, text: str) -> None:
+        self.problems.append(text)
+
+    def skip(self, text: str) -> None:
+        self.skipped.append(text)
+
+    def doing(self, text: str) -> None:
+        """Say what the check is about to call (named if the binary crashes or a call fails there)."""
+        self.current = text
+        if self._progress is not None:
+            self._progress(text)
+
+
+class Session:
+    """One FMU under test, with the calls that differ between FMI 2 and FMI 3 in one place.
+
+    Parameters
+    ----------
+    fmu : cosim.fmu.access.FMU
+        The extracted FMU (opened with ``versions=ALL_FMI_VERSIONS``).
+    """
+
+    def __init__(self, fmu):
+        from lxml import etree
+
+        self.fmu = fmu
+        self.md = fmu.description
+        self.fmi3 = fmu.is_fmi3
+        self.prefix = "fmi3" if self.fmi3 else "fmi2"
+        experiment = self.md.defaultExperiment
+        self.t0 = float(experiment.startTime) if experiment and experiment.startTime else 0.0
+        stop = float(experiment.stopTime) if experiment and experiment.stopTime else self.t0 + 1.0
+        self.horizon = min(RUN_MAX, RUN_FRACTION * (stop - self.t0)) if stop > self.t0 else RUN_MAX
+        self.h = self.horizon / RUN_INTERVALS
+        # FMPy 0.3.32 does not read FMI 3's providesDirectionalDerivatives (plural); read the
+        # capability flags from the XML itself, for both versions.
+        parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False)
+        root = etree.parse(str(fmu.unzipdir) + "/modelDescription.xml", parser).getroot()
+        self._sections = {"me": root.find("ModelExchange"), "cs": root.find("CoSimulation")}
+        # The Co-Simulation step: a multiple of a declared fixedInternalStepSize (FMI 3), since an
+        # FMU with a fixed internal step need not handle shorter communication steps.
+        fixed = self._sections["cs"].get("fixedInternalStepSize") if self.fmi3 and self._sections["cs"] is not None \
+            else None
+        try:
+            fixed = float(fixed) if fixed else 0.0
+        except ValueError:  # FMPy's schema check lets no such value through; be safe anyway
+            fixed = 0.0
+        self.cs_h = fixed * max(1, math.ceil(self.h / fixed - 1e-9)) if fixed > 0 else self.h
+        self.cs_steps = max(1, round(self.horizon / self.cs_h))
+        self.variables = list(self.md.modelVariables)
+        self.by_vr = {v.valueReference: v for v in self.variables}
+        self.latest = None  # the instance made last: its log explains a failed call
+
+    # -- the model description ------------------------------------------------------------------
+
+    def kinds(self) -> list[str]:
+        """The interfaces of the FMU: ``"me"`` and/or ``"cs"``."""
+        return [k for k in ("me", "cs") if self._sections[k] is not None]
+
+    def flag(self, kind: str, fmi2_name: str, fmi3_name: str | None = None) -> bool:
+        """A capability flag of interface ``kind`` (False if the interface is absent)."""
+        section = self._sections[kind]
+        if section is None:
+            return False
+        name = (fmi3_name or fmi2_name) if self.fmi3 else fmi2_name
+        return section.get(name) in ("true", "1")
+
+    def size(self, v) -> int:
+        """Number of scalar elements of a variable (FMI 3 arrays: the product of the dimensions)."""
+        n = 1
+        for d in getattr(v, "dimensions", None) or []:
+            if d.start is not None:
+                n *= int(d.start)
+            else:  # a structural parameter gives the size
+                n *= int(self.by_vr[d.valueReference].start)
+        return n
+
+    def real(self, causality: str, variability: str | None = "continuous") -> list:
+        return [v for v in self.variables if v.causality == causality and v.type in _REAL_TYPES
+                and (variability is None or v.variability == variability)]
+
+    @property
+    def state_vrs(self) -> list[int]:
+        return [d.variable.derivative.valueReference for d in self.md.derivatives]
+
+    @property
+    def derivative_vrs(self) -> list[int]:
+        return [d.variable.valueReference for d in self.md.derivatives]
+
+    @property
+    def nx(self) -> int:
+        return sum(self.size(d.variable) for d in self.md.derivatives)
+
+    def fixed_parameter(self):
+        """A scalar Real/Float64 parameter of variability fixed with a start value (None: none)."""
+        for v in self.real("parameter", "fixed"):
+            if v.start is not None and self.size(v) == 1:
+                return v
+        return None
+
+    def all_real_vrs(self) -> list[int]:
+        """Every Real/Float64 variable except the independent one (FMI 3 time): compared bitwise."""
+        return [v.valueReference for v in self.variables if v.type in _REAL_TYPES and v.causality != "independent"]
+
+    # -- instances ------------------------------------------------------------------------------
+
+    def instance(self, kind: str, name: str = "validate"):
+        """A fresh instance of interface ``kind`` (:meth:`cosim.fmu.access.FMU.instantiate`)."""
+        self.latest = self.fmu.instantiate(kind, name=name)
+        return self.latest
+
+    def raw_instance(self, kind: str, token: str):
+        """Instantiate with the given GUID / instantiationToken, bypassing the access layer (which
+        always passes the right one). Raises FMPy's Exception if the FMU refuses (NULL)."""
+        from cosim.fmu.access import FMULog
+
+        if self.fmi3:
+            from fmpy.fmi3 import FMU3Model as Model, FMU3Slave as Slave
+        else:
+            from fmpy.fmi2 import FMU2Model as Model, FMU2Slave as Slave
+        section = self.md.coSimulation if kind == "cs" else self.md.modelExchange
+        log = FMULog()
+        instance = (Slave if kind == "cs" else Model)(guid=token, unzipDirectory=self.fmu.unzipdir,
+                                                      modelIdentifier=section.modelIdentifier,
+                                                      instanceName="wrong-token")
+        if self.fmi3:
+            instance.instantiate(loggingOn=False, logMessage=log.fmi3_logger)
+        else:
+            instance.instantiate(loggingOn=False, callbacks=log.callbacks())
+        instance.log = log
+        return instance
+
+    def enter_initialization(self, instance) -> None:
+        if self.fmi3:
+            instance.enterInitializationMode(startTime=self.t0)
+        else:
+            instance.setupExperiment(startTime=self.t0)
+            instance.enterInitializationMode()
+
+    def initialize(self, instance, kind: str, continuous: bool = True) -> None:
+        """From instantiated to Co-Simulation step mode, or Model Exchange event mode (then
+        continuous-time mode if ``continuous``) after the event iteration."""
+        self.enter_initialization(instance)
+        instance.exitInitializationMode()
+        if kind == "me":
+            self.event_iteration(instance)
+            if continuous:
+                instance.enterContinuousTimeMode()
+
+    def event_iteration(self, instance) -> None:
+        for _ in range(100):  # a model that never converges is caught by the runs
+            if self.fmi3:
+                more = instance.updateDiscreteStates()[0]
+            else:
+                more = instance.newDiscreteStates()[0]
+            if not more:
+                return
+
+    @staticmethod
+    def free(instance) -> None:
+        """Free an instance whatever its state (errors ignored: it is discarded)."""
+        try:
+            instance.freeInstance()
+        except Exception:  # an instance in an error state may refuse even this; it is dropped
+            pass
+
+    # -- values ---------------------------------------------------------------------------------
+
+    def get(self, instance, vrs: list[int]) -> np.ndarray:
+        if not vrs:
+            return np.zeros(0)
+        if self.fmi3:
+            n = sum(self.size(self.by_vr[r]) for r in vrs)
+            return np.array(instance.getFloat64(vrs, n))
+        return np.array(instance.getReal(vrs))
+
+    def set(self, instance, vrs: list[int], values) -> None:
+        if not vrs:
+            return
+        values = [float(x) for x in np.ravel(values)]
+        if self.fmi3:
+            instance.setFloat64(vrs, values)
+        else:
+            instance.setReal(vrs, values)
+
+    def states(self, instance) -> np.ndarray:
+        x = (c_double * self.nx)()
+        if self.nx:
+            instance.getContinuousStates(x, self.nx)
+        return np.array(x[:])
+
+    def set_states(self, instance, x) -> None:
+        x = np.asarray(x, float)
+        if x.size:
+            instance.setContinuousStates((c_double * x.size)(*x), x.size)
+
+    def derivatives(self, instance) -> np.ndarray:
+        dx = (c_double * self.nx)()
+        if self.nx:
+            if self.fmi3:
+                instance.getContinuousStateDerivatives(dx, self.nx)
+            else:
+                instance.getDerivatives(dx, self.nx)
+        return np.array(dx[:])
+
+    def do_step(self, instance, t: float, h: float) -> None:
+        result = instance.doStep(t, h)
+        if self.fmi3 and result[1]:  # (eventEncountered, terminateSimulation, earlyReturn, lastSuccessfulTime)
+            raise FMUError(f"fmi3DoStep at t = {t:g} s asked to terminate the simulation")
+
+    def directional(self, instance, unknowns: list[int], knowns: list[int], seed, n_unknowns: int) -> np.ndarray:
+        seed = [float(s) for s in seed]
+        if self.fmi3:
+            return np.array(instance.getDirectionalDerivative(unknowns, knowns, seed, n_unknowns))
+        return np.array(instance.getDirectionalDerivative(unknowns, knowns, seed))
+
+    def adjoint(self, instance, unknowns: list[int], knowns: list[int], seed, n_knowns: int) -> np.ndarray:
+        # FMPy's default nSensitivity is the number of unknowns; the adjoint has one per known.
+        return np.array(instance.getAdjointDerivative(unknowns, knowns, [float(s) for s in seed], n_knowns))
+
+
+def _status_of(call: Callable[[], object]) -> int:
+    """The status of an FMI call: 0 (OK or Warning: FMPy raises only beyond Warning), else the
+    status FMPy's FMICallException carries."""
+    from fmpy.fmi1 import FMICallException
+
+    try:
+        call()
+    except FMICallException as exc:
+        return int(exc.status)
+    return 0
+
+
+def _said(instance) -> str:
+    said = instance.log.last_error() if hasattr(instance, "log") else None
+    return f" (the FMU says: {said})" if said else ""
+
+
+# -- token --------------------------------------------------------------------------------------
+
+def check_token(s: Session, f: Findings) -> None:
+    what = "instantiationToken" if s.fmi3 else "GUID"
+    refused = []
+    for kind in s.kinds():  # first the right token: every later check needs it
+        f.doing(f"instantiate ({kind.upper()}) with the {what} of modelDescription.xml")
+        try:
+            s.free(s.instance(kind, name="token"))
+        except FMUError as exc:
+            refused.append(kind)
+            f.problem(f"{kind.upper()}: instantiation with the {what} of modelDescription.xml fails: "
+                      f"{str(exc).removeprefix(f'{s.fmu.path}: ')}")
+    if refused == s.kinds():
+        f.stop_reason = "the FMU cannot be instantiated (see token)"
+        return
+    for kind in s.kinds():
+        if kind in refused:
+            continue
+        token = WRONG_TOKEN if s.md.guid != WRONG_TOKEN else WRONG_TOKEN.replace("0", "1")
+        f.doing(f"instantiate ({kind.upper()}) with a wrong {what}")
+        try:
+            instance = s.raw_instance(kind, token)
+        except Exception:  # FMPy: "Failed to instantiate FMU": refused, as it must be
+            continue
+        f.problem(f"{kind.upper()}: instantiation with a wrong {what} {token} was accepted")
+        s.free(instance)
+
+
+# -- state machine ------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class _Case:
+    kind: str  # "cs" / "me"
+    state: str  # the state the instance is brought into first
+    call: str  # FMI function name without prefix (FMI 2 spelling; _FMI3_NAMES maps)
+    when: str  # words for the message
+    needs: str = ""  # "states": the model needs continuous states; "fixed": a fixed Real parameter
+
+
+_CASES = (
+    _Case("cs", "instantiated", "DoStep", "before initialization"),
+    _Case("cs", "initialization", "DoStep", "in initialization mode"),
+    _Case("cs", "instantiated", "ExitInitializationMode", "without EnterInitializationMode"),
+    _Case("cs", "initialized", "ExitInitializationMode", "a second time"),
+    _Case("cs", "initialized", "EnterInitializationMode", "after initialization"),
+    _Case("cs", "terminated", "DoStep", "after Terminate"),
+    _Case("cs", "initialized", "SetReal", "after initialization", "fixed"),
+    _Case("me", "instantiated", "GetDerivatives", "before initialization", "states"),
+    _Case("me", "instantiated", "EnterContinuousTimeMode", "before initialization"),
+    _Case("me", "event", "SetContinuousStates", "in event mode", "states"),
+    _Case("me", "event", "CompletedIntegratorStep", "in event mode"),
+    _Case("me", "event", "ExitInitializationMode", "a second time"),
+    _Case("me", "continuous", "SetReal", "in continuous-time mode", "fixed"),
+)
+_FMI3_NAMES = {"GetDerivatives": "GetContinuousStateDerivatives", "SetReal": "SetFloat64"}
+
+
+def _bring(s: Session, instance, case: _Case) -> None:
+    if case.state == "initialization":
+        s.enter_initialization(instance)
+    elif case.state in ("initialized", "event"):
+        s.initialize(instance, case.kind, continuous=False)
+    elif case.state == "continuous":
+        s.initialize(instance, case.kind, continuous=True)
+    elif case.state == "terminated":
+        s.initialize(instance, case.kind, continuous=False)
+        instance.terminate()
+
+
+def _forbidden_call(s: Session, instance, case: _Case, parameter) -> Callable[[], object]:
+    if case.call == "DoStep":
+        return lambda: instance.doStep(s.t0, s.cs_h)
+    if case.call == "ExitInitializationMode":
+        return instance.exitInitializationMode
+    if case.call == "EnterInitializationMode":
+        return lambda: s.enter_initialization(instance)
+    if case.call == "EnterContinuousTimeMode":
+        return instance.enterContinuousTimeMode
+    if case.call == "GetDerivatives":
+        return lambda: s.derivatives(instance)
+    if case.call == "SetContinuousStates":
+        return lambda: s.set_states(instance, np.zeros(s.nx))
+    if case.call == "CompletedIntegratorStep":
+        return instance.completedIntegratorStep
+    if case.call == "SetReal":
+        return lambda: s.set(instance, [parameter.valueReference], [float(parameter.start)])
+    raise ValueError(f"no forbidden call {case.call!r}")
+
+
+def check_state_machine(s: Session, f: Findings) -> None:
+    parameter = s.fixed_parameter()
+    kinds = s.kinds()
+    unreachable: dict[tuple[str, str], list[str]] = {}  # (interface, why) -> cases not checked
+    for case in _CASES:
+        if case.kind not in kinds:
+            continue
+        name = s.prefix + (_FMI3_NAMES.get(case.call, case.call) if s.fmi3 else case.call)
+        label = f"{case.kind.upper()}: {name}" + (f" of the fixed parameter '{parameter.name}'"
+                                                   if case.needs == "fixed" and parameter else "")
+        if case.needs == "states" and s.nx == 0:
+            f.skip(f"{label} {case.when}: the model has no continuous states")
+            continue
+        if case.needs == "fixed" and parameter is None:
+            f.skip(f"{label} of a fixed parameter {case.when}: the FMU has no fixed "
+                   f"{'Float64' if s.fmi3 else 'Real'} parameter")
+            continue
+        f.doing(f"{label} {case.when}")
+        instance = s.instance(case.kind, name="state-machine")
+        try:
+            try:
+                _bring(s, instance, case)
+            except Exception as exc:  # the legal calls before the forbidden one failed
+                unreachable.setdefault((case.kind, f"{exc}{_said(instance)}"), []).append(f"{name} {case.when}")
+                continue
+            status = _status_of(_forbidden_call(s, instance, case, parameter))
+            if status in (0, 1):
+                f.problem(f"{label} {case.when} was accepted (the standard forbids it; expected Error)")
+            elif status not in (3, 4):
+                label_status = _STATUS[status] if 0 <= status < len(_STATUS) else str(status)
+                f.problem(f"{label} {case.when} returned {label_status}, expected Error")
+        finally:
+            s.free(instance)
+    for (kind, why), cases in unreachable.items():  # one line per cause, not per case
+        f.problem(f"{kind.upper()}: {len(cases)} case(s) not checked ({'; '.join(cases)}): the legal calls "
+                  f"leading to the state failed: {why}")
+
+
+# -- derivatives --------------------------------------------------------------------------------
+
+class _Point:
+    """A Model Exchange instance in continuous-time mode at a point away from the initial one:
+    the knowns z = (states, continuous inputs), unknowns (derivatives, continuous outputs)."""
+
+    def __init__(self, s: Session, f: Findings):
+        self.s = s
+        self.inputs = [v.valueReference for v in s.real("input") if s.size(v) == 1]
+        # Outputs that are states themselves (d x/d x = identity) are not asked for: the standard
+        # allows them as unknowns, but runtimes (this project's among them) refuse them, and their
+        # derivative tells nothing about the model.
+        outputs = [v.valueReference for v in s.real("output")]
+        self.state_outputs = [s.by_vr[r].name for r in outputs if r in s.state_vrs]
+        self.unknowns = s.derivative_vrs + [r for r in outputs if r not in s.derivative_vrs + s.state_vrs]
+        self.knowns = s.state_vrs + self.inputs
+        self.n_unknowns = sum(s.size(s.by_vr[r]) for r in self.unknowns)
+        self.nz = s.nx + len(self.inputs)
+        f.doing("Model Exchange initialization")
+        self.instance = s.instance("me", name="derivatives")
+        s.initialize(self.instance, "me")
+        x = s.states(self.instance) + OFFSET * (1 + np.arange(s.nx))
+        u = s.get(self.instance, self.inputs) + OFFSET * (1 + np.arange(len(self.inputs)))
+        self.z = np.concatenate([x, u])
+        self.put(self.z)
+
+    def put(self, z) -> None:
+        self.s.set_states(self.instance, z[: self.s.nx])
+        self.s.set(self.instance, self.inputs, z[self.s.nx:])
+
+    def values(self, z) -> np.ndarray:
+        self.put(z)
+        return self.s.get(self.instance, self.unknowns)
+
+    def central_differences(self) -> np.ndarray:
+        columns = []
+        for k in range(self.nz):
+            h = FD_STEP * max(1.0, abs(self.z[k]))
+            zp, zm = self.z.copy(), self.z.copy()
+            zp[k] += h
+            zm[k] -= h
+            columns.append((self.values(zp) - self.values(zm)) / (2 * h))
+        self.put(self.z)
+        return np.array(columns).T
+
+    def directional(self) -> np.ndarray:
+        return np.array([self.s.directional(self.instance, self.unknowns, self.knowns, seed, self.n_unknowns)
+                         for seed in np.eye(self.nz)]).T
+
+    def name(self, column: int) -> str:
+        if column < self.s.nx:
+            return self.s.md.derivatives[column].variable.derivative.name if self.s.nx == len(self.s.md.derivatives) \
+                else f"state {column}"
+        return self.s.by_vr[self.inputs[column - self.s.nx]].name
+
+    def row_name(self, row: int) -> str:
+        names = []
+        for r in self.unknowns:
+            v = self.s.by_vr[r]
+            names += [v.name] * self.s.size(v)
+        return names[row]
+
+    def close(self) -> None:
+        self.s.free(self.instance)
+
+
+def check_directional_derivatives(s: Session, f: Findings) -> None:
+    if "me" not in s.kinds():
+        f.skip("the FMU has no Model Exchange interface (the check uses its states and derivatives)")
+        return
+    if not s.flag("me", "providesDirectionalDerivative", "providesDirectionalDerivatives"):
+        f.skip("the FMU does not declare providesDirectionalDerivative" + ("s" if s.fmi3 else ""))
+        return
+    point = _Point(s, f)
+    try:
+        if not point.nz or not point.n_unknowns:
+            f.skip("no continuous states or inputs, or no derivatives or outputs")
+            return
+        if point.state_outputs:
+            f.skip(f"outputs that are states ({', '.join(point.state_outputs)}) are not asked for as unknowns")
+        f.doing(f"{s.prefix}GetDirectionalDerivative")
+        ad = point.directional()
+        f.doing("central differences")
+        fd = point.central_differences()
+        error = np.abs(ad - fd) / np.maximum(1.0, np.abs(fd))
+        error[~np.isfinite(error)] = np.inf
+        for k in range(point.nz):
+            if error[:, k].max() > DERIVATIVE_RTOL:
+                i = int(np.argmax(error[:, k]))
+                f.problem(f"d({point.row_name(i)})/d({point.name(k)}) = {ad[i, k]:.9g} from "
+                          f"{s.prefix}GetDirectionalDerivative, {fd[i, k]:.9g} from central differences "
+                          f"(relative difference {error[i, k]:.2e} > {DERIVATIVE_RTOL:g})")
+    finally:
+        point.close()
+
+
+def check_adjoint_derivatives(s: Session, f: Findings) -> None:
+    if not s.fmi3:
+        f.skip("FMI 2 has no adjoint derivatives")
+        return
+    if "me" not in s.kinds():
+        f.skip("the FMU has no Model Exchange interface (the check uses its states and derivatives)")
+        return
+    if not s.flag("me", "", "providesAdjointDerivatives"):
+        f.skip("the FMU does not declare providesAdjointDerivatives")
+        return
+    point = _Point(s, f)
+    try:
+        if not point.nz or not point.n_unknowns:
+            f.skip("no continuous states or inputs, or no derivatives or outputs")
+            return
+        directional = s.flag("me", "", "providesDirectionalDerivatives")
+        f.doing("fmi3GetDirectionalDerivative" if directional else "central differences")
+        jacobian = point.directional() if directional else point.central_differences()
+        scale = np.linalg.norm(jacobian) or 1.0
+        rng = np.random.default_rng(15)
+        for pair in range(ADJOINT_PAIRS):
+            u = rng.standard_normal(point.nz)
+            v = rng.standard_normal(point.n_unknowns)
+            f.doing("fmi3GetAdjointDerivative")
+            if directional:
+                ju = s.directional(point.instance, point.unknowns, point.knowns, u, point.n_unknowns)
+            else:
+                ju = jacobian @ u
+            jtv = s.adjoint(point.instance, point.unknowns, point.knowns, v, point.nz)
+            left, right = float(v @ ju), float(jtv @ u)
+            bound = ADJOINT_RTOL * np.linalg.norm(v) * scale * np.linalg.norm(u)
+            if not abs(left - right) <= bound:
+                f.problem(f"v^T(J u) = {left:.15g} but (J^T v)^T u = {right:.15g} (random pair {pair + 1}; "
+                          f"difference {abs(left - right):.2e} > {bound:.2e} = {ADJOINT_RTOL:g} |v| |J| |u|)")
+    finally:
+        point.close()
+
+
+# -- FMU state ----------------------------------------------------------------------------------
+
+def _same(a: np.ndarray, b: np.ndarray) -> bool:
+    return a.shape == b.shape and np.array_equal(a, b, equal_nan=True)
+
+
+def _differs(vrs: list[int], s: Session, a: np.ndarray, b: np.ndarray) -> str:
+    index = [i for i in range(min(len(a), len(b))) if not (a[i] == b[i] or (np.isnan(a[i]) and np.isnan(b[i])))]
+    names = [s.by_vr[vrs[i]].name for i in index[:3]] if len(vrs) == len(a) else []
+    return (f"{len(index)} value(s) differ" + (f", e.g. {names[0]}: {a[index[0]]!r} then {b[index[0]]!r}"
+                                               if names else ""))
+
+
+def _cs_state(s: Session, f: Findings) -> None:
+    """Take the state at t1, step, restore, step again: the values right after restoring must equal
+    those when the state was taken (an FMU that integrates from its own time, as many do, would
+    otherwise hide a restore that did nothing), the values after the repeated step those after the
+    first."""
+    watch = s.all_real_vrs()
+    f.doing("Co-Simulation initialization and a step")
+    cs = s.instance("cs", name="fmu-state")
+    try:
+        s.initialize(cs, "cs")
+        t1 = s.t0 + s.cs_h
+        s.do_step(cs, s.t0, s.cs_h)
+        f.doing(f"{s.prefix}GetFMUState")
+        state = cs.getFMUState()
+        taken = s.get(cs, watch)
+        s.do_step(cs, t1, s.cs_h)
+        stepped = s.get(cs, watch)
+
+        def compare(how: str) -> None:
+            now = s.get(cs, watch)
+            if not _same(taken, now):
+                f.problem(f"CS: right after {how}: {_differs(watch, s, taken, now)} from when the state was "
+                          f"taken at t = {t1:g} s (expected bit-identical)")
+                return
+            s.do_step(cs, t1, s.cs_h)
+            again = s.get(cs, watch)
+            if not _same(stepped, again):
+                f.problem(f"CS: {how} and the same step again: {_differs(watch, s, stepped, again)} from the "
+                          "first step (expected bit-identical)")
+
+        f.doing(f"{s.prefix}SetFMUState")
+        cs.setFMUState(state)
+        compare("restoring the state")
+        if not s.flag("cs", "canSerializeFMUstate", "canSerializeFMUState"):
+            f.skip("CS: serialization: the FMU does not declare canSerializeFMUState")
+        else:
+            f.doing(f"{s.prefix}SerializeFMUState")
+            blob = cs.serializeFMUState(state)
+            f.doing(f"{s.prefix}DeserializeFMUState")
+            restored = cs.deserializeFMUState(blob)
+            cs.setFMUState(restored)  # the instance is one step past the state (compare stepped)
+            compare("restoring a serialized and deserialized state")
+            cs.freeFMUState(restored)
+            f.doing(f"{s.prefix}DeserializeFMUState of a truncated state")
+            status = _status_of(lambda: cs.deserializeFMUState(blob[: len(blob) // 2]))
+            if status in (0, 1):
+                f.problem(f"CS: a truncated serialized state ({len(blob) // 2} of {len(blob)} bytes) was accepted "
+                          f"by {s.prefix}DeserializeFMUState")
+        cs.freeFMUState(state)
+    finally:
+        s.free(cs)
+
+
+def _me_state(s: Session, f: Findings) -> None:
+    f.doing("Model Exchange initialization")
+    me = s.instance("me", name="fmu-state")
+    try:
+        s.initialize(me, "me")
+        if not s.nx:
+            f.skip("ME: the model has no continuous states")
+            return
+        x = s.states(me) + OFFSET * (1 + np.arange(s.nx))
+        s.set_states(me, x)
+        before = np.concatenate([s.states(me), s.derivatives(me)])
+        f.doing(f"{s.prefix}GetFMUState")
+        state = me.getFMUState()
+        s.set_states(me, x + 1.0)
+        me.setTime(s.t0 + s.h)
+        f.doing(f"{s.prefix}SetFMUState")
+        me.setFMUState(state)
+        after = np.concatenate([s.states(me), s.derivatives(me)])
+        if not _same(before, after):
+            f.problem(f"ME: states and derivatives after restoring a state: "
+                      f"{_differs([], s, before, after)} (expected bit-identical)")
+        me.freeFMUState(state)
+    finally:
+        s.free(me)
+
+
+def check_fmu_state(s: Session, f: Findings) -> None:
+    for kind, run in (("cs", _cs_state), ("me", _me_state)):
+        if kind not in s.kinds():
+            continue
+        if not s.flag(kind, "canGetAndSetFMUstate", "canGetAndSetFMUState"):
+            f.skip(f"{kind.upper()}: the FMU does not declare canGetAndSetFMUState")
+            continue
+        try:
+            run(s, f)
+        except Exception as exc:  # an FMI call failed: report it, go on with the other interface
+            said = _said(s.latest) if s.latest is not None else ""
+            f.problem(f"{kind.upper()}: stopped in {f.current}: {exc}{said}")
+
+
+# -- FMI 3 Co-Simulation step results ----------------------------------------------------------
+
+def check_cs_step(s: Session, f: Findings) -> None:
+    if "cs" not in s.kinds():
+        f.skip("the FMU has no Co-Simulation interface")
+        return
+    if not s.fmi3:
+        f.skip("FMI 2's fmi2DoStep has no out-arguments to check")
+        return
+    f.doing("Co-Simulation initialization")
+    cs = s.instance("cs", name="cs-step")
+    try:
+        s.initialize(cs, "cs")
+        t, early, wrong = s.t0, [], []
+        for _ in range(s.cs_steps):
+            f.doing(f"fmi3DoStep at t = {t:g} s")
+            _, terminate, early_return, last = cs.doStep(t, s.cs_h)
+            end = t + s.cs_h
+            if early_return:
+                early.append(t)
+            elif not abs(last - end) <= TIME_RTOL * max(1.0, abs(end)):
+                wrong.append((end, last))
+            if terminate or early_return:  # the FMU ends the run (allowed) or did not reach end
+                break
+            t = end
+        if early:
+            f.problem(f"fmi3DoStep returned earlyReturn = true at t = {early[0]:g} s, but the instance was "
+                      "created with earlyReturnAllowed = false")
+        if wrong:
+            end, last = wrong[0]
+            f.problem(f"fmi3DoStep to t = {end!r} s returned lastSuccessfulTime = {last!r} s "
+                      f"({len(wrong)} of the steps; a complete step ends at t + h, within {TIME_RTOL:g} relative)")
+    finally:
+        s.free(cs)
+
+
+# -- short runs ---------------------------------------------------------------------------------
+
+def _short_run(s: Session, f: Findings, kind: str) -> None:
+    from fmpy import simulate_fmu
+
+    from cosim.fmu.access import FMULog
+
+    if kind not in s.kinds():
+        f.skip(f"the FMU has no {'Model Exchange' if kind == 'me' else 'Co-Simulation'} interface")
+        return
+    log = FMULog()
+    interval = s.h if kind == "me" else s.cs_h
+    stop = s.t0 + (s.horizon if kind == "me" else s.cs_h * s.cs_steps)
+    f.doing(f"simulate_fmu ({kind.upper()}) to t = {stop:g} s")
+    try:
+        result = simulate_fmu(s.fmu.unzipdir, validate=False, model_description=s.md, start_time=s.t0,
+                              stop_time=stop, output_interval=interval, solver="CVode",
+                              fmi_type="ModelExchange" if kind == "me" else "CoSimulation",
+                              logger=log.logger if not s.fmi3 else log.fmi3_logger)
+    except Exception as exc:  # FMPy raises FMICallException, or bare Exception
+        said = log.last_error()
+        f.problem(f"the run from t = {s.t0:g} s to {stop:g} s failed: {exc}" + (f" (the FMU says: {said})"
+                                                                                 if said else ""))
+        return
+    if result["time"][-1] < stop - 1e-9 * max(1.0, abs(stop)):
+        f.problem(f"the run ended at t = {result['time'][-1]:g} s, before its stop time {stop:g} s")
+    for name in result.dtype.names:
+        column = np.asarray(result[name])
+        if column.dtype.kind in "fiu" and not np.all(np.isfinite(column)):
+            first = int(np.argmax(~np.isfinite(column)))
+            f.problem(f"'{name}' is not finite ({column[first]}) at t = {result['time'][first]:g} s")
+
+
+def check_me_run(s: Session, f: Findings) -> None:
+    _short_run(s, f, "me")
+
+
+def check_cs_run(s: Session, f: Findings) -> None:
+    _short_run(s, f, "cs")
+
+
+@dataclass(frozen=True)
+class Check:
+    name: str
+    run: Callable[[Session, Findings], None]
+
+
+#: The dynamic checks, in the order they run.
+CHECKS = (
+    Check("token", check_token),
+    Check("state-machine", check_state_machine),
+    Check("directional-derivatives", check_directional_derivatives),
+    Check("adjoint-derivatives", check_adjoint_derivatives),
+    Check("fmu-state", check_fmu_state),
+    Check("cs-step", check_cs_step),
+    Check("me-run", check_me_run),
+    Check("cs-run", check_cs_run),
+)
+
+
+def run_check(check: Check, session: Session, progress: Callable[[str], None] | None = None) -> Findings:
+    """Run one check; an exception it does not handle (an FMI call that failed where the standard
+    requires success) becomes one problem naming the call, with what the FMU logged."""
+    findings = Findings(progress)
+    try:
+        check.run(session, findings)
+    except Exception as exc:
+        during = f" in {findings.current}" if findings.current else ""
+        what = str(exc) if isinstance(exc, FMUError) else f"{type(exc).__name__}: {exc}"
+        said = _said(session.latest) if session.latest is not None else ""
+        findings.problem(f"stopped{during}: {what}{said}")
+    return findings
