@@ -182,14 +182,25 @@ def _cmd_build(args) -> int:
         for r in results:
             print(f"{'built ' if r.rebuilt else 'up to date'} {r.fmu}  ({r.seconds:.1f} s)")
 
+    versions = args.fmi_version or ("2",)
+    if args.wasm:
+        from cosim.wasm.build import build_wasm, zig_command
+
+        zig_command()  # no ziglang: one message before any work
+        if "2" not in versions:
+            versions = ("2", *versions)  # the WebAssembly module is compiled from the FMI 2.0 FMU's sources
     try:
         models = (args.models or []) + getattr(args, "models_after_versions", [])
-        results = build(models or None, args.output, jobs=args.jobs, force=args.force,
-                        fmi_versions=args.fmi_version or ("2",))
+        results = build(models or None, args.output, jobs=args.jobs, force=args.force, fmi_versions=versions)
     except CosimError as exc:
         report(getattr(exc, "results", []))  # what did build is kept and shown before the error
         raise
     report(results)
+    if args.wasm:
+        for r in results:
+            if r.fmi_version == "2":
+                w = build_wasm(r.fmu, args.output, force=args.force)
+                print(f"{'built ' if w.rebuilt else 'up to date'} {w.wasm}  ({w.size / 1e3:.0f} kB, {w.seconds:.1f} s)")
     return EXIT_OK
 
 
@@ -600,6 +611,10 @@ def parser() -> argparse.ArgumentParser:
     b.add_argument("--fmi-version", action=_FmiVersions, nargs="+", metavar="{2,3}",
                    help="FMI version(s) to build: 2 (OUTPUT/NAME.fmu, the default), 3 (OUTPUT/fmi3/NAME.fmu); "
                         "repeat or list both (--fmi-version 2 3) to build both from one compilation")
+    b.add_argument("--wasm", action="store_true",
+                   help="also compile each FMI 2.0 FMU's C sources to WebAssembly for the browser: "
+                        "OUTPUT/wasm/NAME.wasm + NAME.json (value references, default experiment); needs "
+                        "the optional extra 'wasm' (pip install 'bicycle-cosim[wasm]')")
     library_option(b)
     b.set_defaults(func=_cmd_build)
 

@@ -10,7 +10,7 @@ import pytest
 
 from conftest import ROOT
 
-EXTRAS = {"generate": "sympy", "cluster": "dask[distributed]"}
+EXTRAS = {"generate": "sympy", "cluster": "dask[distributed]", "wasm": "ziglang"}
 # Modules that need sympy by design: the derivation and its printer (run by the generator only).
 SYMPY_MODULES = {"cosim.nonlinear.derivation", "cosim.nonlinear.modelica"}
 BLOCK = "import sys\nfor name in ('sympy', 'dask', 'distributed'):\n    sys.modules[name] = None\n"

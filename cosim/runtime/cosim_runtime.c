@@ -83,6 +83,10 @@ static double rt_root(double x, int n)
     if (!(x > 0.0) || !isfinite(x)) return x;
 #if defined(__SSE2__) || defined(_M_X64)
     if (n == 2) return _mm_cvtsd_f64(_mm_sqrt_sd(_mm_setzero_pd(), _mm_set_sd(x)));
+#elif defined(__wasm__)
+    /* WebAssembly's f64.sqrt is correctly rounded like SSE2's sqrtsd: the browser build of an
+       FMU (cosim build --wasm) steps as the native one does */
+    if (n == 2) return __builtin_sqrt(x);
 #endif
     memcpy(&bits, &x, sizeof bits);
     scaled = ((int64_t)bits - one) / n + one;
