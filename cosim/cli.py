@@ -149,6 +149,17 @@ def positive_int(text: str) -> int:
     return value
 
 
+def _port(text: str) -> int:
+    """argparse type: a TCP port 0..65535 (0: one the system chooses)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"invalid port: '{text}' (an integer 0..65535)") from None
+    if not 0 <= value <= 65535:
+        raise argparse.ArgumentTypeError(f"invalid port: {value} (0..65535)")
+    return value
+
+
 def _finite(text: str) -> float:
     """argparse type of times, steps and tolerances: a finite number."""
     try:
@@ -536,6 +547,23 @@ def _cmd_figures(args) -> int:
     return EXIT_OK
 
 
+def _cmd_app(args) -> int:
+    if args.export is not None:
+        from cosim.app.export import export_app
+
+        r = export_app(args.export)
+        print(f"wrote {r.index} and {r.bundle} ({r.bytes / 1e3:.0f} kB); open {r.index.resolve().as_uri()}")
+        if args.open:
+            import webbrowser
+
+            webbrowser.open(r.index.resolve().as_uri())
+        return EXIT_OK
+    from cosim.app.server import serve
+
+    serve(args.port, args.open, announce=lambda line: print(line, flush=True))
+    return EXIT_OK
+
+
 def _cmd_demo(args) -> int:
     from cosim.studies.demo import run_demo
 
@@ -729,6 +757,19 @@ def parser() -> argparse.ArgumentParser:
 
     analytic_cli.add_parser(sub)
     matrix_cli.add_parser(sub)
+
+    app = sub.add_parser("app", help="the bicycle's eigenvalues in the browser (the FMU as WebAssembly)",
+                         formatter_class=raw,
+                         epilog="Serves the app on 127.0.0.1, or writes it with --export as a static site (index.html\n"
+                                "+ bundle.js) that works from file:// with no network. Builds the FMU of\n"
+                                "Bicycle.Bicycles.WhippleLinear and its WebAssembly module first (incremental); needs\n"
+                                "the optional extra 'wasm' (pip install 'bicycle-cosim[wasm]').\n\n"
+                                f"{FMU_FOLDER}\n\n{EXIT_CODES}")
+    app.add_argument("--export", default=None, metavar="DIR", help="write the static site into DIR and exit")
+    app.add_argument("--port", type=_port, default=8000, help="TCP port on 127.0.0.1 (default 8000; 0: any free one)")
+    app.add_argument("--open", action="store_true", help="open the page in the default web browser (also with --export)")
+    library_option(app)
+    app.set_defaults(func=_cmd_app)
 
     d = sub.add_parser("demo", help="build, validate and simulate the bundled bicycle", formatter_class=raw,
                        epilog=f"{FMU_FOLDER}\n\n{EXIT_CODES}")

@@ -9,6 +9,7 @@
 //   bike.enterInitializationMode(); bike.exitInitializationMode();
 //   for (let k = 0; k < 1000; k++) bike.doStep(k * 0.01, 0.01);   // or bike.simulate({...})
 //   bike.get("phi");
+//   const d = bike.directional(["der(phi)"], ["phi"]); d.jacobian(); d.free();   // A of a linear model
 //
 // The module is the FMU's own C code (generated model + FMI runtime) with the small API of
 // wasm_api.c; NAME.json (written from the FMU's modelDescription.xml) gives the value references.
@@ -241,6 +242,58 @@ export class Instance {
     };
     read.free = () => { e.wasm_free(vrPtr); e.wasm_free(valuesPtr); };
     return read;
+  }
+
+  // A writer of many Real values at once (one FMI call per write): write(values) sets `names`
+  // to `values` (in that order); write.free() releases its arrays in the module's memory.
+  writer(names) {
+    const e = this.fmu.exports, n = names.length;
+    const vrs = names.map((name) => this.variableOf(name));
+    for (const v of vrs) if (v.type !== "Real") throw new FMIError(`${v.name} is not a Real variable`);
+    const vrPtr = e.wasm_alloc(4 * n), valuesPtr = e.wasm_alloc(8 * n);
+    new Uint32Array(this.fmu.state.memory.buffer, vrPtr, n).set(vrs.map((v) => v.valueReference));
+    const write = (values) => {
+      if (values.length !== n) throw new FMIError(`${n} values are needed, got ${values.length}`);
+      new Float64Array(this.fmu.state.memory.buffer, valuesPtr, n).set(values);
+      this.check(e.wasm_set_reals(this.h, vrPtr, n, valuesPtr), "set");
+    };
+    write.free = () => { e.wasm_free(vrPtr); e.wasm_free(valuesPtr); };
+    return write;
+  }
+
+  // A reader of directional derivatives (fmi2GetDirectionalDerivative) of the Real variables
+  // `unknowns` with respect to `knowns`: d(seed) -> Float64Array (J * seed, one FMI call),
+  // d.jacobian() -> [rows of J] (one call per column, unit seeds); d.free() releases its arrays.
+  directional(unknowns, knowns) {
+    const e = this.fmu.exports, nu = unknowns.length, nk = knowns.length;
+    const refs = (names) => names.map((name) => {
+      const v = this.variableOf(name);
+      if (v.type !== "Real") throw new FMIError(`${v.name} is not a Real variable`);
+      return v.valueReference;
+    });
+    const u = refs(unknowns), k = refs(knowns);
+    const uPtr = e.wasm_alloc(4 * nu), kPtr = e.wasm_alloc(4 * nk);
+    const seedPtr = e.wasm_alloc(8 * nk), outPtr = e.wasm_alloc(8 * nu);
+    new Uint32Array(this.fmu.state.memory.buffer, uPtr, nu).set(u);
+    new Uint32Array(this.fmu.state.memory.buffer, kPtr, nk).set(k);
+    const d = (seed) => {
+      if (seed.length !== nk) throw new FMIError(`a seed of ${nk} values is needed, got ${seed.length}`);
+      new Float64Array(this.fmu.state.memory.buffer, seedPtr, nk).set(seed);
+      this.check(e.wasm_directional(this.h, uPtr, nu, kPtr, nk, seedPtr, outPtr), "fmi2GetDirectionalDerivative");
+      return new Float64Array(this.fmu.state.memory.buffer, outPtr, nu).slice();
+    };
+    d.jacobian = () => {
+      const rows = unknowns.map(() => new Array(nk)), seed = new Float64Array(nk);
+      for (let j = 0; j < nk; j++) {
+        seed.fill(0);
+        seed[j] = 1;
+        const column = d(seed);
+        for (let i = 0; i < nu; i++) rows[i][j] = column[i];
+      }
+      return rows;
+    };
+    d.free = () => { for (const ptr of [uPtr, kPtr, seedPtr, outPtr]) e.wasm_free(ptr); };
+    return d;
   }
 
   setupExperiment({ tolerance, startTime = 0, stopTime } = {}) {

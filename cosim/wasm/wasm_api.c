@@ -256,3 +256,17 @@ int WASM_EXPORT(wasm_free_fmu_state)(fmi2Component c, fmi2FMUstate state)
     fmi2FMUstate s = state;
     return fmi2FreeFMUstate(c, &s);
 }
+
+/* ---------------------------------------------------------------------------------------------
+ * Directional derivatives: columns of the Jacobian (the page's linearization, A = d der(x)/dx)
+ * ------------------------------------------------------------------------------------------- */
+
+/* fmi2GetDirectionalDerivative: out = (d unknowns / d knowns) * seed.  unknown_vrs (n_unknown
+   unsigned 32-bit integers), known_vrs (n_known), seed (n_known doubles) and out (n_unknown
+   doubles) are arrays in the module's memory (wasm_alloc). */
+int WASM_EXPORT(wasm_directional)(fmi2Component c, const fmi2ValueReference *unknown_vrs, size_t n_unknown,
+                                  const fmi2ValueReference *known_vrs, size_t n_known, const double *seed,
+                                  double *out)
+{
+    return fmi2GetDirectionalDerivative(c, unknown_vrs, n_unknown, known_vrs, n_known, seed, out);
+}

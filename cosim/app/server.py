@@ -1,0 +1,57 @@
+"""`cosim app [--port N] [--open]`: the exported app (:mod:`.export`) served on 127.0.0.1.
+
+The site is exported into a temporary folder, removed when the server stops (Ctrl-C); the page
+is the same two files as ``cosim app --export`` writes, so what is tested from ``file://`` is
+what is served. Only 127.0.0.1 is bound: the app is for the machine it runs on.
+"""
+from __future__ import annotations
+
+import functools
+import http.server
+import tempfile
+import webbrowser
+
+from cosim.errors import OutputError
+
+HOST = "127.0.0.1"
+
+
+class _Handler(http.server.SimpleHTTPRequestHandler):
+    extensions_map = {**http.server.SimpleHTTPRequestHandler.extensions_map, ".js": "text/javascript"}
+
+    def log_message(self, format, *args):  # noqa: A002 (the base class's name): no line per request
+        pass
+
+
+def serve(port: int = 8000, open_browser: bool = False, announce=print) -> None:
+    """Export the app into a temporary folder and serve it on ``http://127.0.0.1:PORT/`` until
+    interrupted.
+
+    Parameters
+    ----------
+    port : int
+        TCP port (0: one the system chooses).
+    open_browser : bool
+        Open the page in the default web browser once the server listens.
+    announce : callable
+        Receives the line with the URL (default: print).
+
+    Raises
+    ------
+    OutputError
+        If the port cannot be bound (e.g. in use).
+    """
+    from cosim.app.export import export_app
+
+    with tempfile.TemporaryDirectory(prefix="cosim-app-") as folder:
+        try:  # the port first: a port in use is refused before any build
+            httpd = http.server.ThreadingHTTPServer((HOST, port), functools.partial(_Handler, directory=folder))
+        except OSError as exc:
+            raise OutputError(f"cannot serve on {HOST}:{port}: {exc.strerror or exc}") from None
+        with httpd:
+            export_app(folder)
+            url = f"http://{HOST}:{httpd.server_address[1]}/"
+            announce(f"serving the app on {url} (Ctrl-C stops)")
+            if open_browser:
+                webbrowser.open(url)
+            httpd.serve_forever()
