@@ -34,31 +34,11 @@ enum { VR_S, VR_V, VR_W, VR_DS, VR_DV, VR_DW, VR_U, VR_K, VR_N, VR_B, VR_H, VR_O
 /* ------------------------------------------------------------------------------------------ */
 /* Checks                                                                                       */
 
-static int n_checks = 0, n_failed = 0;
+#include "check.h"
 
-#define CHECK(cond) check((cond) != 0, #cond, __FILE__, __LINE__)
 #define CHECK_OK(call) check((call) == fmi2OK, #call " == fmi2OK", __FILE__, __LINE__)
 #define CHECK_ERR(call) check((call) == fmi2Error, #call " == fmi2Error", __FILE__, __LINE__)
 #define CHECK_DISCARD(call) check((call) == fmi2Discard, #call " == fmi2Discard", __FILE__, __LINE__)
-#define CHECK_NEAR(a, b, tol) check_near((a), (b), (tol), #a, __FILE__, __LINE__)
-
-static void check(int ok, const char *what, const char *file, int line)
-{
-    n_checks++;
-    if (!ok) {
-        n_failed++;
-        printf("FAILED %s:%d: %s\n", file, line, what);
-    }
-}
-
-static void check_near(double a, double b, double tol, const char *what, const char *file, int line)
-{
-    n_checks++;
-    if (!(fabs(a - b) <= tol)) {
-        n_failed++;
-        printf("FAILED %s:%d: %s = %.17g, expected %.17g (+- %g)\n", file, line, what, a, b, tol);
-    }
-}
 
 /* ------------------------------------------------------------------------------------------ */
 /* Callbacks: a logger that keeps the last message per instance, and a counting allocator      */

@@ -37,30 +37,10 @@ enum { VR_X = 0, VR_DX = 3, VR_U = 6, VR_K, VR_N, VR_B, VR_H, VR_OMEGA, VR_N10, 
 /* ------------------------------------------------------------------------------------------ */
 /* Checks                                                                                       */
 
-static int n_checks = 0, n_failed = 0;
+#include "check.h"
 
-#define CHECK(cond) check((cond) != 0, #cond, __FILE__, __LINE__)
 #define CHECK_OK(call) check((call) == fmi3OK, #call " == fmi3OK", __FILE__, __LINE__)
 #define CHECK_ERR(call) check((call) == fmi3Error, #call " == fmi3Error", __FILE__, __LINE__)
-#define CHECK_NEAR(a, b, tol) check_near((a), (b), (tol), #a, __FILE__, __LINE__)
-
-static void check(int ok, const char *what, const char *file, int line)
-{
-    n_checks++;
-    if (!ok) {
-        n_failed++;
-        printf("FAILED %s:%d: %s\n", file, line, what);
-    }
-}
-
-static void check_near(double a, double b, double tol, const char *what, const char *file, int line)
-{
-    n_checks++;
-    if (!(fabs(a - b) <= tol)) {
-        n_failed++;
-        printf("FAILED %s:%d: %s = %.17g, expected %.17g (+- %g)\n", file, line, what, a, b, tol);
-    }
-}
 
 /* ------------------------------------------------------------------------------------------ */
 /* Logging: the last message of an instance                                                     */
