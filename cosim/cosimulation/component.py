@@ -305,12 +305,11 @@ class FMUComponent(Component):
             try:
                 if self._adapter is not None:
                     last = float(self._adapter.last_successful_time) if what == self.calls[1] else None
-                    values = self.instance.getFloat64(list(self._out_vr))
                 else:
                     from fmpy.fmi2 import fmi2LastSuccessfulTime
 
                     last = float(self.instance.getRealStatus(fmi2LastSuccessfulTime))
-                    values = self.instance.getReal(list(self._out_vr))
+                values = self.fmu.get_real(self.instance, self.outputs)
                 self.last_outputs = {f"{self.name}.{n}": float(v) for n, v in zip(self.outputs, values)}
             except FMICallException:  # the FMU does not tell: the last communicated values remain
                 last = None if self._adapter is None else last

@@ -54,13 +54,13 @@ Checks and their criteria:
 from __future__ import annotations
 
 import math
-from ctypes import c_double
 from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
 
 from cosim.errors import FMUError
+from cosim.fmu.access import get_continuous_states, get_state_derivatives, set_continuous_states
 
 #: Relative tolerance of a directional derivative against central differences (elementwise,
 #: relative to max(1, |fd|)).
@@ -169,13 +169,7 @@ class Session:
 
     def size(self, v) -> int:
         """Number of scalar elements of a variable (FMI 3 arrays: the product of the dimensions)."""
-        n = 1
-        for d in getattr(v, "dimensions", None) or []:
-            if d.start is not None:
-                n *= int(d.start)
-            else:  # a structural parameter gives the size
-                n *= int(self.by_vr[d.valueReference].start)
-        return n
+        return self.fmu.size(v.name)
 
     def real(self, causality: str, variability: str | None = "continuous") -> list:
         return [v for v in self.variables if v.causality == causality and v.type in _REAL_TYPES
@@ -191,7 +185,7 @@ class Session:
 
     @property
     def nx(self) -> int:
-        return sum(self.size(d.variable) for d in self.md.derivatives)
+        return self.fmu.n_states
 
     def fixed_parameter(self):
         """A scalar Real/Float64 parameter of variability fixed with a start value (None: none)."""
@@ -286,24 +280,13 @@ class Session:
             instance.setReal(vrs, values)
 
     def states(self, instance) -> np.ndarray:
-        x = (c_double * self.nx)()
-        if self.nx:
-            instance.getContinuousStates(x, self.nx)
-        return np.array(x[:])
+        return get_continuous_states(instance, self.nx)
 
     def set_states(self, instance, x) -> None:
-        x = np.asarray(x, float)
-        if x.size:
-            instance.setContinuousStates((c_double * x.size)(*x), x.size)
+        set_continuous_states(instance, x)
 
     def derivatives(self, instance) -> np.ndarray:
-        dx = (c_double * self.nx)()
-        if self.nx:
-            if self.fmi3:
-                instance.getContinuousStateDerivatives(dx, self.nx)
-            else:
-                instance.getDerivatives(dx, self.nx)
-        return np.array(dx[:])
+        return get_state_derivatives(instance, self.nx)
 
     def do_step(self, instance, t: float, h: float) -> None:
         result = instance.doStep(t, h)
