@@ -564,6 +564,17 @@ def _cmd_app(args) -> int:
     return EXIT_OK
 
 
+def _cmd_animate(args) -> int:
+    from cosim.app.animate import animate
+
+    r = animate(args.result, args.output, params=args.params, param=args.param, speed=args.speed)
+    for note in r.notes:
+        print(f"note: {note}")
+    print(f"wrote {r.path} ({r.rows} samples, {r.duration:g} s, {r.bytes / 1e3:.0f} kB); "
+          f"open {r.path.resolve().as_uri()}")
+    return EXIT_OK
+
+
 def _cmd_demo(args) -> int:
     from cosim.studies.demo import run_demo
 
@@ -758,11 +769,12 @@ def parser() -> argparse.ArgumentParser:
     analytic_cli.add_parser(sub)
     matrix_cli.add_parser(sub)
 
-    app = sub.add_parser("app", help="the bicycle's eigenvalues in the browser (the FMU as WebAssembly)",
+    app = sub.add_parser("app", help="the bicycles in the browser: eigenvalues, 3-D rides, demos (the FMUs as WebAssembly)",
                          formatter_class=raw,
                          epilog="Serves the app on 127.0.0.1, or writes it with --export as a static site (index.html\n"
-                                "+ bundle.js) that works from file:// with no network. Builds the FMU of\n"
-                                "Bicycle.Bicycles.WhippleLinear and its WebAssembly module first (incremental); needs\n"
+                                "+ bundle.js) that works from file:// with no network. Builds the FMUs the page runs\n"
+                                "(the linear and nonlinear Whipple bicycles, the PD and LaneChange controllers) and\n"
+                                "their WebAssembly modules first (incremental); needs\n"
                                 "the optional extra 'wasm' (pip install 'bicycle-cosim[wasm]').\n\n"
                                 f"{FMU_FOLDER}\n\n{EXIT_CODES}")
     app.add_argument("--export", default=None, metavar="DIR", help="write the static site into DIR and exit")
@@ -770,6 +782,26 @@ def parser() -> argparse.ArgumentParser:
     app.add_argument("--open", action="store_true", help="open the page in the default web browser (also with --export)")
     library_option(app)
     app.set_defaults(func=_cmd_app)
+
+    an = sub.add_parser("animate", help="a self-contained 3-D animation (HTML) of a bicycle result",
+                        formatter_class=raw,
+                        epilog="RESULT is a .csv or .npy of `cosim simulate` or `cosim run` with the configuration\n"
+                               "signals time, phi, delta (required) and x, y, psi, theta, thetaR, thetaF, named with or\n"
+                               "without the prefix of one component (bike.phi or phi; the component that has both phi\n"
+                               "and delta). Results of the linear models have no x:\n"
+                               "--speed V draws x = V t; missing y, psi, theta are 0, missing wheel angles are rolled\n"
+                               "along the path. The page (three.js inlined) opens from file:// with no network.\n\n"
+                               + EXIT_CODES)
+    an.add_argument("result", help="result file (.csv or .npy)")
+    an.add_argument("-o", "--output", default=None,
+                    help="the HTML file (default: the result's name with .html, in the working directory)")
+    an.add_argument("--params", default=None, metavar="NAME|FILE",
+                    help="parameter set of the drawn geometry (default: benchmark; or a TOML file)")
+    an.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                    help="a geometry value overriding --params: w, c, lam, rR, rF, tR, tF [m, rad] (repeatable)")
+    an.add_argument("--speed", type=_finite, default=None, metavar="V",
+                    help="forward speed [m/s] for a result without x (x = V t)")
+    an.set_defaults(func=_cmd_animate)
 
     d = sub.add_parser("demo", help="build, validate and simulate the bundled bicycle", formatter_class=raw,
                        epilog=f"{FMU_FOLDER}\n\n{EXIT_CODES}")

@@ -12,6 +12,7 @@ are skipped with the reason, except in CI (``$CI`` set), where they fail.
 from __future__ import annotations
 
 import base64
+import contextlib
 import functools
 import http.server
 import json
@@ -128,30 +129,37 @@ def browser(tmp_path_factory):
             b.close()
 
 
+@contextlib.contextmanager
+def offline_page(browser, url: str, ready: str, *, allowed: str = "file://", timeout: float = 60_000,
+                 **context_options):
+    """``url`` opened in a new context of ``browser``, once the JavaScript expression ``ready`` is
+    true. Every request whose URL does not start with ``allowed`` is refused; at the end the test
+    fails if there was one, or an error in the page. ``page.requests`` lists every URL requested.
+    ``context_options`` go to ``browser.new_context`` (viewport, accept_downloads, ...)."""
+    context = browser.new_context(**context_options)
+    page = context.new_page()
+    page.requests, errors = [], []
+    page.on("request", lambda r: page.requests.append(r.url))
+    page.on("pageerror", lambda exc: errors.append(str(exc)))
+    page.route("**/*", lambda route: route.continue_() if route.request.url.startswith(allowed) else route.abort())
+    try:
+        page.goto(url)
+        page.wait_for_function(ready, timeout=timeout)
+        yield page
+    finally:
+        context.close()
+    foreign = [u for u in page.requests if not u.startswith(allowed)]
+    assert not foreign, f"requests left {allowed}: {foreign}"
+    assert not errors, f"errors in the page: {errors}"
+
+
 @pytest.fixture()
 def page(browser, server):
-    """The test page, loaded; every request that would leave 127.0.0.1 is refused and recorded
-    (the test fails if there is one)."""
-    context = browser.new_context()
-    page = context.new_page()
-    foreign = []
-
-    def only_local(route):
-        if route.request.url.startswith(server):
-            route.continue_()
-        else:
-            foreign.append(route.request.url)
-            route.abort()
-
-    page.route("**/*", only_local)
-    errors = []
-    page.on("pageerror", lambda exc: errors.append(str(exc)))
-    page.goto(server + "index.html")
-    page.wait_for_function("window.cosimReady === true", timeout=30_000)
-    yield page
-    context.close()
-    assert not foreign, f"requests left the machine: {foreign}"
-    assert not errors, f"errors in the page: {errors}"
+    """The test page, loaded; every request that would leave 127.0.0.1 is refused (the test
+    fails if there is one), as is an error in the page."""
+    with offline_page(browser, server + "index.html", "window.cosimReady === true", allowed=server,
+                      timeout=30_000) as page:
+        yield page
 
 
 # A ride in the page: load the model, simulate as FMPy does, return every column as the base64 of

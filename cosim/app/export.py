@@ -5,14 +5,18 @@ Chromium refuses ``fetch`` and ES modules of ``file://`` pages, so the site is t
 ``DIR/index.html``
     the page (``static/index.html``, its style inline);
 ``DIR/bundle.js``
-    one classic script: the data of the page (``window.COSIM_DATA``: the WebAssembly module of
-    Bicycle.Bicycles.WhippleLinear as base64 with its NAME.json, the parameter sets of
-    ``cosim/params`` read by :func:`cosim.analytic.parameters.load_parameters`, the sliders),
-    then the vendored ml-matrix, ``cosim/wasm/fmu.js`` (its ``export`` keywords removed, its
-    names as ``window.CosimFMU``) and ``static/app.js``.
+    one classic script: the data of the page (``window.COSIM_DATA``: ``modules``, model name ->
+    ``{description, wasm}``, the WebAssembly module of each model of :data:`MODULES` as base64
+    with its NAME.json; the parameter sets of ``cosim/params`` read by
+    :func:`cosim.analytic.parameters.load_parameters`, the sliders; ``ride``, what
+    ``static/ride.js`` needs: the ride model, its step, the fall limit, the bicycles of "ride it
+    yourself"; ``demos``, the guided demos of ``cosim/app/demos/*.toml`` read and checked by
+    :mod:`cosim.app.demos`), then the scripts of :func:`_scripts` in that order (ES modules
+    without imports, such as ``cosim/wasm/fmu.js``, with their ``export`` keywords removed and
+    their names gathered in a global).
 
-The module is built by `cosim build --wasm` machinery (:func:`cosim.wasm.build.build_wasm`) from
-the FMU in the FMU folder (``$COSIM_FMU_DIR``, else ``./fmus``), both incremental. The parameter
+The modules are built by `cosim build --wasm` machinery (:func:`cosim.wasm.build.build_wasm`) from
+the FMUs in the FMU folder (``$COSIM_FMU_DIR``, else ``./fmus``), both incremental. The parameter
 values are never written by hand into the page: they are read from the TOML files at export time.
 """
 from __future__ import annotations
@@ -24,28 +28,33 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
+from cosim.app.bicycles import CROWN_RADIUS, page_data
 from cosim.errors import OutputError
 from cosim.outputs import check_output_folder, write_text
 
 HERE = Path(__file__).resolve().parent
 STATIC = HERE / "static"
 VENDOR = STATIC / "vendor"
-MODEL = "Bicycle.Bicycles.WhippleLinear"
-PARAMETER_SETS = ("benchmark", "astrom2005", "astrom2005-riderless")
-# The states of Meijaard's 4x4 lateral model, in the order of its state vector; WhippleLinear
-# has more (heading psi and lateral position y), which do not enter the eigenvalues of balance.
-LATERAL_STATES = ("phi", "delta", "phi_dot", "delta_dot")
-# Sliders of Meijaard parameters: (name, label, unit, minimum, maximum, step). Every bundled set
-# must lie inside the ranges (checked at export).
-SLIDERS = (
-    ("w", "wheelbase w", "m", 0.5, 2.0, 0.001),
-    ("c", "trail c", "m", -0.1, 0.3, 0.001),
-    ("lam", "steer-axis tilt \u03bb", "rad", -0.2, 0.8, 0.001),
-    ("mB", "rear frame mass m_B", "kg", 5.0, 150.0, 0.1),
-    ("rF", "front wheel radius r_F", "m", 0.1, 0.6, 0.001),
-    ("rR", "rear wheel radius r_R", "m", 0.1, 0.6, 0.001),
+MODEL = "Bicycle.Bicycles.WhippleLinear"  # the model of the eigenvalue plots
+RIDE_MODEL = "Bicycle.Bicycles.Whipple"  # the nonlinear bicycle of the rides (static/ride.js)
+# The library's controllers the rides connect to the bicycle (ride.js: never a control law in JS).
+CONTROLLERS = ("Bicycle.Control.PD", "Bicycle.Control.LaneChange")
+# Every model whose WebAssembly module the page carries (``COSIM_DATA.modules``).
+MODULES = (MODEL, RIDE_MODEL, *CONTROLLERS)
+RIDE_STEP = 0.01  # [s] the communication step of the page's rides (the Whipple FMU's default interval)
+FALL_ROLL = 1.0  # [rad] |phi| beyond this ends a ride: a fall (as the bundled systems' `fall`)
+# The gust of "ride it yourself" (a roll-torque pulse T_phi; unchecked, the upright bicycle stays up).
+GUST = {"amplitude": 5.0, "start": 1.0, "duration": 0.2}  # [N.m, s, s]
+# What CosimRide3D draws the bicycle from (Meijaard geometry, crown radii of toroidal tyres).
+GEOMETRY = ("w", "c", "lam", "rR", "rF", "tR", "tF")
+# The bicycles of "ride it yourself": (name, label, parameter set, ridden backwards, other values).
+RIDE_BICYCLES = (
+    ("benchmark", "benchmark bicycle (front-steered)", "benchmark", False, {}),
+    ("rear-steered", "benchmark ridden backwards: rear-steered", "benchmark", True, {}),
+    ("astrom2005", "\u00c5str\u00f6m 2005 bicycle", "astrom2005", False, {}),
+    ("crowned-roller", f"benchmark with a crowned rear roller, tR = {CROWN_RADIUS} m", "benchmark", False,
+     {"tR": CROWN_RADIUS}),
 )
-SPEEDS = {"min": 0.0, "max": 10.0, "num": 200, "default": 5.0, "step": 0.01}  # [m/s]
 
 
 @dataclass
@@ -59,45 +68,94 @@ class ExportResult:
     bytes: int  # size of bundle.js
 
 
+@dataclass(frozen=True)
+class Script:
+    """One script of a bundle (`cosim app --export`, `cosim animate`): a file and how to inline it.
+
+    ``kind`` is ``"classic"`` (inlined as it is), ``"module"`` (an ES module without imports: its
+    ``export`` keywords removed, the exported names gathered in ``window.GLOBAL_NAME``) or
+    ``"commonjs"`` (a CommonJS file without ``require``: run with a ``module``/``exports`` of its
+    own, ``module.exports`` becomes ``window.GLOBAL_NAME``).
+    """
+
+    path: Path
+    global_name: str | None = None
+    kind: str = "classic"
+
+    def inline(self) -> str:
+        """The script's text for a classic ``<script>`` (or one ``bundle.js``)."""
+        if self.kind == "classic":
+            return self.path.read_text(encoding="utf-8")
+        if self.kind == "module":
+            return _module_script(self.path, self.global_name)
+        if self.kind == "commonjs":
+            text = self.path.read_text(encoding="utf-8")
+            if re.search(r"\brequire\s*\(", text):
+                raise ValueError(f"{self.path} requires other modules; the bundle inlines self-contained files only")
+            return (f"(function () {{\nvar module = {{ exports: {{}} }}, exports = module.exports;\n{text}\n"
+                    f"window.{self.global_name} = module.exports;\n}})();\n")
+        raise ValueError(f"{self.path}: unknown script kind {self.kind!r}")
+
+
+def _scripts() -> tuple[Script, ...]:
+    """The scripts of ``bundle.js`` in their order: the vendored libraries first, then the
+    page's own code (each file one concern, see the comments at their tops)."""
+    from cosim.wasm.build import LOADER
+
+    # three.js before ride3d.js (it uses the global THREE); ride3d.js and plots.js before ride.js
+    # (which uses CosimRide3D and CosimPlots). app.js and ride.js are independent of each other;
+    # ride.js comes first so that the rides are defined even if app.js throws while loading (one
+    # bundle is one script: an uncaught error stops what follows it).
+    return (
+        Script(VENDOR / "ml-matrix.umd.js"),
+        Script(LOADER, "CosimFMU", "module"),
+        Script(VENDOR / "three.min.js"),
+        Script(STATIC / "ride3d.js"),
+        Script(STATIC / "plots.js"),
+        Script(STATIC / "ride.js"),
+        Script(STATIC / "app.js"),
+    )
+
+
 def _fmu_folder() -> Path:
     from cosim.compiler.build import DEFAULT_OUTPUT
 
     return Path(os.environ.get("COSIM_FMU_DIR") or DEFAULT_OUTPUT)
 
 
-def page_data(description: dict) -> dict:
-    """``window.COSIM_DATA`` without the module: parameter sets, sliders, speeds, states.
+
+def ride_data(descriptions: dict, demos_folder: str | os.PathLike | None = None) -> dict:
+    """``COSIM_DATA.ride`` and ``COSIM_DATA.demos``: what static/ride.js needs besides the modules.
+
+    Parameters
+    ----------
+    descriptions : dict
+        Model name -> NAME.json of every module of the page (names are checked against them).
+    demos_folder : path, optional
+        The demo files (default ``cosim/app/demos``).
 
     Raises
     ------
+    DemoError
+        For a bad demo file (its name and the key).
     ValueError
-        If a parameter of a set is not a parameter of the model, a lateral state is not a
-        state of it, or a set's value lies outside its slider's range (a bug of this file).
+        If a bicycle of :data:`RIDE_BICYCLES` has a value that is not a parameter of the ride model.
     """
     from cosim.analytic.parameters import load_parameters
+    from cosim.app.demos import DEMOS, load_demos
 
-    variables = {v["name"]: v for v in description["variables"]}
-    # a state is what a derivative's `derivative` attribute names (1-based index of the variable)
-    states = {description["variables"][v["derivative"] - 1]["name"] for v in description["variables"]
-              if "derivative" in v}
-    missing = [s for s in LATERAL_STATES if s not in states]
-    if missing:
-        raise ValueError(f"{MODEL} has no state(s) {', '.join(missing)}")
-    sets = {}
-    for name in PARAMETER_SETS:
-        values = load_parameters(name)
-        unknown = [key for key in values if variables.get(key, {}).get("causality") != "parameter"]
+    parameters = {v["name"] for v in descriptions[RIDE_MODEL]["variables"] if v["causality"] == "parameter"}
+    bicycles = []
+    for name, label, params, backwards, values in RIDE_BICYCLES:
+        values = {**load_parameters(params), **values}
+        unknown = sorted(set(values) - parameters)
         if unknown:
-            raise ValueError(f"parameter set {name}: {', '.join(unknown)} are not parameters of {MODEL}")
-        for key, _, _, low, high, _ in SLIDERS:
-            if not low <= values[key] <= high:
-                raise ValueError(f"parameter set {name}: {key} = {values[key]} outside its slider [{low}, {high}]")
-        if sets and sorted(values) != sorted(next(iter(sets.values()))):
-            raise ValueError(f"parameter set {name} has other parameters than {next(iter(sets))}")
-        sets[name] = values
-    return {"model": MODEL, "parameterSets": sets, "lateralStates": list(LATERAL_STATES),
-            "sliders": [dict(zip(("name", "label", "unit", "min", "max", "step"), s)) for s in SLIDERS],
-            "speeds": SPEEDS}
+            raise ValueError(f"ride bicycle {name}: {', '.join(unknown)} are not parameters of {RIDE_MODEL}")
+        bicycles.append({"name": name, "label": label, "backwards": backwards, "values": values})
+    demos = load_demos(demos_folder or DEMOS, descriptions)
+    return {"ride": {"model": RIDE_MODEL, "linearModel": MODEL, "step": RIDE_STEP, "fallRoll": FALL_ROLL,
+                     "geometry": list(GEOMETRY), "bicycles": bicycles, "gust": GUST},
+            "demos": demos}
 
 
 def _module_script(path: Path, global_name: str) -> str:
@@ -111,13 +169,15 @@ def _module_script(path: Path, global_name: str) -> str:
     return f"(function () {{\n{body}\nwindow.{global_name} = {{ {', '.join(names)} }};\n}})();\n"
 
 
-def export_app(folder: str | os.PathLike) -> ExportResult:
+def export_app(folder: str | os.PathLike, demos: str | os.PathLike | None = None) -> ExportResult:
     """Write the app into ``folder`` (created if needed): ``index.html`` and ``bundle.js``.
 
     Parameters
     ----------
     folder : path
         The output folder; existing ``index.html`` and ``bundle.js`` in it are replaced.
+    demos : path, optional
+        The folder of the guided demos' TOML files (default ``cosim/app/demos``).
 
     Returns
     -------
@@ -131,29 +191,38 @@ def export_app(folder: str | os.PathLike) -> ExportResult:
         If ``folder`` is a file or cannot be written (checked before any build).
     BuildError, MissingExtraError
         If the FMU or its WebAssembly module cannot be built (e.g. no ``ziglang`` wheel).
+    DemoError
+        If a demo file is bad (its name and the key; the structure is checked before any build).
     """
     from cosim.compiler.build import build
-    from cosim.wasm.build import LOADER, build_wasm, zig_command
+    from cosim.wasm.build import build_wasm, zig_command
+
+    from cosim.app.demos import DEMOS, load_demos
 
     folder = check_output_folder(folder, "app folder")
+    load_demos(demos or DEMOS)  # a bad demo file: its message before any build
     zig_command()  # no ziglang: one message before any work
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise OutputError(f"app folder '{folder}': {exc.strerror or exc}") from None
-    (result,) = build([MODEL], output=_fmu_folder())
-    wasm = build_wasm(result.fmu)
-    description = json.loads(wasm.description.read_text(encoding="utf-8"))
-    data = {**page_data(description), "description": description,
-            "wasm": base64.b64encode(wasm.wasm.read_bytes()).decode("ascii")}
+    modules, rebuilt = {}, False
+    for result in build(list(MODULES), output=_fmu_folder()):
+        wasm = build_wasm(result.fmu)
+        rebuilt |= wasm.rebuilt
+        modules[result.model] = {"description": json.loads(wasm.description.read_text(encoding="utf-8")),
+                                 "wasm": base64.b64encode(wasm.wasm.read_bytes()).decode("ascii")}
+    descriptions = {name: m["description"] for name, m in modules.items()}
+    data = {**page_data(modules[MODEL]["description"], descriptions), **ride_data(descriptions, demos),
+            "modules": modules}
+    scripts = _scripts()
     bundle = "\n".join([
-        "// bundle.js of `cosim app --export`: generated, do not edit (sources: cosim/app/static/app.js,",
-        "// cosim/wasm/fmu.js, cosim/app/static/vendor/ml-matrix.umd.js (MIT, see its LICENSE), the FMU's module).",
+        "// bundle.js of `cosim app --export`: generated, do not edit. Sources, in this order: "
+        + ", ".join(str(s.path.relative_to(HERE.parent.parent)) for s in scripts)
+        + " (vendored ones: see their LICENSE files), and the FMUs' WebAssembly modules.",
         "window.COSIM_DATA = " + json.dumps(data, separators=(",", ":")) + ";",
-        (VENDOR / "ml-matrix.umd.js").read_text(encoding="utf-8"),
-        _module_script(LOADER, "CosimFMU"),
-        (STATIC / "app.js").read_text(encoding="utf-8"),
+        *(s.inline() for s in scripts),
     ])
     bundle_path = write_text(folder / "bundle.js", bundle, "app bundle")
     index = write_text(folder / "index.html", (STATIC / "index.html").read_text(encoding="utf-8"), "app page")
-    return ExportResult(folder, index, bundle_path, wasm.rebuilt, len(bundle.encode("utf-8")))
+    return ExportResult(folder, index, bundle_path, rebuilt, len(bundle.encode("utf-8")))

@@ -1,24 +1,44 @@
-// app.js -- the page of `cosim app` (cosim/app/export.py bundles it after its data, ml-matrix and
-// fmu.js): eigenvalues of the linear Whipple bicycle vs speed from the WebAssembly FMU.
+// app.js -- the eigenvalue view of `cosim app` (cosim/app/export.py bundles it after its data,
+// ml-matrix and fmu.js): eigenvalues vs speed of the bicycles of cosim/app/bicycles.py from the
+// WebAssembly FMUs.
 //
-// A(v) is not computed here: for each speed the FMU instance is reset, given the parameters and
-// the speed, initialized, and A is the directional derivatives of der(phi), der(delta),
-// der(phi_dot), der(delta_dot) with respect to phi, delta, phi_dot, delta_dot
-// (fmi2GetDirectionalDerivative, exact: CasADi's forward mode). The eigenvalues of A are
+// A(v) is not computed here: for each speed the chosen bicycle's module instance is reset, given
+// the parameters and the speed (WhippleLinear: v; the nonlinear Whipple: u_R0 = -v/rR, upright
+// straight running), initialized, and A is the directional derivatives of the lateral states'
+// derivatives with respect to the lateral states (COSIM_DATA.bicycles[k].states/derivatives;
+// fmi2GetDirectionalDerivative, exact: CasADi's forward mode). The eigenvalues of A are
 // ml-matrix's EigenvalueDecomposition (JAMA's Hessenberg-QR). Weave and capsize speeds are the
 // sign changes of the largest real part of the oscillatory / real eigenvalues over the sweep,
-// refined by bisection with the same routine, with the definitions of cosim.analytic.whipple.
+// refined by bisection with the same routine, with the definitions of cosim.analytic.whipple
+// (forward speeds only; a bicycle ridden backwards gets "self-stable at no speed" or the
+// self-stable interval instead).
 //
-// window.cosimApp is the page's state for tests: {ready, error, set, parameters, speed,
-// eigenvalues [[re, im] x 4] at the speed, weave, capsize (m/s or null), sweep {speeds, evs, weave,
-// capsize}, lastRedrawMs [ms] and evaluations (linearizations of the FMU) of the last redraw,
-// redraws}.
+// Parameters come from the sliders (a few) and the parameter editor (every parameter of the
+// bicycle, #all-parameters); a value the editor refuses (empty, not a number, outside what the
+// parameter allows: cosim.analytic.parameters.validate_parameters' checks, the module's min/max)
+// is shown as one message naming the parameter and changes nothing else: the plots stay at the
+// last valid parameters. An FMU refusal is shown the same way (cosimApp.error).
+//
+// window.cosimApp is the page's state for tests: {ready, error, parameterError, bicycle, set
+// (= bicycle), module, parameters (the last valid ones, drawn), speed, speedRange {min, max},
+// eigenvalues [[re, im] x 4] at the speed, weave, capsize (m/s or null), selfStable ([from, to]
+// m/s of the first self-stable run of the sweep, or null), leastUnstable ({speed, re}: the
+// smallest largest real part over the sweep), sweep {speeds, evs, weave, capsize}, lastRedrawMs
+// [ms] and evaluations (linearizations) of the last redraw, redraws}.
 (function () {
   "use strict";
   const DATA = window.COSIM_DATA;
-  const state = { ready: false, error: null, set: null, parameters: {}, speed: DATA.speeds.default,
-                  eigenvalues: [], weave: null, capsize: null, sweep: null, lastRedrawMs: null, evaluations: 0,
-                  redraws: 0 };
+  if (!Array.isArray(DATA.bicycles)) {  // a bundle from an export.py that does not delegate to bicycles.py
+    window.cosimApp = { ready: false, error: "COSIM_DATA has no bicycles (cosim.app.bicycles.page_data makes them)" };
+    document.getElementById("error").textContent = `The app failed: ${window.cosimApp.error}`;
+    return;
+  }
+  const BICYCLES = new Map(DATA.bicycles.map((b) => [b.name, b]));
+  const SLIDERS = new Map(DATA.sliders.map((s) => [s.name, s]));
+  const state = { ready: false, error: null, parameterError: null, bicycle: null, set: null, module: null,
+                  parameters: {}, speed: DATA.bicycles[0].speeds.default, speedRange: null, eigenvalues: [],
+                  weave: null, capsize: null, selfStable: null, leastUnstable: null, sweep: null,
+                  lastRedrawMs: null, evaluations: 0, redraws: 0 };
   window.cosimApp = state;
 
   const $ = (id) => document.getElementById(id);
@@ -27,28 +47,41 @@
   // Eigenvalues with |Im| below this count as real (as cosim.analytic.whipple._imag_tol).
   const imagTol = (re, im) => 1e-7 * Math.max(1, Math.hypot(re, im));
 
+  // The linearization of one bicycle on its module (one FMU instance per bicycle).
   class Linearization {
-    constructor(fmu) {
-      this.instance = fmu.instantiate({ name: "app" });
-      // every set has the same Meijaard parameters (export.py checks it): one writer for all
-      this.names = Object.keys(Object.values(DATA.parameterSets)[0]);
-      this.write = this.instance.writer([...this.names, "v"]);
+    constructor(fmu, bicycle) {
+      this.fmu = fmu;
+      this.bicycle = bicycle;
+      this.instance = fmu.instantiate({ name: bicycle.name });
+      this.names = Object.keys(bicycle.parameters);
+      this.speed = bicycle.speed;
+      for (const n of [...this.names, this.speed.parameter]) {
+        const v = fmu.variables.get(n);
+        if (!v || v.causality !== "parameter") throw new Error(`${fmu.modelName} has no parameter ${n}`);
+      }
+      this.write = this.instance.writer([...this.names, this.speed.parameter]);
       // the derivatives of the lateral states, found by the `derivative` attribute of NAME.json
       const vars = fmu.description.variables;
       const derivativeOf = new Map(vars.filter((v) => v.derivative).map((v) => [vars[v.derivative - 1].name, v.name]));
-      const derivatives = DATA.lateralStates.map((s) => {
+      const derivatives = bicycle.states.map((s) => {
         if (!derivativeOf.has(s)) throw new Error(`${fmu.modelName} has no state ${s}`);
         return derivativeOf.get(s);
       });
-      this.jacobian = this.instance.directional(derivatives, DATA.lateralStates);
+      this.jacobian = this.instance.directional(derivatives, bicycle.states);
       this.evaluations = 0;
+    }
+
+    // The module's speed parameter for the forward speed v [m/s] (bicycles.SPEED).
+    speedValue(p, v) {
+      const s = this.speed;
+      return s.sign * v / (s.divisor === null ? 1 : p[s.divisor]);
     }
 
     // A(v) of the parameters p (name -> value): a new initialization of the instance.
     stateMatrix(p, v) {
       const inst = this.instance;
       inst.reset();
-      this.write([...this.names.map((n) => p[n]), v]);
+      this.write([...this.names.map((n) => p[n]), this.speedValue(p, v)]);
       inst.setupExperiment({ startTime: 0 });
       inst.enterInitializationMode();
       inst.exitInitializationMode();
@@ -56,11 +89,15 @@
       return this.jacobian.jacobian();
     }
 
-    // The eigenvalues [[re, im], ...] of A(v), sorted by real, then imaginary part.
+    // The eigenvalues [[re, im], ...] of A(v), sorted by real, then imaginary part; an Error if
+    // one is not finite (nothing NaN is drawn).
     eigenvalues(p, v) {
       const e = new mlMatrix.EigenvalueDecomposition(new mlMatrix.Matrix(this.stateMatrix(p, v)));
       const re = e.realEigenvalues, im = e.imaginaryEigenvalues;
-      return re.map((r, i) => [r, im[i]]).sort((a, b) => a[0] - b[0] || a[1] - b[1]);
+      const ev = re.map((r, i) => [r, im[i]]).sort((a, b) => a[0] - b[0] || a[1] - b[1]);
+      if (!ev.every(([r, i]) => Number.isFinite(r) && Number.isFinite(i)))
+        throw new Error(`${this.fmu.modelName} gives eigenvalues that are not finite at v = ${v} m/s`);
+      return ev;
     }
   }
 
@@ -110,19 +147,39 @@
     return { weave, capsize };
   }
 
-  function sweep(lin, p) {
-    const { min, max, num } = DATA.speeds;
+  // The first run of sweep speeds where every eigenvalue has a negative real part, its ends
+  // refined by bisection (as cosim.analytic.whipple.self_stable_interval), or null; and the
+  // speed of the sweep whose largest real part is smallest.
+  function stability(lin, p, speeds, evs) {
+    const top = evs.map((ev) => Math.max(...ev.map(([re]) => re)));
+    let k = 0;
+    for (let i = 1; i < top.length; i++) if (top[i] < top[k]) k = i;
+    const leastUnstable = { speed: speeds[k], re: top[k] };
+    const first = top.findIndex((t) => t < 0);
+    if (first < 0) return { selfStable: null, leastUnstable };
+    let last = first;
+    while (last + 1 < top.length && top[last + 1] < 0) last++;
+    const f = (v) => Math.max(...lin.eigenvalues(p, v).map(([re]) => re));
+    const from = first === 0 ? speeds[0] : bisect(f, speeds[first - 1], speeds[first], true);
+    const to = last === top.length - 1 ? Infinity : bisect(f, speeds[last], speeds[last + 1], false);
+    return { selfStable: [from, to], leastUnstable };
+  }
+
+  function sweep(lin, p, speedRange) {
+    const { min, max, num } = speedRange;
     const speeds = Array.from({ length: num }, (_, k) => min + (max - min) * k / (num - 1));
     speeds[num - 1] = max;
     const evs = speeds.map((v) => lin.eigenvalues(p, v));
-    return { speeds, evs, ...criticalSpeeds(lin, p, speeds, evs) };
+    // weave and capsize are defined for riding forwards (cosim.analytic.whipple)
+    const critical = min >= 0 ? criticalSpeeds(lin, p, speeds, evs) : { weave: null, capsize: null };
+    return { speeds, evs, ...critical, ...stability(lin, p, speeds, evs) };
   }
 
   // --- the plot: real parts (dots) and imaginary parts (grey) vs speed, Figure 9 style -------
   function draw(canvas, s) {
     const ctx = canvas.getContext("2d"), W = canvas.width, H = canvas.height;
     const left = 56, right = 12, top = 14, bottom = 40;
-    const { min, max } = DATA.speeds, yMin = -10, yMax = 10;
+    const { min, max } = state.speedRange, yMin = -10, yMax = 10;
     const X = (v) => left + (v - min) / (max - min) * (W - left - right);
     const Y = (y) => top + (yMax - Math.max(yMin, Math.min(yMax, y))) / (yMax - yMin) * (H - top - bottom);
     ctx.clearRect(0, 0, W, H);
@@ -134,11 +191,10 @@
     ctx.fillText("speed v [m/s]", W / 2 - 40, H - 8);
     ctx.save(); ctx.translate(14, H / 2 + 40); ctx.rotate(-Math.PI / 2);
     ctx.fillText("Re \u03bb, |Im \u03bb| (grey) [1/s]", 0, 0); ctx.restore();
-    // the self-stable band
-    if (s.weave !== null) {
+    if (s.selfStable !== null) {  // the self-stable band
       ctx.fillStyle = "rgba(60, 170, 60, 0.12)";
-      const end = s.capsize === null ? max : s.capsize;
-      ctx.fillRect(X(s.weave), top, X(end) - X(s.weave), H - top - bottom);
+      const [a, b] = s.selfStable, end = Math.min(b, max);
+      ctx.fillRect(X(a), top, X(end) - X(a), H - top - bottom);
     }
     s.speeds.forEach((v, k) => {
       for (const [re, im] of s.evs[k]) {  // what lies outside the axes is not drawn
@@ -161,7 +217,7 @@
     const [x0, x1, dx, shift] = xs, [y0, y1, dy] = ys;
     for (let x = x0; x <= x1 + 1e-9; x += dx) {
       ctx.beginPath(); ctx.moveTo(X(x), top); ctx.lineTo(X(x), H - bottom); ctx.stroke();
-      ctx.fillText(String(x), X(x) - shift, H - bottom + 15);
+      ctx.fillText(String(Math.round(x * 1e6) / 1e6), X(x) - shift, H - bottom + 15);
     }
     for (let y = y0; y <= y1 + 1e-9; y += dy) {
       ctx.beginPath(); ctx.moveTo(left, Y(y)); ctx.lineTo(W - right, Y(y)); ctx.stroke();
@@ -170,7 +226,7 @@
   }
 
   // --- the root locus in speed, Figure 8 style: Im vs Re of every eigenvalue of the sweep, the
-  // colour going from blue (v = 0) to red (v = 10 m/s); the eigenvalues at the speed as rings --
+  // colour going from blue (lowest speed) to red (highest); the eigenvalues at the speed as rings
   function drawLocus(canvas, s) {
     const ctx = canvas.getContext("2d"), W = canvas.width, H = canvas.height;
     const left = 56, right = 12, top = 14, bottom = 40;
@@ -187,11 +243,14 @@
     ctx.fillText("Re \u03bb [1/s]", W / 2 - 30, H - 8);
     ctx.save(); ctx.translate(14, H / 2 + 30); ctx.rotate(-Math.PI / 2); ctx.fillText("Im \u03bb [1/s]", 0, 0);
     ctx.restore();
+    const colour = (t) => `rgb(${Math.round(40 + 200 * t)}, 60, ${Math.round(220 - 180 * t)})`;
+    const { min, max } = state.speedRange;
+    ctx.fillStyle = colour(0); ctx.fillText(`v = ${min} m/s`, left + 6, top + 12);
+    ctx.fillStyle = colour(1); ctx.fillText(`v = ${max} m/s`, left + 6, top + 26);
     const inside = (re, im) => re >= xMin && re <= xMax && im >= yMin && im <= yMax;
     const n = s.speeds.length;
     s.speeds.forEach((v, k) => {
-      const t = n > 1 ? k / (n - 1) : 0;
-      ctx.fillStyle = `rgb(${Math.round(40 + 200 * t)}, 60, ${Math.round(220 - 180 * t)})`;
+      ctx.fillStyle = colour(n > 1 ? k / (n - 1) : 0);
       for (const [re, im] of s.evs[k]) if (inside(re, im)) ctx.fillRect(X(re) - 1.5, Y(im) - 1.5, 3, 3);
     });
     ctx.strokeStyle = "#e08000"; ctx.lineWidth = 2;
@@ -201,27 +260,50 @@
     }
   }
 
-  const fmt = (x, digits = 4) => (x === null ? "none in 0\u201310 m/s" : `${x.toFixed(digits)} m/s`);
+  const range = () => `${state.speedRange.min}\u2013${state.speedRange.max} m/s`;
+  const fmt = (x, digits = 4) => (x === null ? `none in ${range()}` : `${x.toFixed(digits)} m/s`);
 
-  function showSpeed(lin) {
-    state.eigenvalues = lin.eigenvalues(state.parameters, state.speed);
+  // Weave and capsize speeds, or (riding backwards) where the bicycle is self-stable.
+  function showStability(s) {
+    if (state.speedRange.min >= 0) {
+      $("weave").textContent = fmt(s.weave);
+      $("capsize").textContent = fmt(s.capsize);
+    } else {
+      $("weave").textContent = "not defined riding backwards";
+      $("capsize").textContent = "not defined riding backwards";
+    }
+    const u = s.leastUnstable;
+    $("self-stable").textContent = s.selfStable !== null
+      ? `self-stable from ${s.selfStable[0].toFixed(4)} to ${s.selfStable[1] === Infinity ? `beyond ${state.speedRange.max}`
+        : s.selfStable[1].toFixed(4)} m/s`
+      : `self-stable at no speed of ${range()}: the largest real part is at least ${u.re.toFixed(3)} 1/s ` +
+        `(at v = ${u.speed.toFixed(2)} m/s; p\u03c4 = ${(u.re * 0.2).toFixed(2)} for a rider's delay \u03c4 = 0.2 s)`;
+  }
+
+  function showSpeed(lin, p) {
+    const ev = lin.eigenvalues(p, state.speed);
+    state.eigenvalues = ev;
     $("speed-value").textContent = state.speed.toFixed(2);
-    $("eigenvalues").querySelector("tbody").innerHTML = state.eigenvalues
+    $("eigenvalues").querySelector("tbody").innerHTML = ev
       .map(([re, im]) => `<tr><td>${re.toFixed(4)}</td><td>${im.toFixed(4)}</td></tr>`).join("");
   }
 
-  // Everything that depends on the parameters and the speed, timed.
-  function redraw(lin, parametersChanged) {
+  // Everything that depends on the parameters and the speed, timed. `p` is the new parameter
+  // set (computed first; state.parameters becomes p only if every linearization succeeded).
+  function redraw(lin, p) {
     const started = performance.now(), evaluations = lin.evaluations;
-    if (parametersChanged || !state.sweep) {
-      const s = sweep(lin, state.parameters);
+    if (p !== undefined || !state.sweep) {
+      p = p === undefined ? state.parameters : p;
+      const s = sweep(lin, p, state.speedRange);  // a failure here leaves everything as it was
+      state.parameters = p;
       state.sweep = s;
       state.weave = s.weave;
       state.capsize = s.capsize;
-      $("weave").textContent = fmt(s.weave);
-      $("capsize").textContent = fmt(s.capsize);
+      state.selfStable = s.selfStable;
+      state.leastUnstable = s.leastUnstable;
+      showStability(s);
     }
-    showSpeed(lin);
+    showSpeed(lin, state.parameters);
     draw($("plot"), state.sweep);
     drawLocus($("locus"), state.sweep);
     state.lastRedrawMs = performance.now() - started;
@@ -242,42 +324,212 @@
     }
   }
 
-  function choose(lin, name) {
-    state.set = name;
-    state.parameters = { ...DATA.parameterSets[name] };
-    for (const s of DATA.sliders) {
-      $(`slider-${s.name}`).value = String(state.parameters[s.name]);
-      $(`value-${s.name}`).textContent = String(Number(state.parameters[s.name].toPrecision(6)));
+  // --- parameter checks (the editor): cosim.analytic.parameters.validate_parameters' rules and
+  // messages ("<key>: <why> (got <key> = <value> <unit>)"), with the checks the bicycle's set
+  // waives (bicycle.waived), and the module's declared min/max --------------------------------
+  const NUMBER = /^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$/;
+  const REL_TOL = 1e-12;
+
+  function unitOf(fmu, name) { const v = fmu.variables.get(name); return (v && v.unit) || ""; }
+
+  // The first problem of the parameter set p as one message, or null.
+  function problem(fmu, bicycle, p) {
+    const waived = new Set(bicycle.waived);
+    const got = (k) => `(got ${k} = ${p[k]} ${unitOf(fmu, k)})`;
+    const fail = (k, why) => `${k}: ${why} ${got(k)}`;
+    const has = (k) => k in p;
+    for (const k of ["w", "rR", "rF", "g"]) if (has(k) && !(p[k] > 0)) return fail(k, "must be positive");
+    if (has("c") && !(Math.abs(p.c) < p.w)) return fail("c", "trail must satisfy |c| < w (wheelbase)");
+    if (has("lam") && !(-Math.PI / 2 < p.lam && p.lam < Math.PI / 2))
+      return fail("lam", "steer-axis tilt must lie in (-pi/2, pi/2) rad");
+    for (const k of ["mR", "mB", "mH", "mF"]) if (has(k) && p[k] < 0) return fail(k, "mass must be non-negative");
+    if (has("mH") && p.mH + p.mF <= 0) return fail("mH", "front assembly mass mH + mF must be positive");
+    for (const k of ["zB", "zH"])
+      if (has(k) && !(p[k] < 0)) return fail(k, "centre of mass must be above the ground (z points down, so z < 0)");
+    for (const w of ["R", "F"]) {
+      const ixx = `I${w}xx`, iyy = `I${w}yy`;
+      for (const k of [ixx, iyy]) if (p[k] < 0) return fail(k, "moment of inertia must be non-negative");
+      if (!waived.has(iyy) && p[iyy] > 2 * p[ixx] * (1 + REL_TOL))
+        return fail(iyy, `triangle inequality violated: ${iyy} <= 2 ${ixx} = ${2 * p[ixx]} required for an axisymmetric wheel`);
     }
-    redraw(lin, true);
+    for (const b of ["B", "H"]) {
+      const [ixx, ixz, iyy, izz] = ["xx", "xz", "yy", "zz"].map((s) => `I${b}${s}`);
+      for (const k of [ixx, iyy, izz]) if (p[k] < 0) return fail(k, "moment of inertia must be non-negative");
+      const scale = Math.max(p[ixx], p[izz], p[iyy], Math.abs(p[ixz]));
+      if (p[ixx] * p[izz] - p[ixz] ** 2 < -REL_TOL * scale ** 2)
+        return fail(ixz, `inertia tensor not positive semidefinite: ${ixz}**2 <= ${ixx}*${izz} = ${p[ixx] * p[izz]} required`);
+      if (waived.has(iyy)) continue;
+      if (p[iyy] > (p[ixx] + p[izz]) * (1 + REL_TOL))
+        return fail(iyy, `triangle inequality of principal moments violated: ${iyy} <= ${ixx} + ${izz} = ${p[ixx] + p[izz]} required`);
+      const spread = Math.hypot(p[ixx] - p[izz], 2 * p[ixz]);
+      if (spread > p[iyy] * (1 + REL_TOL) + REL_TOL * scale)
+        return fail(iyy, `triangle inequality of principal moments violated: ${iyy} >= sqrt((${ixx}-${izz})**2 + 4 ${ixz}**2) = ${spread} required`);
+    }
+    for (const k of Object.keys(p)) {  // what the module declares (e.g. the crown radii tR, tF >= 0)
+      const v = fmu.variables.get(k);
+      if (v && v.min !== undefined && p[k] < v.min) return fail(k, `must be >= ${v.min} (the module's minimum)`);
+      if (v && v.max !== undefined && p[k] > v.max) return fail(k, `must be <= ${v.max} (the module's maximum)`);
+    }
+    return null;
+  }
+
+  // The editor's values as numbers, or the message about the first that is not one.
+  function parseEditor(bicycle) {
+    const p = {};
+    for (const name of Object.keys(bicycle.parameters)) {
+      const text = $(`param-${name}`).value.trim();
+      if (text === "") return { message: `${name}: empty; type a number` };
+      if (!NUMBER.test(text)) return { message: `${name}: not a number: '${text}'` };
+      p[name] = Number(text);
+      if (!Number.isFinite(p[name])) return { message: `${name}: must be finite, got '${text}'` };
+    }
+    return { parameters: p };
+  }
+
+  function showParameterError(message) {
+    state.parameterError = message;
+    $("parameter-error").textContent = message === null ? "" : `not used: ${message}; the plots show the last valid parameters`;
+  }
+
+  // --- the page ----------------------------------------------------------------------------
+  const app = { fmus: new Map(), lins: new Map() };
+
+  // Every module a bicycle uses, compiled once at load (a choice is then synchronous).
+  async function loadModules() {
+    for (const name of new Set(DATA.bicycles.map((b) => b.module))) {
+      const m = DATA.modules[name];
+      if (!m) throw new Error(`the page carries no module ${name}`);
+      app.fmus.set(name, await CosimFMU.WasmFMU.fromBytes(m.description, base64Bytes(m.wasm)));
+    }
+  }
+
+  const linearization = () => app.lins.get(state.bicycle);
+  const shown = (x) => String(Number(x.toPrecision(6)));
+
+  function syncControls(bicycle) {
+    for (const s of DATA.sliders) {
+      const label = $(`slider-${s.name}`).parentElement;
+      label.style.display = bicycle.sliders.includes(s.name) ? "" : "none";
+      if (s.name in state.parameters) {
+        $(`slider-${s.name}`).value = String(state.parameters[s.name]);
+        $(`value-${s.name}`).textContent = shown(state.parameters[s.name]);
+      }
+    }
+    for (const name of Object.keys(bicycle.parameters)) $(`param-${name}`).value = String(state.parameters[name]);
+  }
+
+  // The editor of every parameter of the bicycle: one number field each, unit and description
+  // from the module's NAME.json.
+  function buildEditor(fmu, bicycle) {
+    let box = $("all-parameters");
+    if (!box) {  // index.html without the container: made here, after the sliders
+      box = document.createElement("div");
+      box.id = "all-parameters";
+      $("sliders").after(box);
+    }
+    box.innerHTML = "";
+    const details = document.createElement("details");
+    details.innerHTML = `<summary>all parameters of ${bicycle.name} (${fmu.modelName})</summary>` +
+      `<div id="parameter-error" style="color:#b00"></div>`;
+    const table = document.createElement("table");
+    table.style.fontSize = "0.85em";
+    for (const name of Object.keys(bicycle.parameters)) {
+      const v = fmu.variables.get(name), row = table.insertRow();
+      row.title = v.description || "";
+      row.insertCell().innerHTML = `<label for="param-${name}">${name}</label>`;
+      const input = document.createElement("input");
+      Object.assign(input, { type: "text", id: `param-${name}`, size: 9, inputMode: "decimal" });
+      input.setAttribute("aria-label", `${name} [${v.unit || "1"}]: ${v.description || ""}`);
+      input.addEventListener("input", () => editorInput(fmu, bicycle));
+      row.insertCell().appendChild(input);
+      row.insertCell().textContent = v.unit || "";
+      const d = row.insertCell();  // one line, the whole text on hover (the column is narrow)
+      d.textContent = v.description || "";
+      Object.assign(d.style, { textAlign: "left", fontSize: "0.8em", whiteSpace: "nowrap", overflow: "hidden",
+                               textOverflow: "ellipsis", maxWidth: "150px" });
+    }
+    details.appendChild(table);
+    box.appendChild(details);
+  }
+
+  function editorInput(fmu, bicycle) {
+    const parsed = parseEditor(bicycle);
+    const message = parsed.message || problem(fmu, bicycle, parsed.parameters);
+    if (message) { showParameterError(message); return; }
+    showParameterError(null);
+    guarded(() => {
+      redraw(linearization(), parsed.parameters);
+      for (const s of DATA.sliders) if (s.name in state.parameters) {
+        $(`slider-${s.name}`).value = String(state.parameters[s.name]);
+        $(`value-${s.name}`).textContent = shown(state.parameters[s.name]);
+      }
+    });
+  }
+
+  function sliderInput(s, input) {
+    const bicycle = BICYCLES.get(state.bicycle), fmu = app.fmus.get(bicycle.module);
+    const p = { ...state.parameters, [s.name]: Number(input.value) };
+    const message = problem(fmu, bicycle, p);
+    $(`value-${s.name}`).textContent = input.value;
+    if (message) { showParameterError(message); return; }
+    guarded(() => {
+      redraw(linearization(), p);
+      showParameterError(null);  // the editor shows the parameters drawn (a refused text there is gone)
+      for (const name of Object.keys(bicycle.parameters)) $(`param-${name}`).value = String(state.parameters[name]);
+    });
+  }
+
+  function choose(name) {
+    const bicycle = BICYCLES.get(name);
+    const fmu = app.fmus.get(bicycle.module);
+    if (!app.lins.has(name)) app.lins.set(name, new Linearization(fmu, bicycle));
+    state.bicycle = state.set = name;
+    state.module = bicycle.module;
+    state.speedRange = { min: bicycle.speeds.min, max: bicycle.speeds.max, num: bicycle.speeds.num };
+    $("model").textContent = bicycle.module;
+    $("bicycle-explanation").textContent = bicycle.explanation;
+    const speed = $("speed");
+    Object.assign(speed, { min: bicycle.speeds.min, max: bicycle.speeds.max, step: bicycle.speeds.step });
+    if (!(state.speed >= bicycle.speeds.min && state.speed <= bicycle.speeds.max)) state.speed = bicycle.speeds.default;
+    speed.value = String(state.speed);
+    state.parameters = { ...bicycle.parameters };
+    state.sweep = null;
+    buildEditor(fmu, bicycle);
+    showParameterError(null);
+    syncControls(bicycle);
+    guarded(() => redraw(app.lins.get(name), { ...bicycle.parameters }));
   }
 
   async function main() {
-    $("model").textContent = DATA.model;
-    const fmu = await CosimFMU.WasmFMU.fromBytes(DATA.description, base64Bytes(DATA.wasm));
-    const lin = new Linearization(fmu);
     const select = $("set");
-    for (const name of Object.keys(DATA.parameterSets)) select.add(new Option(name, name));
+    for (const b of DATA.bicycles) select.add(new Option(b.label, b.name));
+    const explanation = document.createElement("p");
+    explanation.id = "bicycle-explanation";
+    explanation.className = "note";
+    select.parentElement.after(explanation);
+    const stable = document.createElement("p");
+    stable.id = "self-stable";
+    stable.className = "note";
+    $("weave").parentElement.after(stable);
     const speed = $("speed");
-    Object.assign(speed, { min: DATA.speeds.min, max: DATA.speeds.max, step: DATA.speeds.step,
-                           value: DATA.speeds.default });
-    speed.addEventListener("input", () => guarded(() => { state.speed = Number(speed.value); redraw(lin, false); }));
+    speed.addEventListener("input", () => guarded(() => {
+      state.speed = Number(speed.value);
+      redraw(linearization());
+    }));
     const sliders = $("sliders");
     for (const s of DATA.sliders) {
       const label = document.createElement("label");
       label.innerHTML = `${s.label} = <span class="value" id="value-${s.name}"></span> ${s.unit}<br>`;
       const input = document.createElement("input");
       Object.assign(input, { type: "range", id: `slider-${s.name}`, min: s.min, max: s.max, step: s.step });
-      input.addEventListener("input", () => guarded(() => {
-        state.parameters[s.name] = Number(input.value);
-        $(`value-${s.name}`).textContent = input.value;
-        redraw(lin, true);
-      }));
+      input.addEventListener("input", () => sliderInput(s, input));
       label.appendChild(input);
       sliders.appendChild(label);
     }
-    select.addEventListener("change", () => guarded(() => choose(lin, select.value)));
-    choose(lin, select.value);
+    select.addEventListener("change", () => guarded(() => choose(select.value)));
+    await loadModules();
+    choose(select.value);
+    if (state.error !== null) throw new Error(state.error);
     state.ready = true;
   }
 

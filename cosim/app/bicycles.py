@@ -1,0 +1,223 @@
+"""The bicycles of the eigenvalue view of `cosim app` (``COSIM_DATA.bicycles``), as data.
+
+Each choice says which WebAssembly module computes the state matrix A(v) (a model of
+:data:`cosim.app.export.MODULES`), its parameter values (read from ``cosim/params`` by
+:func:`cosim.analytic.parameters.load_parameter_set`, never written into the page by hand), how
+the forward speed ``v`` [m/s] enters the module, the lateral states whose derivatives give A(v),
+the speed range of the plots and the sliders shown. The page (``static/app.js``) reads nothing
+else about a bicycle.
+
+The choices (Astrom, Klein & Lennartsson 2005, "Bicycle dynamics and control", IEEE Control
+Systems Magazine 25(4), is "the paper"):
+
+``benchmark``, ``astrom2005``, ``astrom2005-riderless``
+    The Meijaard et al. (2007) sets of ``cosim/params`` on ``Bicycle.Bicycles.WhippleLinear``
+    (eq (24); Figure 9 of the paper is astrom2005, Figure 8 and eq (25) astrom2005-riderless),
+    speed parameter ``v``, 0-10 m/s.
+``rear-steered``
+    The benchmark bicycle ridden backwards: the paper's "a model for a bicycle with rear-wheel
+    steering is obtained simply by reversing the sign of the velocity" (section "Rear-Wheel
+    Steering", eq (18)): WhippleLinear at ``v`` from -10 to 0 m/s. It has an eigenvalue in
+    the right half plane at every one of these speeds (no weave or capsize speed: it is
+    never self-stable, cosim.analytic.whipple finds the same).
+``crowned-roller``
+    The paper's Figure 15 ("a crowned roller with lateral radius 0.3 m at the rear"; Figure 21,
+    eq (27)): the nonlinear ``Bicycle.Bicycles.Whipple`` with a toroidal rear wheel of crown
+    radius ``tR`` = :data:`CROWN_RADIUS` (0.3 m, the figure's caption; the text says 0.4 m for a
+    child's bicycle whose centre of mass is 0.4 m high, whose other parameters the paper does not
+    give) on the paper's own bicycle with rider (``astrom2005``, the bicycle of Figure 9, with
+    which the caption compares). The caption's "heavy front wheel" is not applied: the paper gives
+    no mass or inertia for it, and an invented one would not be the paper's. A(v) is the lateral
+    block (roll, steer and their rates) of the module's directional derivatives at upright
+    straight running, ``u_R0 = -v/rR``: at that point the columns of the pitch, the forward speed
+    and the ignorable coordinates in the lateral rows are exactly zero and the pitch rate's row
+    has zero roll and steer coefficients (the pitch is even in roll and steer), so the
+    elimination of :func:`cosim.fmu.linearize.steady_motion` changes nothing and the block is
+    the exact lateral reduction
+    (tests/test_app.py checks it against ``cosim linearize`` and, for ``tR = 0``, against
+    cosim.analytic). ``tR`` has a slider (0-1 m, about the centre-of-mass height, 1.0 m: eq (27)
+    makes the paper's pendulum on two rollers statically stable for a rocking radius above it;
+    this bicycle, with a rear roller only, still falls standing, slower: measured here, the
+    roll mode at 0 m/s goes from 3.05 1/s (knife edge) to 2.80 (0.3 m) and 2.07 (1.0 m)).
+
+Every parameter of a choice can also be typed into the page's parameter editor.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+LINEAR = "Bicycle.Bicycles.WhippleLinear"
+NONLINEAR = "Bicycle.Bicycles.Whipple"
+
+#: Crown radius of the crowned rear roller [m]: Figure 15 of the paper (caption).
+CROWN_RADIUS = 0.3
+
+#: Speed ranges of the plots [m/s]: forwards, and backwards for the rear-steered bicycle.
+FORWARD = {"min": 0.0, "max": 10.0, "num": 200, "default": 5.0, "step": 0.01}
+BACKWARD = {"min": -10.0, "max": 0.0, "num": 200, "default": -5.0, "step": 0.01}
+
+#: Sliders (name, label, unit, minimum, maximum, step). Every bicycle's values must lie inside
+#: the ranges of the sliders it shows (checked by :func:`page_data`).
+SLIDERS = (
+    ("w", "wheelbase w", "m", 0.5, 2.0, 0.001),
+    ("c", "trail c", "m", -0.1, 0.3, 0.001),
+    ("lam", "steer-axis tilt \u03bb", "rad", -0.2, 0.8, 0.001),
+    ("mB", "rear frame mass m_B", "kg", 5.0, 150.0, 0.1),
+    ("rF", "front wheel radius r_F", "m", 0.1, 0.6, 0.001),
+    ("rR", "rear wheel radius r_R", "m", 0.1, 0.6, 0.001),
+    ("tR", "rear crown radius t_R", "m", 0.0, 1.0, 0.001),
+)
+#: The sliders every bicycle shows; the crowned roller adds ``tR``.
+COMMON_SLIDERS = ("w", "c", "lam", "mB", "rF", "rR")
+
+#: Lateral states of each module (A(v) is the Jacobian of their derivatives with respect to them).
+LATERAL_STATES = {
+    LINEAR: ("phi", "delta", "phi_dot", "delta_dot"),
+    NONLINEAR: ("phi", "delta", "u_phi", "u_delta"),
+}
+#: How the forward speed v [m/s] enters each module: ``parameter = sign * v / divisor`` (the
+#: divisor a parameter of the bicycle, or None for 1). Whipple: upright straight running,
+#: u_R0 = -v/rR (the rear wheel rate is negative rolling forward).
+SPEED = {
+    LINEAR: {"parameter": "v", "sign": 1.0, "divisor": None},
+    NONLINEAR: {"parameter": "u_R0", "sign": -1.0, "divisor": "rR"},
+}
+
+
+@dataclass(frozen=True)
+class Bicycle:
+    """One choice of the page (see the module docstring)."""
+
+    name: str
+    label: str
+    explanation: str
+    module: str
+    parameter_set: str  # a bundled Meijaard set of cosim/params
+    speeds: dict
+    modifiers: dict = field(default_factory=dict)  # further parameters of the module, SI units
+    sliders: tuple = COMMON_SLIDERS
+
+
+BICYCLES = (
+    Bicycle("benchmark", "benchmark (Meijaard et al. 2007)",
+            "The benchmark bicycle with rider of Meijaard, Papadopoulos, Ruina & Schwab (2007), Table 1, on the "
+            "linear Whipple model (eq (24) of the paper). Self-stable between the weave and the capsize speed.",
+            LINEAR, "benchmark", FORWARD),
+    Bicycle("astrom2005", "astrom2005 (the paper, with rider)",
+            "The bicycle with rider of \u00c5str\u00f6m, Klein & Lennartsson (2005), Table 1: Figure 9 of the paper "
+            "(real parts of the eigenvalues vs speed, self-stable from 5.96 to 10.36 m/s).",
+            LINEAR, "astrom2005", FORWARD),
+    Bicycle("astrom2005-riderless", "astrom2005-riderless (the paper, no rider)",
+            "The same bicycle without its rider (Table 1, the values in parentheses; the matrices of eq (25)): "
+            "Figure 8 of the paper, the root locus in speed.",
+            LINEAR, "astrom2005-riderless", FORWARD),
+    Bicycle("crowned-roller", "crowned roller at the rear (Figure 15)",
+            "The paper's adapted bicycle for teaching children (Figure 15, Figure 21, eq (27)): a crowned rear roller "
+            f"of lateral radius t_R = {CROWN_RADIUS} m on the astrom2005 bicycle with rider, computed by the nonlinear "
+            "Whipple model (toroidal rear wheel) linearized about upright straight running. As in Figure 15 the "
+            "roller makes the capsize mode stable at all speeds shown. Eq (27), the paper's pendulum on rollers, "
+            "predicts a slower fall for a larger rocking radius: here the standing bicycle's roll mode slows "
+            "(see v = 0), but its fastest mode, the front frame falling with "
+            "the steer, hardly does with a roller at the rear only (try t_R, and the front crown radius t_F in "
+            "the parameters). The caption's heavy front wheel is not modelled: the paper gives "
+            "no values for it.",
+            NONLINEAR, "astrom2005", FORWARD, {"tR": CROWN_RADIUS, "tF": 0.0}, (*COMMON_SLIDERS, "tR")),
+    Bicycle("rear-steered", "rear-steered (the benchmark ridden backwards)",
+            "Rear-wheel steering: \"a model for a bicycle with rear-wheel steering is obtained simply by reversing "
+            "the sign of the velocity\" (the paper, section Rear-Wheel Steering, eq (18)). The benchmark bicycle "
+            "at negative speeds: an eigenvalue lies in the right half plane at every speed, so it is never "
+            "self-stable, and a rider must stabilize a fast unstable mode.",
+            LINEAR, "benchmark", BACKWARD),
+)
+
+
+def _states_of(description: dict) -> dict[str, str]:
+    """State name -> the name of its derivative, from the ``derivative`` attribute (1-based index)."""
+    variables = description["variables"]
+    return {variables[v["derivative"] - 1]["name"]: v["name"] for v in variables if "derivative" in v}
+
+
+def bicycle_data(bicycle: Bicycle, description: dict | None = None) -> dict:
+    """One entry of ``COSIM_DATA.bicycles``, checked against its module's description if given.
+
+    Parameters
+    ----------
+    bicycle : Bicycle
+        The choice.
+    description : dict, optional
+        The module's NAME.json (parsed); without it the names are checked by the page at load.
+
+    Returns
+    -------
+    dict
+        ``name``, ``label``, ``explanation``, ``module``, ``parameterSet``, ``parameters`` (name ->
+        value, SI), ``waived`` (the triangle-inequality checks the set's file waives), ``speed``
+        (:data:`SPEED`), ``states`` and ``derivatives`` (``derivatives`` only with a description),
+        ``speeds`` and ``sliders`` (names).
+
+    Raises
+    ------
+    ValueError
+        A parameter that is not a parameter of the module, a lateral state it lacks, a value
+        outside its slider's range or an unknown slider (each named).
+    """
+    from cosim.analytic.parameters import load_parameter_set
+
+    loaded = load_parameter_set(bicycle.parameter_set)
+    values = {**loaded.values, **bicycle.modifiers}
+    states = LATERAL_STATES[bicycle.module]
+    speed = SPEED[bicycle.module]
+    sliders = {s[0]: s for s in SLIDERS}
+    for name in bicycle.sliders:
+        if name not in sliders:
+            raise ValueError(f"bicycle {bicycle.name}: no slider {name}")
+        if name not in values:
+            raise ValueError(f"bicycle {bicycle.name}: the slider {name} is not one of its parameters")
+        _, _, _, low, high, _ = sliders[name]
+        if not low <= values[name] <= high:
+            raise ValueError(f"bicycle {bicycle.name}: {name} = {values[name]} outside its slider [{low}, {high}]")
+    entry = {"name": bicycle.name, "label": bicycle.label, "explanation": bicycle.explanation,
+             "module": bicycle.module, "parameterSet": bicycle.parameter_set, "parameters": values,
+             "waived": list(loaded.waiver.checks) if loaded.waiver else [], "speed": dict(speed),
+             "states": list(states), "speeds": dict(bicycle.speeds), "sliders": list(bicycle.sliders)}
+    if description is not None:
+        variables = {v["name"]: v for v in description["variables"]}
+        unknown = [k for k in [*values, speed["parameter"]] if variables.get(k, {}).get("causality") != "parameter"]
+        if unknown:
+            raise ValueError(f"bicycle {bicycle.name}: {', '.join(unknown)} not parameters of {bicycle.module}")
+        derivative = _states_of(description)
+        missing = [s for s in states if s not in derivative]
+        if missing:
+            raise ValueError(f"bicycle {bicycle.name}: {bicycle.module} has no state(s) {', '.join(missing)}")
+        entry["derivatives"] = [derivative[s] for s in states]
+    return entry
+
+
+def page_data(description: dict, descriptions: dict | None = None) -> dict:
+    """``window.COSIM_DATA`` without the modules: the bicycles, sliders and (as before, for the
+    first three choices) ``model``, ``parameterSets``, ``lateralStates``, ``sliders``, ``speeds``.
+
+    Parameters
+    ----------
+    description : dict
+        NAME.json of :data:`LINEAR`.
+    descriptions : dict, optional
+        Model name -> NAME.json of every module; the bicycles of a module not given are checked
+        by the page when it loads (a missing state or parameter is then its error message).
+
+    Raises
+    ------
+    ValueError
+        As :func:`bicycle_data`, naming the bicycle and the parameter; also if the Meijaard sets
+        of :data:`LINEAR` do not share one list of parameters.
+    """
+    known = {LINEAR: description, **(descriptions or {})}
+    bicycles = [bicycle_data(b, known.get(b.module)) for b in BICYCLES]
+    sets = {b["parameterSet"]: b["parameters"] for b in bicycles if b["module"] == LINEAR and b["name"] == b["parameterSet"]}
+    first = next(iter(sets))
+    for name, values in sets.items():
+        if sorted(values) != sorted(sets[first]):
+            raise ValueError(f"parameter set {name} has other parameters than {first}")
+    return {"model": LINEAR, "parameterSets": sets, "lateralStates": list(LATERAL_STATES[LINEAR]),
+            "sliders": [dict(zip(("name", "label", "unit", "min", "max", "step"), s)) for s in SLIDERS],
+            "speeds": dict(FORWARD), "bicycles": bicycles}

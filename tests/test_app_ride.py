@@ -1,0 +1,467 @@
+"""The rides of `cosim app` (cosim/app/static/ride.js, plots.js, the demos of cosim/app/demos/) in
+a real headless Chromium, from `cosim app --export` opened from file://.
+
+The page runs the nonlinear Whipple bicycle's WebAssembly FMU (and the library's controllers,
+also WebAssembly) as a small co-simulation master. The tests check what the page computes
+against what they compute themselves from the recorded arrays: every demo's expectation
+(cosim.app.demos.check_expectation, independent of ride.js's own verdict), the controller and
+its exact delay (the recorded steer torque is the PD law of the recorded roll, tau earlier), an
+open-loop ride against `cosim simulate` of the native FMU, the CSV download against the arrays,
+the rider-in-the-loop delay with real keyboard events. The real-time factor measured in the page
+is printed (the issue's goal is >= 100x), never asserted as a wall-clock limit. Screenshots of
+every demo go to ``$COSIM_SCREENSHOTS`` if set, else to the test's temporary folder. No request
+other than file:// may be made, and an error in the page fails the test. Skip rules as
+tests/test_wasm.py.
+"""
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cosim.app import demos as demo_files
+from conftest import cli_in_process
+from test_wasm import _has_ziglang, _unavailable, browser, offline_page  # noqa: F401 (browser: the shared fixture)
+
+DEMOS = demo_files.load_demos()
+NAMES = [d["name"] for d in DEMOS]
+STEP = 0.01  # [s] the page's communication step (export.RIDE_STEP)
+NATIVE_TOL = 1e-9  # page's open-loop ride vs `cosim simulate` of the native FMU
+
+
+@pytest.fixture(scope="module")
+def site(tmp_path_factory):
+    """`cosim app --export` into a temporary folder (FMUs and modules into COSIM_FMU_DIR)."""
+    if not _has_ziglang():
+        _unavailable("the ziglang wheel is not installed (pip install ziglang)")
+    folder = tmp_path_factory.mktemp("app-ride") / "site"
+    status, out, err = cli_in_process(["app", "--export", str(folder)], folder.parent)
+    assert status == 0, err
+    return folder
+
+
+@pytest.fixture()
+def page(browser, site):  # noqa: F811 (the imported fixture)
+    """The exported page from file://, its rides ready; any request that is not file:// is
+    refused and fails the test (the CSV download's blob: URL makes none), as does an error in the page."""
+    with offline_page(browser, (site / "index.html").as_uri(),
+                      "window.cosimRide && (window.cosimRide.ready || window.cosimRide.error !== null)",
+                      viewport={"width": 1250, "height": 1500}, accept_downloads=True) as page:
+        assert page.evaluate("window.cosimRide.error") is None
+        yield page
+
+
+def _screenshot_folder(tmp_path: Path) -> Path:
+    folder = Path(os.environ["COSIM_SCREENSHOTS"]) if os.environ.get("COSIM_SCREENSHOTS") else tmp_path
+    folder.mkdir(parents=True, exist_ok=True)
+    return folder
+
+
+def _run_demo(page, name: str) -> dict:
+    """Click the demo's run button (a real click) and wait for its end; the page's state."""
+    page.click(f"#demo-run-{name}")
+    page.wait_for_function("(n) => window.cosimRide.demo === n && window.cosimRide.finished || "
+                           "window.cosimRide.error !== null", arg=name, timeout=120_000)
+    assert page.evaluate("window.cosimRide.error") is None
+    return page.evaluate("""() => { const s = window.cosimRide;
+        return {trajectory: s.trajectory, compare: s.compare, expectation: s.expectation, passed: s.passed,
+                realTimeFactor: s.realTimeFactor, stepsPerSecond: s.stepsPerSecond, steps: s.steps,
+                seconds: s.seconds, columns: s.columns, unstablePole: s.unstablePole}; }""")
+
+
+def _rides(state: dict) -> dict:
+    """"main" (and "compare") -> the recorded ride, as check_expectation takes them."""
+    return {"main": state["trajectory"], **({"compare": state["compare"]} if state["compare"] else {})}
+
+
+@pytest.mark.parametrize("name", NAMES, ids=NAMES)
+def test_demo_runs_to_its_end_and_meets_its_expectation(page, name, tmp_path):
+    from cosim.analytic.parameters import load_parameters
+    from cosim.analytic.whipple import eigenvalues
+
+    demo = next(d for d in DEMOS if d["name"] == name)
+    s = _run_demo(page, name)
+    rides = _rides(s)
+    assert set(rides) == ({"main", "compare"} if "compare" in demo else {"main"})
+    for key, ride in rides.items():
+        t = np.array(ride["t"])
+        assert np.allclose(np.diff(t), STEP, rtol=0, atol=1e-12) and t[0] == 0  # the communication grid
+        assert all(np.isfinite(ride[n]).all() for n in ("x", "y", "psi", "phi", "delta", "T_delta", "T_phi"))
+        # to its end: the whole duration, or a fall (|phi| > 1 rad or the FMU's stop) recorded as such
+        if ride["fell"]:
+            assert t[-1] < demo["duration"] and ("|phi| > 1" in ride["reason"] and abs(ride["phi"][-1]) > 1
+                                                 or "FMU stopped" in ride["reason"])
+        else:
+            assert ride["reason"] == "end" and t[-1] == pytest.approx(demo["duration"], abs=1e-9)
+            assert np.max(np.abs(ride["phi"])) <= 1.0
+    # p of p*tau: the page's largest real part of the WhippleLinear module's eigenvalues at the
+    # ride's speed equals cosim.analytic's (none for toroidal tyres, which the linear model lacks)
+    for key in rides:
+        spec = demo["ride" if key == "main" else "compare"]
+        if spec.get("parameters", {}).get("tR") or spec.get("parameters", {}).get("tF"):
+            assert s["unstablePole"][key] is None
+        else:
+            expected = float(np.max(eigenvalues(load_parameters(spec["params"]), spec["speed"]).real))
+            assert s["unstablePole"][key] == pytest.approx(expected, abs=1e-6), (key, expected)
+    # the expectation, evaluated here from the arrays (not trusting ride.js's verdict) ...
+    ours = [demo_files.check_expectation(c, rides, demo["duration"]) for c in demo["expect"]]
+    # ... equals the page's, and holds
+    assert [e["ok"] for e in s["expectation"]] == [ok for ok, _ in ours]
+    assert all(ok for ok, _ in ours), [(c, m) for c, (ok, m) in zip(demo["expect"], ours) if not ok]
+    assert s["passed"] is True
+    page.wait_for_function("window.cosimRide.player && window.cosimRide.player.frames > 3")
+    shot = _screenshot_folder(tmp_path) / f"app-demo-{name}.png"
+    page.screenshot(path=str(shot), full_page=True)
+    assert shot.stat().st_size > 10_000
+    # the ride alone (3-D view and plots): the README's pictures are of these
+    ride_shot = shot.with_name(f"app-demo-{name}-ride.png")
+    page.locator("#ride-layout").screenshot(path=str(ride_shot))
+    assert ride_shot.stat().st_size > 10_000
+    print(f"\n{name}: " + "; ".join(f"{c['check']}({c['ride']}) {m}" for c, (_, m) in zip(demo["expect"], ours))
+          + f"; main {rides['main']['reason']} at {rides['main']['t'][-1]:.2f} s; {s['steps']} steps in "
+          f"{s['seconds'] * 1e3:.1f} ms ({s['realTimeFactor']:.0f}x real time); p = {s['unstablePole']}; {shot}")
+
+
+def test_controller_and_exact_delay_on_the_recorded_ride(page):
+    """The rider-delay demo: the steer torque the bicycle received at t is the PD law (the FMU
+    Bicycle.Control.PD) of the roll angle and rate recorded at t - tau, zero before tau; the
+    push is the pulse of the demo file."""
+    demo = next(d for d in DEMOS if d["name"] == "rider-delay")
+    s = _run_demo(page, "rider-delay")
+    for key in ("ride", "compare"):
+        ride, spec = s["trajectory" if key == "ride" else "compare"], demo[key]
+        c = spec["controller"]
+        lag = round(c["delay"] / STEP)
+        phi, u_phi, torque = (np.array(ride[n]) for n in ("phi", "u_phi", "T_delta"))
+        law = -c["parameters"]["kp"] * phi - c["parameters"]["kd"] * u_phi
+        assert np.array_equal(torque[:lag], np.full(lag, law[0]))  # before t0 + tau: the first value
+        difference = np.max(np.abs(torque[lag:] - law[:len(law) - lag]))
+        assert difference <= 1e-12 * max(1.0, np.max(np.abs(law))), difference
+        assert np.max(np.abs(law)) > 0.01  # the rider did something
+        t, pulse = np.array(ride["t"]), spec["inputs"]["T_phi"]
+        inside = (t >= pulse["start"] - 1e-9) & (t < pulse["start"] + pulse["duration"] - 1e-9)
+        assert np.array_equal(np.array(ride["T_phi"]), np.where(inside, pulse["amplitude"], 0.0))
+        print(f"\n{key}: tau = {c['delay']} s ({lag} steps): max |T_delta - PD(t - tau)| = {difference:.1e} N.m")
+
+
+def test_open_loop_ride_equals_cosim_simulate(page, site, tmp_path):
+    """The rocket demo's main ride (a steer-torque step, no controller) equals `cosim simulate` of
+    the native FMU with the same step input and start speed, to 1e-9; the page's CSV columns are
+    cosim simulate's (time + outputs) followed by the inputs."""
+    demo = next(d for d in DEMOS if d["name"] == "rocket")
+    s = _run_demo(page, "rocket")
+    from cosim.analytic.parameters import load_parameters
+
+    ride, step = s["trajectory"], demo["ride"]["inputs"]["T_delta"]
+    u_R0 = -demo["ride"]["speed"] / load_parameters(demo["ride"]["params"])["rR"]  # as the demo's speed
+    out = tmp_path / "native.csv"
+    args = ["simulate", "Bicycle.Bicycles.Whipple", "--stop-time", str(demo["duration"]), "--step", str(STEP),
+            "--params", demo["ride"]["params"], "--param", f"u_R0={u_R0!r}",
+            "--input", f"T_delta=step:{step['start']}:{step['amplitude']}", "-o", str(out)]
+    status, _, err = cli_in_process(args, tmp_path)
+    assert status == 0, err
+    native = np.genfromtxt(out, delimiter=",", names=True)
+    names = list(native.dtype.names)
+    assert s["columns"] == names + ["T_delta", "T_phi"]
+    assert len(native) == len(ride["t"])
+    differences = {n: float(np.max(np.abs(np.array(ride[n if n != "time" else "t"]) - native[n]))) for n in names}
+    worst = max(differences, key=differences.get)
+    print(f"\nrocket, page vs cosim simulate: largest difference {differences[worst]:.2g} ({worst}), "
+          f"phi {differences['phi']:.2g} rad, y {differences['y']:.2g} m over {len(native)} points")
+    assert differences[worst] <= NATIVE_TOL, differences
+    assert np.ptp(native["y"]) > 1.0  # the ride turned: a comparison of two straight lines proves nothing
+
+
+def test_3d_view_renders_and_its_frames_advance(page, tmp_path):
+    _run_demo(page, "push")
+    page.wait_for_function("window.cosimRide.frames > 5")
+    before = page.evaluate("[window.cosimRide.frames, window.cosimRide.player.time]")
+    page.wait_for_timeout(500)
+    after = page.evaluate("[window.cosimRide.frames, window.cosimRide.player.time]")
+    assert after[0] > before[0] and after[1] > before[1], (before, after)
+    shot = _screenshot_folder(tmp_path) / "app-ride-3d.png"
+    page.locator("#ride-canvas").screenshot(path=str(shot))
+    from PIL import Image
+
+    pixels = np.asarray(Image.open(shot).convert("RGB")).reshape(-1, 3).astype(int)
+    colours = len({tuple(p // 8) for p in pixels[::7]})
+    spread = pixels.std(axis=0).max()
+    print(f"\n3-D canvas: {colours} colour classes, spread {spread:.0f}, frames {before[0]} -> {after[0]}")
+    assert colours > 50 and spread > 20  # a drawn scene, not a blank canvas
+    # scrubbing moves the player and redraws the plots' cursor
+    draws = page.evaluate("window.cosimRide.plotDraws")
+    page.click("#ride-play")  # pause
+    _set_range(page, "#ride-scrub", 2.5)
+    assert page.evaluate("window.cosimRide.player.time") == pytest.approx(2.5, abs=1e-9)
+    assert page.evaluate("window.cosimRide.plotDraws") >= draws
+
+
+def test_csv_download_equals_the_recorded_arrays(page, tmp_path):
+    s = _run_demo(page, "lane-change")
+    with page.expect_download() as info:
+        page.click("#ride-csv")
+    download = info.value
+    assert download.suggested_filename == "lane-change.csv"
+    path = tmp_path / "ride.csv"
+    download.save_as(str(path))
+    rows = list(csv.reader(io.StringIO(path.read_text())))
+    assert rows[0] == s["columns"] and rows[0][:7] == ["time", "x", "y", "psi", "phi", "theta", "delta"]
+    data = np.array(rows[1:], dtype=float)
+    ride = s["trajectory"]
+    assert data.shape == (len(ride["t"]), len(rows[0]))
+    for j, name in enumerate(rows[0]):
+        assert np.array_equal(data[:, j], np.array(ride["t" if name == "time" else name])), name  # exact
+
+
+def test_csv_download_of_the_comparison_ride(page, tmp_path):
+    """Choosing the demo's other ride plays it and the download is that ride."""
+    s = _run_demo(page, "rocket")
+    page.select_option("#ride-which", "compare")
+    page.wait_for_function("window.cosimRide.player && window.cosimRide.player.time <= "
+                           "window.cosimRide.compare.t.at(-1)")
+    with page.expect_download() as info:
+        page.click("#ride-csv")
+    assert info.value.suggested_filename == "rocket-compare.csv"
+    path = tmp_path / "compare.csv"
+    info.value.save_as(str(path))
+    rows = list(csv.reader(io.StringIO(path.read_text())))
+    data = np.array(rows[1:], dtype=float)
+    ride = s["compare"]
+    assert rows[0] == s["columns"] and data.shape == (len(ride["t"]), len(rows[0]))
+    assert len(ride["t"]) < len(s["trajectory"]["t"])  # the compare ride fell: another ride than the main one
+    for j, name in enumerate(rows[0]):
+        assert np.array_equal(data[:, j], np.array(ride["t" if name == "time" else name])), name
+
+
+def test_real_time_factor_of_the_nonlinear_bicycle(page):
+    """Measured in the page (performance.now around the stepping loop), best of three 10 s rides
+    of the push demo; printed, and >= 100x reported, not asserted (no wall-clock limit)."""
+    runs = []
+    for _ in range(3):
+        s = _run_demo(page, "push")
+        runs.append((s["realTimeFactor"], s["stepsPerSecond"], s["seconds"], s["steps"]))
+    rtf, sps, seconds, steps = max(runs)
+    verdict = ">= 100x: the issue's goal is met" if rtf >= 100 else "< 100x: BELOW the issue's goal"
+    print(f"\nBicycle.Bicycles.Whipple in the page: {steps} steps of {STEP} s in {seconds * 1e3:.1f} ms: "
+          f"{sps:,.0f} steps/s, {rtf:,.0f}x real time ({verdict})")
+    assert steps == round(10.0 / STEP) and seconds > 0
+
+
+def _set_range(page, selector: str, value: float):
+    """Put a range input at `value` with the input event a drag gives (Playwright cannot fill a range)."""
+    page.eval_on_selector(selector, "(e, v) => { e.value = String(v); e.dispatchEvent(new Event('input', "
+                          "{bubbles: true})); e.dispatchEvent(new Event('change', {bubbles: true})); }", value)
+    assert float(page.locator(selector).input_value()) == pytest.approx(value)
+
+
+LIVE = [
+    # bicycle, torque mode, delay tau [s], magnitude [N.m], speed [m/s]
+    pytest.param("benchmark", "steer", 0.1, 1.0, 5.0, id="benchmark-steer-tau0.1"),
+    pytest.param("rear-steered", "lean", 0.25, 5.0, 4.0, id="rear-steered-lean-tau0.25"),
+    pytest.param("benchmark", "steer", 0.0, 0.5, 5.0, id="benchmark-steer-no-delay"),
+]
+
+
+@pytest.mark.parametrize("bicycle, mode, tau, magnitude, speed", LIVE)
+def test_rider_in_the_loop_keyboard_torque_arrives_after_the_delay(page, bicycle, mode, tau, magnitude, speed):
+    """Real key presses: the torque the FMU receives is 0 until the press time + tau (within one
+    step), then the set magnitude while the key is held; the bicycle responds after that."""
+    page.select_option("#live-bicycle", bicycle)
+    page.select_option("#live-mode", mode)
+    page.uncheck("#live-push")  # no gust: the bicycle moves only when the rider's torque arrives
+    _set_range(page, "#live-delay", tau)
+    _set_range(page, "#live-magnitude", magnitude)
+    _set_range(page, "#live-speed", speed)
+    page.click("#live-start")
+    page.wait_for_function("window.cosimRide.live && window.cosimRide.live.steps > 30")
+    frames = page.evaluate("window.cosimRide.frames")
+    page.keyboard.down("ArrowRight")
+    page.wait_for_function("(n) => window.cosimRide.live.steps > n || !window.cosimRide.live.active",
+                           arg=page.evaluate("cosimRide.live.steps") + 40)
+    page.keyboard.up("ArrowRight")
+    page.wait_for_function("(n) => window.cosimRide.live.steps > n || !window.cosimRide.live.active",
+                           arg=page.evaluate("cosimRide.live.steps") + 40)
+    live = page.evaluate("window.cosimRide.live")
+    assert page.evaluate("window.cosimRide.frames") > frames  # the 3-D view follows the ride
+    page.click("#live-stop")
+    assert live["bicycle"] == bicycle and live["tau"] == tau and live["speed"] == pytest.approx(
+        -speed if bicycle == "rear-steered" else speed)
+    events = [(e["key"], e["down"]) for e in live["events"]]
+    # the release is seen unless the bicycle fell while the key was held (the ride then ended)
+    assert events[:2] == [("ArrowRight", True), ("ArrowRight", False)] or (events == [("ArrowRight", True)]
+                                                                           and live["fell"]), events
+    pressed = live["events"][0]["time"]
+    released = live["events"][1]["time"] if len(events) > 1 else np.inf
+    t = np.array(live["t"])
+    name = "T_phi" if mode == "lean" else "T_delta"
+    other = "T_delta" if mode == "lean" else "T_phi"
+    torque = np.array(live[name])
+    assert not live["gust"] and np.array_equal(np.array(live[other]), np.zeros(len(t)))  # only the chosen input
+    arrive = pressed + tau
+    before = t < arrive - STEP / 2
+    held = (t >= arrive + STEP - 1e-9) & (t < released + tau - 1e-9)
+    assert before.any() and held.sum() >= 5
+    assert np.array_equal(torque[before], np.zeros(before.sum()))  # nothing before press + tau
+    assert np.array_equal(torque[held], np.full(held.sum(), magnitude))  # then the set magnitude
+    first = t[np.argmax(torque != 0)]
+    assert abs(first - arrive) <= STEP + 1e-9, (first, arrive)
+    # the bicycle responds: upright and straight (exactly) until the torque arrives, then not
+    phi = np.array(live["phi"])
+    assert np.array_equal(phi[t <= first], np.zeros((t <= first).sum()))
+    assert np.max(np.abs(phi[t > first])) > 1e-4
+    print(f"\n{bicycle}, {mode} torque {magnitude} N.m, tau = {tau} s: pressed at t = {pressed:.2f} s, first torque "
+          f"at {first:.2f} s (press + tau = {arrive:.2f} s), released at {released:.2f} s; max |phi| "
+          f"{np.max(np.abs(phi)):.3g} rad; {live['steps']} real-time steps"
+          + (f"; {live['reason']}" if live["reason"] else ""))
+
+
+def test_rider_in_the_loop_gamepad_stick(page):
+    """A gamepad's first axis (navigator.getGamepads, here a stand-in object: headless Chromium
+    has no pad) scales the magnitude; it goes through the same delay."""
+    tau, magnitude, axis = 0.15, 2.0, -0.5
+    page.evaluate("() => { window.__axis = 0; navigator.getGamepads = () => [{axes: [window.__axis, 0]}, null]; }")
+    page.uncheck("#live-push")
+    _set_range(page, "#live-delay", tau)
+    _set_range(page, "#live-magnitude", magnitude)
+    page.click("#live-start")
+    page.wait_for_function("window.cosimRide.live && window.cosimRide.live.steps > 30")
+    moved = page.evaluate("(a) => { window.__axis = a; return window.cosimRide.live.t.at(-1); }", axis)
+    page.wait_for_function("(n) => window.cosimRide.live.steps > n", arg=page.evaluate("cosimRide.live.steps") + 50)
+    live = page.evaluate("window.cosimRide.live")
+    page.click("#live-stop")
+    t, torque = np.array(live["t"]), np.array(live["T_delta"])
+    first = t[np.argmax(torque != 0)]
+    # the stick is read at the first step after it moved, the torque arrives tau later
+    assert moved + tau - 1e-6 <= first <= moved + STEP + tau + 1e-6, (moved, first)
+    assert np.array_equal(torque[t < first], np.zeros((t < first).sum()))
+    assert np.array_equal(torque[t >= first], np.full((t >= first).sum(), axis * magnitude))
+    assert not live["events"]  # no key was pressed
+
+
+def test_rider_in_the_loop_rear_steered_falls_after_the_gust_if_nobody_steers(page):
+    """The gust (on by default) is the roll-torque pulse of COSIM_DATA.ride.gust; with no key
+    pressed the rear-steered bicycle falls soon after it, the front-steered one at 5 m/s does not."""
+    gust = page.evaluate("window.COSIM_DATA.ride.gust")
+    results = {}
+    for bicycle in ("rear-steered", "benchmark"):
+        page.select_option("#live-bicycle", bicycle)
+        _set_range(page, "#live-speed", 5.0)
+        page.click("#live-start")
+        page.wait_for_function("() => !window.cosimRide.live.active || window.cosimRide.live.t.at(-1) >= 4.0",
+                               timeout=30_000)
+        live = page.evaluate("window.cosimRide.live")
+        page.click("#live-stop")
+        t, push = np.array(live["t"]), np.array(live["T_phi"])
+        inside = (t >= gust["start"] - 1e-9) & (t < gust["start"] + gust["duration"] - 1e-9)
+        assert live["gust"] and np.array_equal(push, np.where(inside, gust["amplitude"], 0.0))
+        assert not live["events"] and np.array_equal(np.array(live["T_delta"]), np.zeros(len(t)))
+        results[bicycle] = (live["fell"], t[-1], live["reason"])
+    print(f"\nno rider input after the gust: {results}")
+    assert results["rear-steered"][0] and results["rear-steered"][1] < 3.0
+    assert not results["benchmark"][0]
+
+
+# --- the demo files: a bad one is refused with its name and the key --------------------------------
+
+GOOD = (demo_files.DEMOS / "push.toml").read_text(encoding="utf-8")
+
+BAD = [
+    pytest.param(GOOD.replace("title =", "titel ="), "unknown key 'titel'", id="unknown-top-key"),
+    pytest.param(GOOD.replace('references = ["Figure 8", "Figure 9", "eq (24)"]\n', ""), "missing key 'references'",
+                 id="missing-references"),
+    pytest.param(GOOD.replace("speed = 5.0", 'speed = "fast"'), "key 'ride.speed' must be a number", id="speed-text"),
+    pytest.param(GOOD.replace('source = "pulse"', 'source = "ramp"'), "key 'ride.inputs.T_phi.source' must be one of",
+                 id="unknown-source"),
+    pytest.param(GOOD.replace("amplitude = 10.0\n", ""), "missing key 'ride.inputs.T_phi.amplitude'",
+                 id="pulse-without-amplitude"),
+    pytest.param(GOOD.replace('check = "grows"', 'check = "explodes"'), "key 'expect[2].check' must be one of",
+                 id="unknown-check"),
+    pytest.param(GOOD.replace("ratio = 3.0", "ratio = 3.0\nbelow = 1.0"), "unknown key 'expect[2].below'",
+                 id="key-of-another-check"),
+    pytest.param(GOOD.replace("early = [0.5, 3.0]", "early = [3.0, 0.5]"), "key 'expect[2].early' must be [t0, t1]",
+                 id="window-backwards"),
+    pytest.param(GOOD.replace("duration = 10.0\n\n[ride]", "duration = 600.0\n\n[ride]"), "key 'duration' must be in",
+                 id="too-long"),
+    pytest.param(GOOD.replace("[compare]", "[compare]\nspeeed = 4.0"), "unknown key 'compare.speeed'",
+                 id="compare-typo"),
+    pytest.param(GOOD.replace("title =", "title = = "), "not valid TOML", id="broken-toml"),
+]
+
+
+@pytest.mark.parametrize("text, message", BAD)
+def test_bad_demo_file_is_refused_with_its_name_and_key(tmp_path, text, message):
+    folder = tmp_path / "demos"
+    folder.mkdir()
+    (folder / "broken-demo.toml").write_text(text, encoding="utf-8")
+    with pytest.raises(demo_files.DemoError) as info:
+        demo_files.load_demos(folder)
+    assert str(info.value).startswith(str(folder / "broken-demo.toml") + ": ") and message in str(info.value)
+    assert "\n" not in str(info.value)
+
+
+def _descriptions() -> dict:
+    """NAME.json of the page's modules, from the FMU folder's wasm/ (built by the ``site`` fixture)."""
+    from cosim.app.export import MODULES
+
+    folder = Path(os.environ["COSIM_FMU_DIR"]) / "wasm"
+    return {m: json.loads((folder / f"{m.replace('.', '_')}.json").read_text()) for m in MODULES}
+
+
+NAMES_BAD = [
+    pytest.param(GOOD.replace('params = "benchmark"', 'params = "no-such-set"'), "key 'ride.params'", id="no-such-set"),
+    pytest.param(GOOD.replace("speed = 5.0", "speed = 5.0\nparameters = { wheelbase = 1.0 }"),
+                 "key 'ride.parameters.wheelbase': not a parameter of Bicycle.Bicycles.Whipple",
+                 id="unknown-parameter"),
+    pytest.param(GOOD.replace("[ride.inputs.T_phi]", "[ride.inputs.T_roll]"),
+                 "key 'ride.inputs.T_roll': not an input", id="unknown-input"),
+    pytest.param(GOOD.replace('model = "Bicycle.Bicycles.Whipple"', 'model = "Bicycle.Bicycles.Nope"'),
+                 "key 'ride.model': Bicycle.Bicycles.Nope is not a model of the page", id="unknown-model"),
+    pytest.param(GOOD.replace('signal = "phi"\nfrom', 'signal = "roll"\nfrom'), "key 'expect[0].signal'",
+                 id="unknown-signal"),
+    pytest.param(GOOD.replace("[compare]", "[ride.controller]\nmodel = \"Bicycle.Control.PD\"\nconnect = { phi = "
+                              "\"phi\" }\noutput = \"T\"\ndrives = \"T_delta\"\n\n[compare]"),
+                 "key 'ride.controller.connect': inputs phi_dot of Bicycle.Control.PD are not connected",
+                 id="controller-input-open"),
+]
+
+
+@pytest.mark.parametrize("text, message", NAMES_BAD)
+def test_demo_with_unknown_names_is_refused(site, tmp_path, text, message):
+    folder = tmp_path / "demos"
+    folder.mkdir()
+    (folder / "bad-names.toml").write_text(text, encoding="utf-8")
+    with pytest.raises(demo_files.DemoError) as info:
+        demo_files.load_demos(folder, _descriptions())
+    assert str(info.value).startswith(str(folder / "bad-names.toml") + ": ") and message in str(info.value), info.value
+
+
+def test_export_refuses_a_bad_demo_before_building(tmp_path):
+    from cosim.app.export import export_app
+
+    folder = tmp_path / "demos"
+    folder.mkdir()
+    (folder / "typo.toml").write_text(GOOD.replace("duration = 10.0\n\n[ride]", "duraton = 10.0\n\n[ride]"))
+    with pytest.raises(demo_files.DemoError, match=r"typo\.toml: unknown key 'duraton'"):
+        export_app(tmp_path / "site", demos=folder)
+    assert not (tmp_path / "site" / "bundle.js").exists()
+
+
+def test_two_demos_with_one_order_are_refused(tmp_path):
+    for name in ("a.toml", "b.toml"):
+        (tmp_path / name).write_text(GOOD, encoding="utf-8")
+    with pytest.raises(demo_files.DemoError, match=r"b\.toml: key 'order': 1 is also the order of a\.toml"):
+        demo_files.load_demos(tmp_path)
+
+
+def test_shipped_demos_cover_the_issue():
+    """One file per demo of issue 16, each with the paper's numbers and a checkable expectation."""
+    assert NAMES == ["push", "lane-change", "rocket", "rear-steered", "crowned-rollers", "rider-delay"]
+    for demo in DEMOS:
+        assert demo["references"] and len(demo["text"]) > 200 and demo["expect"]
+    backwards = next(d for d in DEMOS if d["name"] == "rear-steered")["ride"]
+    assert backwards["speed"] < 0  # ridden backwards: u_R0 = -speed/rR > 0
