@@ -12,6 +12,11 @@ Best of --repeat runs. "steady" counts from the moment every worker is ready; "w
 ``run_matrix`` call (spec expansion, up-to-date check of the FMU, worker start-up -- forked
 workers inherit the supervisor's imports --, the runs, the records, the checks).
 
+Then, side by side with ``--baseline REF`` (default HEAD; ``none`` skips it): the CPU time of one
+case (prediction, co-simulation, classification: ``cosim.matrix.worker.run_case``) in one
+process with one BLAS thread, each tree in a fresh process, alternating, medians -- the cost the
+throughput is made of, without the machine's scaling and the supervisor.
+
 Targets of issue 14 (2 workers, 600 runs), each printed as measured / target, side by side:
   fmu-only     steady >= 150,000 runs/min
   fmu-only     wall rate >= 50 % of the steady rate (start-up must stay around <= 0.24 s)
@@ -20,7 +25,11 @@ Targets of issue 14 (2 workers, 600 runs), each printed as measured / target, si
 from __future__ import annotations
 
 import argparse
+import importlib.util
+import json
 import os
+import statistics
+import subprocess
 import sys
 import tempfile
 import time
@@ -67,6 +76,64 @@ def measure(name: str, n: int, workers: int, out: Path, repeat: int) -> dict:
             "startup": result.timing["startup"], "wall": best_wall, "start": result.timing.get("start")}
 
 
+# One tree's CPU time per case: argv = root, the workload as JSON, rounds; prints the median [ms].
+CASE_CHILD = r"""
+import dataclasses, json, statistics, sys, time
+root, data, rounds = sys.argv[1], json.loads(sys.argv[2]), int(sys.argv[3])
+sys.path.insert(0, root)
+import cosim
+from cosim.matrix import worker
+from cosim.matrix.runner import build_fmus
+from cosim.matrix.spec import spec_from_dict
+assert cosim.__file__.startswith(root), cosim.__file__
+specs = spec_from_dict(data).cases()
+cases, fmu_paths, cache = [dataclasses.asdict(c) for c in specs], build_fmus(specs, None), worker.FMUCache()
+for case in cases[:20]:
+    worker.run_case(case, cache, fmu_paths)
+times = []
+for _ in range(rounds):
+    t0 = time.process_time()
+    for case in cases:
+        worker.run_case(case, cache, fmu_paths)
+    times.append((time.process_time() - t0) / len(cases) * 1e3)
+print(json.dumps(statistics.median(times)))
+"""
+
+
+def case_cpu(root: Path, name: str, n: int = 200, rounds: int = 3) -> float:
+    """Median CPU time [ms] of one case of the workload ``name`` in a fresh process on the tree ``root``."""
+    env = {**os.environ, "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+    result = subprocess.run([sys.executable, "-c", CASE_CHILD, str(root), json.dumps(workload(name, n)), str(rounds)],
+                            capture_output=True, text=True, env=env, cwd=tempfile.gettempdir())
+    if result.returncode != 0:
+        raise RuntimeError(f"case timing in {root} failed:\n{result.stderr[-3000:]}")
+    return float(result.stdout.strip().splitlines()[-1])
+
+
+def baseline_tree(ref: str, folder: Path) -> Path:
+    """``benchmarks/build.py``'s committed tree of ``ref`` (loaded by path: ``build`` is also the
+    name of a PyPA package)."""
+    spec = importlib.util.spec_from_file_location("cosim_bench_build", Path(__file__).with_name("build.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.baseline_tree(ref, folder)
+
+
+def side_by_side(baseline: str, rounds: int) -> None:
+    """CPU per case of the current tree and ``baseline`` (a git ref), alternating, medians."""
+    with tempfile.TemporaryDirectory(prefix="cosim-bench-") as tmp:
+        trees = {"baseline": baseline_tree(baseline, Path(tmp) / "baseline"), "current": ROOT}
+        print(f"CPU per case in one process (one BLAS thread), median of {rounds} alternating fresh processes; "
+              f"baseline: {baseline}")
+        for name in ("fmu-only", "rider+delay"):
+            runs = {label: [] for label in trees}
+            for _ in range(rounds):
+                for label, root in trees.items():
+                    runs[label].append(case_cpu(root, name))
+            b, c = statistics.median(runs["baseline"]), statistics.median(runs["current"])
+            print(f"  {name:<12} baseline {b:6.3f} ms   current {c:6.3f} ms   current/baseline {c / b:5.2f}x")
+
+
 #: Issue 14: runs per minute on 2 workers (steady), and the wall rate of 600 runs over the steady rate.
 TARGETS = {"fmu-only": 150_000, "rider+delay": 30_000}
 WALL_FRACTION = 0.5
@@ -99,6 +166,8 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=600, help="runs per workload and worker count")
     parser.add_argument("--repeat", type=int, default=2, help="repetitions per measurement (best is kept)")
+    parser.add_argument("--baseline", default="HEAD", help="git ref of the per-case comparison, or 'none' (default: HEAD)")
+    parser.add_argument("--rounds", type=int, default=3, help="alternating rounds of the per-case comparison")
     args = parser.parse_args(argv)
     from cosim.matrix.runner import build_fmus
     from cosim.matrix.spec import spec_from_dict
@@ -140,6 +209,8 @@ def main(argv=None) -> int:
                 verdicts.append(f"{name:<12} wall / steady, {args.runs} runs, 2 workers: {fraction:.2f} = "
                                 f"{fraction / WALL_FRACTION:.2f} x the target {WALL_FRACTION:.2f} "
                                 f"({'meets' if met else 'MISSES'})")
+    if args.baseline != "none":
+        side_by_side(args.baseline, args.rounds)
     print(f"issue 14 targets (load average now: {os.getloadavg()[0]:.2f}):")
     for line in verdicts:
         print("  " + line)

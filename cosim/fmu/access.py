@@ -600,13 +600,20 @@ class FMU:
                            f"{MAX_EVENT_ITERATIONS} fmi3UpdateDiscreteStates calls")
 
     def set(self, instance, values: dict) -> None:
-        """Set values by name, each with the setter of its type (FMI 2 or FMI 3)."""
+        """Set values by name, each with the setter of its type (FMI 2 or FMI 3): one call per
+        type with all its value references (FMI defines that as setting them one by one; a
+        co-simulation case sets some thirty parameters, and each call costs a ctypes round trip)."""
         setters = _SETTERS[self.fmi_version[:1]]
+        groups: dict[str, tuple[list, list]] = {}
         for name, value in values.items():
             v = self.variables[name]
             if v.type not in setters:
                 raise FMUError(f"{self.path}: variable '{name}' has type {v.type}, which cannot be set here")
-            getattr(instance, setters[v.type])([v.valueReference], [_CONVERT.get(v.type, int)(value)])
+            vrs, vals = groups.setdefault(setters[v.type], ([], []))
+            vrs.append(v.valueReference)
+            vals.append(_CONVERT.get(v.type, int)(value))
+        for setter, (vrs, vals) in groups.items():
+            getattr(instance, setter)(vrs, vals)
 
     def get_real(self, instance, names: list[str]) -> np.ndarray:
         """The values of real (FMI 3: Float64) variables by name."""
