@@ -155,24 +155,32 @@ def test_damaged_fmu_gets_one_message(verb, real_fmus):
     @SETTINGS
     @given(data=fmu_archives(original, escape))
     def property_(data):
-        with tempfile.TemporaryDirectory(prefix="cosim-hostile-") as tmp:
-            folder = Path(tmp) / "work"
-            folder.mkdir()
-            (folder / "model.fmu").write_bytes(data)
-            outputs = []
-            if verb == "simulate":
-                argv, outputs = ["simulate", "model.fmu", "--stop-time", "0.5", "-o", "out.csv"], ["out.csv"]
-            elif verb == "run":
-                (folder / "system.toml").write_text(
-                    'connections = []\n[system]\nstop = 0.5\nstep = 0.1\n[components.bike]\nfmu = "model.fmu"\n')
-                argv, outputs = ["run", "system.toml", "-o", "out.csv"], ["out.csv"]
-            else:
-                argv = [verb, "model.fmu"]
-            before = files_under(folder)
-            status, out, err = run(argv, folder)
-            check_answer(argv, status, out, err, folder, before, outputs, escape)
+        _answer_damaged_fmu(data, verb, escape)
 
     property_()
+
+
+def _answer_damaged_fmu(data: bytes, verb: str, escape: str) -> None:
+    """``cosim VERB`` on the damaged FMU ``data`` (as model.fmu in a fresh folder; ``simulate-me``:
+    simulate as Model Exchange, ``run``: a one-component system): one clear answer (check_answer)."""
+    with tempfile.TemporaryDirectory(prefix="cosim-hostile-") as tmp:
+        folder = Path(tmp) / "work"
+        folder.mkdir()
+        (folder / "model.fmu").write_bytes(data)
+        outputs = []
+        if verb.startswith("simulate"):
+            argv, outputs = ["simulate", "model.fmu", "--stop-time", "0.5", "-o", "out.csv"], ["out.csv"]
+            if verb == "simulate-me":
+                argv += ["--fmi-type", "me"]
+        elif verb == "run":
+            (folder / "system.toml").write_text(
+                'connections = []\n[system]\nstop = 0.5\nstep = 0.1\n[components.bike]\nfmu = "model.fmu"\n')
+            argv, outputs = ["run", "system.toml", "-o", "out.csv"], ["out.csv"]
+        else:
+            argv = [verb, "model.fmu"]
+        before = files_under(folder)
+        status, out, err = run(argv, folder)
+        check_answer(argv, status, out, err, folder, before, outputs, escape)
 
 
 @pytest.fixture(scope="module")
@@ -192,20 +200,7 @@ def test_damaged_fmi3_fmu_gets_one_message(verb, fmi3_fmu):
     @SETTINGS
     @given(data=fmu_archives(original, escape, tuple(FMI3_XML_EDITS)))
     def property_(data):
-        with tempfile.TemporaryDirectory(prefix="cosim-hostile-") as tmp:
-            folder = Path(tmp) / "work"
-            folder.mkdir()
-            (folder / "model.fmu").write_bytes(data)
-            outputs = []
-            if verb.startswith("simulate"):
-                kind = "me" if verb == "simulate-me" else "cs"
-                argv = ["simulate", "model.fmu", "--stop-time", "0.5", "--fmi-type", kind, "-o", "out.csv"]
-                outputs = ["out.csv"]
-            else:
-                argv = [verb, "model.fmu"]
-            before = files_under(folder)
-            status, out, err = run(argv, folder)
-            check_answer(argv, status, out, err, folder, before, outputs, escape)
+        _answer_damaged_fmu(data, verb, escape)
 
     property_()
 

@@ -39,7 +39,7 @@ from pathlib import Path
 import numpy as np
 
 from cosim.errors import InputDataError, ParameterError
-from cosim.outputs import check_output, write_text
+from cosim.outputs import check_output, read_text_file, write_text
 
 from cosim.app.export import STATIC, VENDOR, Script
 
@@ -93,13 +93,9 @@ def read_result(path: str | os.PathLike) -> dict[str, np.ndarray]:
         raise InputDataError(f"{path}: no such file" if not path.exists() else f"{path}: not a file")
     if path.suffix.lower() == ".npy":
         return _read_npy(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except UnicodeDecodeError as exc:
-        raise InputDataError(f"{path}: not a result (not UTF-8 text, byte {exc.start})") from None
-    except OSError as exc:
-        raise InputDataError(f"{path}: cannot read the file: {exc.strerror or exc}") from None
-    lines = text.splitlines()
+    from cosim.fmu.simulate import finite_number
+
+    lines = read_text_file(path, InputDataError, str(path)).splitlines()
     header_row = next((i for i, line in enumerate(lines) if line.strip()), None)
     if header_row is None:
         raise InputDataError(f"{path}: not a result (the file is empty)")
@@ -124,18 +120,8 @@ def read_result(path: str | os.PathLike) -> dict[str, np.ndarray]:
         cells = line.split(",")
         if len(cells) != len(names):
             raise InputDataError(f"{path}: row {i + 1}: {len(cells)} cell(s), but the header has {len(names)}")
-        values = []
-        for k, cell in enumerate(cells):
-            try:
-                value = float(cell)
-            except ValueError:
-                raise InputDataError(f"{path}: row {i + 1}, column {k + 1} ({names[k]}): "
-                                     f"'{cell.strip()}' is not a number") from None
-            if not math.isfinite(value):
-                raise InputDataError(f"{path}: row {i + 1}, column {k + 1} ({names[k]}): "
-                                     f"'{cell.strip()}' is not a finite number")
-            values.append(value)
-        rows.append(values)
+        rows.append([finite_number(cell.strip(), f"{path}: row {i + 1}, column {k + 1} ({names[k]})")
+                     for k, cell in enumerate(cells)])
     if not rows:
         raise InputDataError(f"{path}: not a result (a header and no rows)")
     data = np.array(rows, dtype=float)

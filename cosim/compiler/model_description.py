@@ -44,28 +44,45 @@ def _unit_definitions(info: ModelInfo, root: ET.Element) -> None:
                 ET.SubElement(element, "DisplayUnit", name=display, factor=repr(factor))
 
 
-def _scalar_variable(parent: ET.Element, v) -> None:
-    attributes = {"name": v.name, "valueReference": str(v.vr)}
-    if v.description:
-        attributes["description"] = v.description
+_START_TYPE = {"Real": float, "Integer": int, "Boolean": bool}
+
+
+def _head_attributes(v, name: str, description: str | None) -> dict:
+    """name, valueReference, description, causality, variability, initial: the same in FMI 2's
+    ScalarVariable and an FMI 3 variable."""
+    attributes = {"name": name, "valueReference": str(v.vr)}
+    if description:
+        attributes["description"] = description
     attributes["causality"] = v.causality
     attributes["variability"] = v.variability
     if v.initial and v.causality != "input":
         attributes["initial"] = v.initial
-    element = ET.SubElement(parent, "ScalarVariable", attributes)
-    typed = {}
-    if v.type == "Real":
-        if v.unit:
-            typed["unit"] = v.unit
-            if v.display_unit and (v.unit, v.display_unit) in DISPLAY_UNITS:
-                typed["displayUnit"] = v.display_unit
+    return attributes
+
+
+def _value_attributes(v) -> dict:
+    """unit, displayUnit, min, max: on FMI 2's type element, on the FMI 3 variable itself."""
+    attributes = {}
+    if v.type == "Real" and v.unit:
+        attributes["unit"] = v.unit
+        if v.display_unit and (v.unit, v.display_unit) in DISPLAY_UNITS:
+            attributes["displayUnit"] = v.display_unit
     if v.min is not None and v.type != "Boolean":
-        typed["min"] = _fmt(int(v.min) if v.type == "Integer" else v.min)
+        attributes["min"] = _fmt(int(v.min) if v.type == "Integer" else v.min)
     if v.max is not None and v.type != "Boolean":
-        typed["max"] = _fmt(int(v.max) if v.type == "Integer" else v.max)
-    if v.start is not None and (v.initial in ("exact", "approx") or v.causality == "input"):
-        start = {"Real": float, "Integer": int, "Boolean": bool}[v.type](v.start)
-        typed["start"] = _fmt(start)
+        attributes["max"] = _fmt(int(v.max) if v.type == "Integer" else v.max)
+    return attributes
+
+
+def _has_start(v) -> bool:
+    return v.start is not None and (v.initial in ("exact", "approx") or v.causality == "input")
+
+
+def _scalar_variable(parent: ET.Element, v) -> None:
+    element = ET.SubElement(parent, "ScalarVariable", _head_attributes(v, v.name, v.description))
+    typed = _value_attributes(v)
+    if _has_start(v):
+        typed["start"] = _fmt(_START_TYPE[v.type](v.start))
     if v.derivative_of is not None:
         typed["derivative"] = str(v.derivative_of + 1)
     ET.SubElement(element, v.type, typed)
@@ -239,24 +256,11 @@ def _fmi3_variable(parent: ET.Element, v, array: tuple[str, int] | None = None, 
     become one variable with a ``<Dimension>`` and a list of start values."""
     name, n = array or (v.name, 1)
     elements = variables[v.vr:v.vr + n] if array else [v]
-    attributes = {"name": name, "valueReference": str(v.vr)}
-    if v.description:
-        # a derivative is described by its name (der(x[1])): the array's is der(x)
-        attributes["description"] = name if v.description == v.name else v.description
-    attributes["causality"] = v.causality
-    attributes["variability"] = v.variability
-    if v.initial and v.causality != "input":
-        attributes["initial"] = v.initial
-    if v.type == "Real" and v.unit:
-        attributes["unit"] = v.unit
-        if v.display_unit and (v.unit, v.display_unit) in DISPLAY_UNITS:
-            attributes["displayUnit"] = v.display_unit
-    if v.min is not None and v.type != "Boolean":
-        attributes["min"] = _fmt(int(v.min) if v.type == "Integer" else v.min)
-    if v.max is not None and v.type != "Boolean":
-        attributes["max"] = _fmt(int(v.max) if v.type == "Integer" else v.max)
-    if v.start is not None and (v.initial in ("exact", "approx") or v.causality == "input"):
-        convert = {"Real": float, "Integer": int, "Boolean": bool}[v.type]
+    # a derivative is described by its name (der(x[1])): the array's is der(x)
+    description = name if v.description and v.description == v.name else v.description
+    attributes = {**_head_attributes(v, name, description), **_value_attributes(v)}
+    if _has_start(v):
+        convert = _START_TYPE[v.type]
         attributes["start"] = " ".join(_fmt(convert(e.start if e.start is not None else 0.0)) for e in elements)
     if v.derivative_of is not None:
         attributes["derivative"] = str(v.derivative_of)

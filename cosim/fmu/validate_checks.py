@@ -53,6 +53,7 @@ Checks and their criteria:
 """
 from __future__ import annotations
 
+import contextlib
 import math
 from dataclasses import dataclass
 from typing import Callable
@@ -515,17 +516,33 @@ class _Point:
         self.s.free(self.instance)
 
 
-def check_directional_derivatives(s: Session, f: Findings) -> None:
+@contextlib.contextmanager
+def _derivative_point(s: Session, f: Findings, flag2: str, flag3: str):
+    """The Model Exchange point the derivative checks differentiate at (:class:`_Point`, closed
+    at the end), or None after a skip that says why: no Model Exchange, the capability flag
+    (``flag2`` in FMI 2, ``flag3`` in FMI 3) not declared, or nothing to differentiate."""
     if "me" not in s.kinds():
         f.skip("the FMU has no Model Exchange interface (the check uses its states and derivatives)")
+        yield None
         return
-    if not s.flag("me", "providesDirectionalDerivative", "providesDirectionalDerivatives"):
-        f.skip("the FMU does not declare providesDirectionalDerivative" + ("s" if s.fmi3 else ""))
+    if not s.flag("me", flag2, flag3):
+        f.skip(f"the FMU does not declare {flag3 if s.fmi3 else flag2}")
+        yield None
         return
     point = _Point(s, f)
     try:
         if not point.nz or not point.n_unknowns:
             f.skip("no continuous states or inputs, or no derivatives or outputs")
+            yield None
+        else:
+            yield point
+    finally:
+        point.close()
+
+
+def check_directional_derivatives(s: Session, f: Findings) -> None:
+    with _derivative_point(s, f, "providesDirectionalDerivative", "providesDirectionalDerivatives") as point:
+        if point is None:
             return
         if point.state_outputs:
             f.skip(f"outputs that are states ({', '.join(point.state_outputs)}) are not asked for as unknowns")
@@ -541,24 +558,14 @@ def check_directional_derivatives(s: Session, f: Findings) -> None:
                 f.problem(f"d({point.row_name(i)})/d({point.name(k)}) = {ad[i, k]:.9g} from "
                           f"{s.prefix}GetDirectionalDerivative, {fd[i, k]:.9g} from central differences "
                           f"(relative difference {error[i, k]:.2e} > {DERIVATIVE_RTOL:g})")
-    finally:
-        point.close()
 
 
 def check_adjoint_derivatives(s: Session, f: Findings) -> None:
     if not s.fmi3:
         f.skip("FMI 2 has no adjoint derivatives")
         return
-    if "me" not in s.kinds():
-        f.skip("the FMU has no Model Exchange interface (the check uses its states and derivatives)")
-        return
-    if not s.flag("me", "", "providesAdjointDerivatives"):
-        f.skip("the FMU does not declare providesAdjointDerivatives")
-        return
-    point = _Point(s, f)
-    try:
-        if not point.nz or not point.n_unknowns:
-            f.skip("no continuous states or inputs, or no derivatives or outputs")
+    with _derivative_point(s, f, "", "providesAdjointDerivatives") as point:
+        if point is None:
             return
         directional = s.flag("me", "", "providesDirectionalDerivatives")
         f.doing("fmi3GetDirectionalDerivative" if directional else "central differences")
@@ -579,8 +586,6 @@ def check_adjoint_derivatives(s: Session, f: Findings) -> None:
             if not abs(left - right) <= bound:
                 f.problem(f"v^T(J u) = {left:.15g} but (J^T v)^T u = {right:.15g} (random pair {pair + 1}; "
                           f"difference {abs(left - right):.2e} > {bound:.2e} = {ADJOINT_RTOL:g} |v| |J| |u|)")
-    finally:
-        point.close()
 
 
 # -- FMU state ----------------------------------------------------------------------------------

@@ -167,21 +167,6 @@ typedef struct {
     fmi3GetAdjointDerivativeTYPE *adjoint;
 } other_fmu;
 
-/* dlsym returns an object pointer; copying its bytes into a function pointer is the POSIX idiom
-   that ISO C (-Wpedantic) accepts. */
-static int symbol(void *lib, const char *name, void *fn_ptr, size_t size)
-{
-    void *p = dlsym(lib, name);
-    if (!p) {
-        printf("    %s: %s not found\n", name, dlerror());
-        return 0;
-    }
-    memcpy(fn_ptr, &p, size);
-    return 1;
-}
-
-#define SYMBOL(o, field, name) symbol((o)->lib, name, &(o)->field, sizeof (o)->field)
-
 static int load_other(other_fmu *o, const char *path)
 {
     memset(o, 0, sizeof *o);
