@@ -12,7 +12,8 @@ Best of --repeat runs. "steady" counts from the moment every worker is ready; "w
 ``run_matrix`` call (spec expansion, up-to-date check of the FMU, worker start-up -- forked
 workers inherit the supervisor's imports --, the runs, the records, the checks).
 
-Then, side by side with ``--baseline REF`` (default HEAD; ``none`` skips it): the CPU time of one
+Then, side by side with ``--baseline REF`` (default HEAD; ``none`` skips it): the steady rate on 2
+workers of each tree (what a worker's first cases cost is in it), and the CPU time of one
 case (prediction, co-simulation, classification: ``cosim.matrix.worker.run_case``) in one
 process with one BLAS thread, each tree in a fresh process, alternating, medians -- the cost the
 throughput is made of, without the machine's scaling and the supervisor.
@@ -100,14 +101,40 @@ print(json.dumps(statistics.median(times)))
 """
 
 
+# One tree's steady rate [runs/min] on 2 workers: argv = root, the workload as JSON, workers, repeat.
+RATE_CHILD = r"""
+import json, sys, tempfile
+root, data, workers, repeat = sys.argv[1], json.loads(sys.argv[2]), int(sys.argv[3]), int(sys.argv[4])
+sys.path.insert(0, root)
+import cosim
+from cosim.matrix.runner import build_fmus, run_matrix
+from cosim.matrix.spec import spec_from_dict
+assert cosim.__file__.startswith(root), cosim.__file__
+spec = spec_from_dict(data)
+build_fmus(spec.cases(), None)
+with tempfile.TemporaryDirectory() as tmp:
+    runs = [run_matrix(spec, f"{tmp}/{k}", workers=workers, progress=False, report=False) for k in range(repeat)]
+print(json.dumps(max(len(r.records) / r.timing["run"] * 60 for r in runs)))
+"""
+
+
+def _child(code: str, *args) -> float:
+    env = {**os.environ, "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+    result = subprocess.run([sys.executable, "-c", code, *map(str, args)], capture_output=True, text=True,
+                            env=env, cwd=tempfile.gettempdir())
+    if result.returncode != 0:
+        raise RuntimeError(f"measurement in {args[0]} failed:\n{result.stderr[-3000:]}")
+    return float(result.stdout.strip().splitlines()[-1])
+
+
+def steady_rate(root: Path, name: str, n: int, workers: int = 2, repeat: int = 2) -> float:
+    """Best steady rate [runs/min] of ``repeat`` matrices of the workload ``name`` on the tree ``root``."""
+    return _child(RATE_CHILD, root, json.dumps(workload(name, n)), workers, repeat)
+
+
 def case_cpu(root: Path, name: str, n: int = 200, rounds: int = 3) -> float:
     """Median CPU time [ms] of one case of the workload ``name`` in a fresh process on the tree ``root``."""
-    env = {**os.environ, "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
-    result = subprocess.run([sys.executable, "-c", CASE_CHILD, str(root), json.dumps(workload(name, n)), str(rounds)],
-                            capture_output=True, text=True, env=env, cwd=tempfile.gettempdir())
-    if result.returncode != 0:
-        raise RuntimeError(f"case timing in {root} failed:\n{result.stderr[-3000:]}")
-    return float(result.stdout.strip().splitlines()[-1])
+    return _child(CASE_CHILD, root, json.dumps(workload(name, n)), rounds)
 
 
 def baseline_tree(ref: str, folder: Path) -> Path:
@@ -119,10 +146,20 @@ def baseline_tree(ref: str, folder: Path) -> Path:
     return module.baseline_tree(ref, folder)
 
 
-def side_by_side(baseline: str, rounds: int) -> None:
-    """CPU per case of the current tree and ``baseline`` (a git ref), alternating, medians."""
+def side_by_side(baseline: str, rounds: int, runs: int) -> None:
+    """CPU per case and steady rate on 2 workers of the current tree and ``baseline`` (a git ref),
+    alternating fresh processes, medians."""
     with tempfile.TemporaryDirectory(prefix="cosim-bench-") as tmp:
         trees = {"baseline": baseline_tree(baseline, Path(tmp) / "baseline"), "current": ROOT}
+        print(f"steady rate of {runs} runs on 2 workers (best of 2 per process), median of {rounds} alternating "
+              f"fresh processes; baseline: {baseline}")
+        for name in ("fmu-only", "rider+delay"):
+            rates = {label: [] for label in trees}
+            for _ in range(rounds):
+                for label, root in trees.items():
+                    rates[label].append(steady_rate(root, name, runs))
+            b, c = statistics.median(rates["baseline"]), statistics.median(rates["current"])
+            print(f"  {name:<12} baseline {b:8.0f} /min   current {c:8.0f} /min   current/baseline {c / b:5.2f}x")
         print(f"CPU per case in one process (one BLAS thread), median of {rounds} alternating fresh processes; "
               f"baseline: {baseline}")
         for name in ("fmu-only", "rider+delay"):
@@ -210,7 +247,7 @@ def main(argv=None) -> int:
                                 f"{fraction / WALL_FRACTION:.2f} x the target {WALL_FRACTION:.2f} "
                                 f"({'meets' if met else 'MISSES'})")
     if args.baseline != "none":
-        side_by_side(args.baseline, args.rounds)
+        side_by_side(args.baseline, args.rounds, args.runs)
     print(f"issue 14 targets (load average now: {os.getloadavg()[0]:.2f}):")
     for line in verdicts:
         print("  " + line)

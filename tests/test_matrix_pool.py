@@ -324,3 +324,53 @@ def test_supervisor_imports_python_control_only_for_cases_that_need_it(study, im
                          cwd=ROOT, timeout=120)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == imported
+
+
+# --------------------------------------------------------------------------- a worker's first case
+
+FIRST_CASE = """
+import json, sys
+import fmpy.model_description as fmd
+from cosim.matrix import worker
+paths, case = json.loads(sys.argv[1]), json.loads(sys.argv[2])
+worker.warm_up()
+worker.warm_imports([case])  # the supervisor's, before it forks
+worker.warm_fmus(paths)
+cache = worker.FMUCache()
+cache.extract(paths)
+before, reads = set(sys.modules), []
+original = fmd.read_model_description
+fmd.read_model_description = lambda *a, **k: reads.append(a) or original(*a, **k)
+record = worker.run_case(case, cache, paths)
+print(json.dumps({"new": sorted(set(sys.modules) - before), "reads": len(reads), "status": record["status"],
+                  "agreement": record["agreement"]}))
+"""
+
+
+@pytest.mark.parametrize("study", ["fmu", "rider"], ids=["fmu-only", "rider"])
+def test_first_case_after_the_warm_up_imports_and_reads_nothing(reference, study):
+    """What a worker does before it reports ready (warm_up, warm_fmus, FMUCache.extract) leaves its
+    first case nothing to import and no model description to read: that first case cost 50-100 ms,
+    a sixth of the steady time of a 600-run matrix on 2 workers. (python-control and the blocks,
+    which the rider's case needs, are imported by the supervisor before it forks: warm_imports.)"""
+    import json
+
+    from cosim.matrix.runner import build_fmus
+
+    spec, _ = reference
+    cases = [c for c in spec.cases() if c.study == study]
+    paths = {k: str(v) for k, v in build_fmus(cases, None).items()}
+    out = subprocess.run([sys.executable, "-c", FIRST_CASE, json.dumps(paths),
+                          json.dumps(cases[0].to_dict())], capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert out.returncode == 0, out.stderr
+    result = json.loads(out.stdout.strip().splitlines()[-1])
+    assert result["status"] == "ok" and result["agreement"] in ("agree", "marginal"), result
+    assert result["reads"] == 0
+    assert result["new"] == [], result["new"]
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 10, 11, 500, 1001])
+def test_median_equals_numpy_median_bit_for_bit(n):
+    rng = np.random.default_rng(n)
+    for a in (rng.normal(size=n), np.round(rng.normal(size=n), 2), np.full(n, 0.01), rng.normal(size=n) * 1e-300):
+        assert classify._median(a) == float(np.median(a))

@@ -311,9 +311,10 @@ def test_observed_class_of_slow_modes_does_not_depend_on_stop_time(kind, expecte
     assert obs["growth_rate"] == pytest.approx(rate, abs=1e-6)
 
 
+@pytest.mark.parametrize("small", [True, False], ids=["small-pencil-first", "n/3-pencil"])
 @pytest.mark.parametrize("v", [2.0, 4.6, 5.0, 6.0, 8.0],
                          ids=["2m/s-unstable", "4.6m/s-stable", "5m/s-stable", "6m/s-near-capsize", "8m/s-capsize"])
-def test_modal_fit_recovers_the_exact_growth_rate(v):
+def test_modal_fit_recovers_the_exact_growth_rate(v, small):
     """The free roll response of the linear benchmark bicycle, sampled exactly (the matrix
     exponential of A(v) of cosim.analytic, an initial roll of 0.01 rad, 10 s at 0.01 s as the matrix
     runs): the modes the fit finds are eigenvalues of A(v), and its rate is the largest real part of A(v)'s eigenvalues
@@ -330,13 +331,40 @@ def test_modal_fit_recovers_the_exact_growth_rate(v):
     for _ in range(1000):
         states.append(step @ states[-1])
     t = np.round(np.arange(1001) * 0.01, 10)
-    fit = classify.modal_fit(t, np.array(states)[:, 0])
+    fit = classify.modal_fit(t, np.array(states)[:, 0], small=small)
     exact = np.linalg.eigvals(A)
     assert fit is not None
     # every mode found is one of A(v) (modes whose contribution is below 1e-6 of the peak, such as
     # the fast decaying ones under a growing weave at 2 m/s, are left out by design)
     assert all(np.min(np.abs(exact - mode)) <= 1e-6 for mode in fit.modes), (fit.modes, exact)
     assert fit.rate == pytest.approx(float(np.max(exact.real)), abs=1e-8)
+
+
+@pytest.mark.parametrize("oscillations", [5, 6, 9], ids=["10-modes", "12-modes", "18-modes"])
+def test_signal_with_more_modes_than_the_small_pencil_takes_gets_the_full_one(oscillations):
+    """A sum of up to 18 modes: the small pencil (SMALL_ORDER = 10 modes at most) passes what it
+    cannot resolve to the n/3 pencil, so the fit finds the same modes and rate either way."""
+    t = np.round(np.arange(1001) * 0.01, 10)
+    rates = -0.1 - 0.15 * np.arange(oscillations)
+    freqs = 1.0 + 0.9 * np.arange(oscillations)
+    x = sum(np.exp(r * t) * np.cos(w * t + 0.3 * k) for k, (r, w) in enumerate(zip(rates, freqs)))
+    small = classify.modal_fit(t, x, small=True)
+    full = classify.modal_fit(t, x, small=False)
+    assert small is not None and full is not None
+    assert small.order == full.order == 2 * oscillations
+    # the same modes bit for bit exactly when both went to the n/3 pencil
+    assert (2 * oscillations > classify.SMALL_ORDER) == (small.modes == full.modes)
+    assert small.rate == pytest.approx(-0.1, abs=1e-8) and full.rate == pytest.approx(-0.1, abs=1e-8)
+
+
+def test_a_run_that_fell_is_fitted_with_the_full_pencil():
+    """The reported rate of a fall comes from the n/3 pencil (see classify.SMALL_PENCIL)."""
+    t = np.round(np.arange(301) * 0.01, 10)
+    x = 0.01 * np.exp(1.5 * t) * np.cos(4 * t) + 0.002 * np.exp(-3 * t)
+    full, small = classify.modal_fit(t, x, small=False), classify.modal_fit(t, x, small=True)
+    assert full.rate != small.rate  # equal to rounding only: which one was used is visible
+    assert classify.observe(t, x, "fell", 0.01)["growth_rate"] == full.rate
+    assert classify.observe(t, x, "completed", 0.01)["growth_rate"] == small.rate
 
 
 @pytest.mark.parametrize("kind", ["clipped", "noisy", "switched-on", "rectified"])

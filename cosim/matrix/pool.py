@@ -350,11 +350,15 @@ def run_local(cases: list[dict], init: dict, workers: int, on_record, timeout: f
 
     method = start_method()
     if method == "fork":  # imported once here, inherited by every forked worker
-        from cosim.matrix.worker import import_plugins, warm_imports, warm_up
+        from cosim.matrix.worker import import_plugins, warm_fmus, warm_imports, warm_up
 
         import_plugins(init.get("imports", []))
         warm_up()
         warm_imports(cases)
+        try:
+            warm_fmus(init.get("fmu_paths", {}))
+        except Exception:  # the workers meet the broken FMU again and fail its cases
+            pass
 
     def new_child(wait: bool = True) -> Child:
         log = log_dir / f"worker-{next(counter)}.log" if log_dir else None

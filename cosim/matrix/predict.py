@@ -235,9 +235,9 @@ def _twin(model: str, params: dict) -> LTI | None:
 
 @lru_cache(maxsize=64)
 def _fmu_info(path: str):
-    from fmpy import read_model_description
+    from cosim.fmu.access import READABLE_FMI_VERSIONS, read_fmu
 
-    md = read_model_description(path)
+    md = read_fmu(path, READABLE_FMI_VERSIONS)  # the one cached reading per process (cosim.fmu.access)
     starts = {}
     for v in md.modelVariables:
         if v.causality == "parameter" and v.start is not None:
