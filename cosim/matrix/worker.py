@@ -336,13 +336,15 @@ def warm_up() -> None:
     import fmpy.fmi2  # noqa: F401
     import fmpy.fmi3  # noqa: F401
 
-    from cosim.analytic import parameters as _, whipple  # noqa: F401  (the bicycles' predictions)
+    from cosim.analytic import whipple  # noqa: F401  (the bicycles' predictions)
+    from cosim.analytic.parameters import bundled_parameter_sets
     from cosim.cosimulation import factory, master, system  # noqa: F401
     from cosim.cosimulation.fastloop import library
     from cosim.fmu import access, parameters  # noqa: F401
     from cosim.matrix import classify, predict, spec, store  # noqa: F401
 
     library()
+    bundled_parameter_sets()  # importlib.resources' readers, loaded on the first lookup of package data
     t = np.linspace(0.0, 10.0, 1001)
     classify.observe(t, np.exp(-0.5 * t) * np.cos(4.0 * t), "completed", 1e-3)
 
