@@ -146,28 +146,29 @@ def baseline_tree(ref: str, folder: Path) -> Path:
     return module.baseline_tree(ref, folder)
 
 
+def _medians(trees: dict, rounds: int, measure) -> tuple[float, float]:
+    """Medians of ``measure(root)`` for the baseline and the current tree, alternating fresh processes."""
+    values = {label: [] for label in trees}
+    for _ in range(rounds):
+        for label, root in trees.items():
+            values[label].append(measure(root))
+    return statistics.median(values["baseline"]), statistics.median(values["current"])
+
+
 def side_by_side(baseline: str, rounds: int, runs: int) -> None:
-    """CPU per case and steady rate on 2 workers of the current tree and ``baseline`` (a git ref),
+    """Steady rate on 2 workers and CPU per case of the current tree and ``baseline`` (a git ref),
     alternating fresh processes, medians."""
     with tempfile.TemporaryDirectory(prefix="cosim-bench-") as tmp:
         trees = {"baseline": baseline_tree(baseline, Path(tmp) / "baseline"), "current": ROOT}
         print(f"steady rate of {runs} runs on 2 workers (best of 2 per process), median of {rounds} alternating "
               f"fresh processes; baseline: {baseline}")
         for name in ("fmu-only", "rider+delay"):
-            rates = {label: [] for label in trees}
-            for _ in range(rounds):
-                for label, root in trees.items():
-                    rates[label].append(steady_rate(root, name, runs))
-            b, c = statistics.median(rates["baseline"]), statistics.median(rates["current"])
+            b, c = _medians(trees, rounds, lambda root: steady_rate(root, name, runs))
             print(f"  {name:<12} baseline {b:8.0f} /min   current {c:8.0f} /min   current/baseline {c / b:5.2f}x")
         print(f"CPU per case in one process (one BLAS thread), median of {rounds} alternating fresh processes; "
               f"baseline: {baseline}")
         for name in ("fmu-only", "rider+delay"):
-            runs = {label: [] for label in trees}
-            for _ in range(rounds):
-                for label, root in trees.items():
-                    runs[label].append(case_cpu(root, name))
-            b, c = statistics.median(runs["baseline"]), statistics.median(runs["current"])
+            b, c = _medians(trees, rounds, lambda root: case_cpu(root, name))
             print(f"  {name:<12} baseline {b:6.3f} ms   current {c:6.3f} ms   current/baseline {c / b:5.2f}x")
 
 
