@@ -118,23 +118,25 @@ print(json.dumps(max(len(r.records) / r.timing["run"] * 60 for r in runs)))
 """
 
 
-def _child(code: str, *args) -> float:
-    env = {**os.environ, "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
-    result = subprocess.run([sys.executable, "-c", code, *map(str, args)], capture_output=True, text=True,
+def _child(code: str, root: Path, fmu_dir: Path, *args) -> float:
+    """Run a measurement on the tree ``root`` in a fresh process, its FMUs built into ``fmu_dir``."""
+    env = {**os.environ, "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
+           "COSIM_FMU_DIR": str(fmu_dir)}
+    result = subprocess.run([sys.executable, "-c", code, str(root), *map(str, args)], capture_output=True, text=True,
                             env=env, cwd=tempfile.gettempdir())
     if result.returncode != 0:
-        raise RuntimeError(f"measurement in {args[0]} failed:\n{result.stderr[-3000:]}")
+        raise RuntimeError(f"measurement in {root} failed:\n{result.stderr[-3000:]}")
     return float(result.stdout.strip().splitlines()[-1])
 
 
-def steady_rate(root: Path, name: str, n: int, workers: int = 2, repeat: int = 2) -> float:
+def steady_rate(root: Path, fmu_dir: Path, name: str, n: int, workers: int = 2, repeat: int = 2) -> float:
     """Best steady rate [runs/min] of ``repeat`` matrices of the workload ``name`` on the tree ``root``."""
-    return _child(RATE_CHILD, root, json.dumps(workload(name, n)), workers, repeat)
+    return _child(RATE_CHILD, root, fmu_dir, json.dumps(workload(name, n)), workers, repeat)
 
 
-def case_cpu(root: Path, name: str, n: int = 200, rounds: int = 3) -> float:
+def case_cpu(root: Path, fmu_dir: Path, name: str, n: int = 200, rounds: int = 3) -> float:
     """Median CPU time [ms] of one case of the workload ``name`` in a fresh process on the tree ``root``."""
-    return _child(CASE_CHILD, root, json.dumps(workload(name, n)), rounds)
+    return _child(CASE_CHILD, root, fmu_dir, json.dumps(workload(name, n)), rounds)
 
 
 def baseline_tree(ref: str, folder: Path) -> Path:
@@ -147,11 +149,11 @@ def baseline_tree(ref: str, folder: Path) -> Path:
 
 
 def _medians(trees: dict, rounds: int, measure) -> tuple[float, float]:
-    """Medians of ``measure(root)`` for the baseline and the current tree, alternating fresh processes."""
+    """Medians of ``measure(root, fmu_dir)`` for the baseline and the current tree, alternating."""
     values = {label: [] for label in trees}
     for _ in range(rounds):
-        for label, root in trees.items():
-            values[label].append(measure(root))
+        for label, tree in trees.items():
+            values[label].append(measure(*tree))
     return statistics.median(values["baseline"]), statistics.median(values["current"])
 
 
@@ -159,16 +161,18 @@ def side_by_side(baseline: str, rounds: int, runs: int) -> None:
     """Steady rate on 2 workers and CPU per case of the current tree and ``baseline`` (a git ref),
     alternating fresh processes, medians."""
     with tempfile.TemporaryDirectory(prefix="cosim-bench-") as tmp:
-        trees = {"baseline": baseline_tree(baseline, Path(tmp) / "baseline"), "current": ROOT}
+        # (tree, its FMU folder): the children run in the temporary folder, whose ./fmus they would fill
+        trees = {"baseline": (baseline_tree(baseline, Path(tmp) / "baseline"), Path(tmp) / "fmus-baseline"),
+                 "current": (ROOT, Path(tmp) / "fmus-current")}
         print(f"steady rate of {runs} runs on 2 workers (best of 2 per process), median of {rounds} alternating "
               f"fresh processes; baseline: {baseline}")
         for name in ("fmu-only", "rider+delay"):
-            b, c = _medians(trees, rounds, lambda root: steady_rate(root, name, runs))
+            b, c = _medians(trees, rounds, lambda root, fmus: steady_rate(root, fmus, name, runs))
             print(f"  {name:<12} baseline {b:8.0f} /min   current {c:8.0f} /min   current/baseline {c / b:5.2f}x")
         print(f"CPU per case in one process (one BLAS thread), median of {rounds} alternating fresh processes; "
               f"baseline: {baseline}")
         for name in ("fmu-only", "rider+delay"):
-            b, c = _medians(trees, rounds, lambda root: case_cpu(root, name))
+            b, c = _medians(trees, rounds, lambda root, fmus: case_cpu(root, fmus, name))
             print(f"  {name:<12} baseline {b:6.3f} ms   current {c:6.3f} ms   current/baseline {c / b:5.2f}x")
 
 
