@@ -191,8 +191,11 @@ def test_export_to_an_unusable_path_is_one_clear_error(tmp_path, make, message):
     assert message.format(tmp=tmp_path) in err
 
 
-def test_serves_the_same_site_on_localhost(site, tmp_path):
-    """`cosim app --port 0` serves the exported files on 127.0.0.1 (a free port), byte for byte."""
+@pytest.mark.parametrize("stop, status", [(signal.SIGINT, EXIT_INTERRUPTED), (signal.SIGTERM, 128 + signal.SIGTERM)],
+                         ids=["ctrl-c", "sigterm"])
+def test_serves_the_same_site_on_localhost(site, tmp_path, stop, status):
+    """`cosim app --port 0` serves the exported files on 127.0.0.1 (a free port), byte for byte;
+    Ctrl-C or SIGTERM stops it and its temporary folder is gone."""
     process = subprocess.Popen([sys.executable, "-m", "cosim", "app", "--port", "0"], cwd=tmp_path, text=True,
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     try:
@@ -202,8 +205,8 @@ def test_serves_the_same_site_on_localhost(site, tmp_path):
         for name in ("index.html", "bundle.js"):
             with urllib.request.urlopen(match.group(1) + name, timeout=30) as response:
                 assert response.read() == (site / name).read_bytes(), name
-        process.send_signal(signal.SIGINT)  # Ctrl-C: the server stops and removes its folder
-        assert process.wait(timeout=30) == EXIT_INTERRUPTED
+        process.send_signal(stop)
+        assert process.wait(timeout=30) == status
         assert not list(Path(tempfile.gettempdir()).glob("cosim-app-*"))
     finally:
         if process.poll() is None:

@@ -1,6 +1,7 @@
 """`cosim app [--port N] [--open]`: the exported app (:mod:`.export`) served on 127.0.0.1.
 
-The site is exported into a temporary folder, removed when the server stops (Ctrl-C); the page
+The site is exported into a temporary folder, removed when the server stops (Ctrl-C, or SIGTERM:
+exit status 143); the page
 is the same two files as ``cosim app --export`` writes, so what is tested from ``file://`` is
 what is served. Only 127.0.0.1 is bound: the app is for the machine it runs on.
 """
@@ -8,7 +9,9 @@ from __future__ import annotations
 
 import functools
 import http.server
+import signal
 import tempfile
+import threading
 import webbrowser
 
 from cosim.errors import OutputError
@@ -21,6 +24,10 @@ class _Handler(http.server.SimpleHTTPRequestHandler):
 
     def log_message(self, format, *args):  # noqa: A002 (the base class's name): no line per request
         pass
+
+
+def _terminated(signum, frame):
+    raise SystemExit(128 + signum)  # unwinds like Ctrl-C: the with-blocks close the socket and remove the folder
 
 
 def serve(port: int = 8000, open_browser: bool = False, announce=print) -> None:
@@ -41,6 +48,16 @@ def serve(port: int = 8000, open_browser: bool = False, announce=print) -> None:
     OutputError
         If the port cannot be bound (e.g. in use).
     """
+    main = threading.current_thread() is threading.main_thread()  # only there can a handler be set
+    previous = signal.signal(signal.SIGTERM, _terminated) if main else None
+    try:
+        _serve(port, open_browser, announce)
+    finally:
+        if main:  # (None: a handler set outside Python, which cannot be restored from here)
+            signal.signal(signal.SIGTERM, signal.SIG_DFL if previous is None else previous)
+
+
+def _serve(port: int, open_browser: bool, announce) -> None:
     from cosim.app.export import export_app
 
     with tempfile.TemporaryDirectory(prefix="cosim-app-") as folder:
