@@ -335,9 +335,8 @@ from cosim.matrix import worker
 paths, case = json.loads(sys.argv[1]), json.loads(sys.argv[2])
 worker.warm_up()
 worker.warm_imports([case])  # the supervisor's, before it forks
-worker.warm_fmus(paths)
+worker.warm_fmus(paths, unzip=True)
 cache = worker.FMUCache()
-cache.extract(paths)
 before, reads = set(sys.modules), []
 original = fmd.read_model_description
 fmd.read_model_description = lambda *a, **k: reads.append(a) or original(*a, **k)
@@ -349,7 +348,7 @@ print(json.dumps({"new": sorted(set(sys.modules) - before), "reads": len(reads),
 
 @pytest.mark.parametrize("study", ["fmu", "rider"], ids=["fmu-only", "rider"])
 def test_first_case_after_the_warm_up_imports_and_reads_nothing(reference, study):
-    """What a worker does before it reports ready (warm_up, warm_fmus, FMUCache.extract) leaves its
+    """What a worker does before it reports ready (warm_up, warm_fmus with unzip) leaves its
     first case nothing to import and no model description to read: that first case cost 50-100 ms,
     a sixth of the steady time of a 600-run matrix on 2 workers. (python-control and the blocks,
     which the rider's case needs, are imported by the supervisor before it forks: warm_imports.)"""
@@ -374,3 +373,19 @@ def test_median_equals_numpy_median_bit_for_bit(n):
     rng = np.random.default_rng(n)
     for a in (rng.normal(size=n), np.round(rng.normal(size=n), 2), np.full(n, 0.01), rng.normal(size=n) * 1e-300):
         assert classify._median(a) == float(np.median(a))
+
+
+def test_warming_skips_a_broken_fmu_and_warms_the_others(reference, tmp_path):
+    """A damaged FMU is left to the cases that use it (they fail with its message); the others are
+    read and unzipped all the same."""
+    from cosim.fmu import access
+    from cosim.matrix.runner import build_fmus
+    from cosim.matrix.worker import warm_fmus
+
+    spec, _ = reference
+    good = str(next(iter(build_fmus(spec.cases(), None).values())))
+    bad = tmp_path / "broken.fmu"
+    bad.write_bytes(b"not a zip archive")
+    access._DESCRIPTIONS.pop(access._key(Path(good)), None)
+    warm_fmus({"Broken": str(bad), "Good": good}, unzip=True)
+    assert access._key(Path(good)) in access._DESCRIPTIONS

@@ -355,10 +355,7 @@ def run_local(cases: list[dict], init: dict, workers: int, on_record, timeout: f
         import_plugins(init.get("imports", []))
         warm_up()
         warm_imports(cases)
-        try:
-            warm_fmus(init.get("fmu_paths", {}))
-        except Exception:  # the workers meet the broken FMU again and fail its cases
-            pass
+        warm_fmus(init.get("fmu_paths", {}))
 
     def new_child(wait: bool = True) -> Child:
         log = log_dir / f"worker-{next(counter)}.log" if log_dir else None

@@ -170,13 +170,6 @@ class FMUCache:
     def __init__(self):
         self._components: dict[tuple[str, str], ReusableFMUComponent] = {}
 
-    def extract(self, fmu_paths: dict) -> None:
-        """Unzip the FMUs before the first case (once per process, see cosim.fmu.access)."""
-        from cosim.fmu.access import ALL_FMI_VERSIONS, FMU
-
-        for path in dict.fromkeys(str(p) for p in fmu_paths.values()):
-            FMU(path, versions=ALL_FMI_VERSIONS)
-
     def component(self, name: str, path: str, parameters: dict, initial: dict) -> ReusableFMUComponent:
         key = (str(path), name)
         comp = self._components.get(key)
@@ -349,15 +342,24 @@ def warm_up() -> None:
     classify.observe(t, np.exp(-0.5 * t) * np.cos(4.0 * t), "completed", 1e-3)
 
 
-def warm_fmus(fmu_paths: dict) -> None:
-    """Read the model descriptions of the matrix's FMUs (cached per process; XML only, no FMU code
-    runs: safe in the supervisor, whose forked workers inherit them)."""
-    from cosim.fmu.access import READABLE_FMI_VERSIONS, read_fmu
+def warm_fmus(fmu_paths: dict, unzip: bool = False) -> None:
+    """Read the model descriptions of the matrix's FMUs and, with ``unzip``, unzip them (each once
+    per process, see cosim.fmu.access).
+
+    Reading is XML only, no FMU code runs: safe in the supervisor, whose forked workers inherit the
+    descriptions; a worker unzips into its own folder before it reports ready. A broken FMU is
+    skipped here: the cases that use it fail with their own message."""
+    from cosim.fmu.access import ALL_FMI_VERSIONS, FMU, READABLE_FMI_VERSIONS, read_fmu
     from cosim.fmu.parameters import declarations
 
     for path in dict.fromkeys(str(p) for p in fmu_paths.values()):
-        read_fmu(path, READABLE_FMI_VERSIONS)
-        declarations(path)
+        try:
+            read_fmu(path, READABLE_FMI_VERSIONS)
+            declarations(path)
+            if unzip:
+                FMU(path, versions=ALL_FMI_VERSIONS)
+        except Exception:
+            continue
 
 
 def warm_imports(cases: list[dict]) -> None:
@@ -423,12 +425,8 @@ def serve(proto_in, proto_out, init: dict) -> int:
     import_plugins(init.get("imports", []))
     fmu_paths = init.get("fmu_paths", {})
     warm_up()
+    warm_fmus(fmu_paths, unzip=True)
     cache = FMUCache()
-    try:
-        warm_fmus(fmu_paths)
-        cache.extract(fmu_paths)
-    except Exception:  # a broken FMU fails the cases that use it, with their own message
-        pass
     write_message(proto_out, {"ready": os.getpid()})
     try:
         while True:
