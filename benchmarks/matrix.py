@@ -129,7 +129,11 @@ def _child(code: str, root: Path, fmu_dir: Path, *args) -> float:
     return float(result.stdout.strip().splitlines()[-1])
 
 
-def steady_rate(root: Path, fmu_dir: Path, name: str, n: int, workers: int = 2, repeat: int = 2) -> float:
+#: Matrices per process of the side-by-side steady rate (the best is kept).
+RATE_REPEAT = 2
+
+
+def steady_rate(root: Path, fmu_dir: Path, name: str, n: int, workers: int = 2, repeat: int = RATE_REPEAT) -> float:
     """Best steady rate [runs/min] of ``repeat`` matrices of the workload ``name`` on the tree ``root``."""
     return _child(RATE_CHILD, root, fmu_dir, json.dumps(workload(name, n)), workers, repeat)
 
@@ -164,7 +168,7 @@ def side_by_side(baseline: str, rounds: int, runs: int) -> None:
         # (tree, its FMU folder): the children run in the temporary folder, whose ./fmus they would fill
         trees = {"baseline": (baseline_tree(baseline, Path(tmp) / "baseline"), Path(tmp) / "fmus-baseline"),
                  "current": (ROOT, Path(tmp) / "fmus-current")}
-        print(f"steady rate of {runs} runs on 2 workers (best of 2 per process), median of {rounds} alternating "
+        print(f"steady rate of {runs} runs on 2 workers (best of {RATE_REPEAT} per process), median of {rounds} alternating "
               f"fresh processes; baseline: {baseline}")
         for name in ("fmu-only", "rider+delay"):
             b, c = _medians(trees, rounds, lambda root, fmus: steady_rate(root, fmus, name, runs))

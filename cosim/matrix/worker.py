@@ -350,12 +350,10 @@ def warm_fmus(fmu_paths: dict, unzip: bool = False) -> None:
     descriptions; a worker unzips into its own folder before it reports ready. A broken FMU is
     skipped here: the cases that use it fail with their own message."""
     from cosim.fmu.access import ALL_FMI_VERSIONS, FMU, READABLE_FMI_VERSIONS, read_fmu
-    from cosim.fmu.parameters import declarations
 
     for path in dict.fromkeys(str(p) for p in fmu_paths.values()):
         try:
             read_fmu(path, READABLE_FMI_VERSIONS)
-            declarations(path)
             if unzip:
                 FMU(path, versions=ALL_FMI_VERSIONS)
         except Exception:
