@@ -296,6 +296,24 @@ def test_predictions_with_warm_caches_equal_cold_ones(reference):
     assert warm == cold
 
 
+def test_unconnected_loop_predicts_what_the_closed_loop_formula_gives(reference):
+    """A system without connections (K = 0) skips solve(I - D K, C) and A + B K Cy: the same
+    eigenvalues, bit for bit, as with them."""
+    from cosim.matrix import predict
+    from cosim.matrix.runner import build_fmus
+
+    spec, _ = reference
+    cases = [c for c in spec.cases() if not c.system.get("connections")]
+    assert cases
+    paths = build_fmus(cases, None)
+    for case in cases:
+        loop = predict.Loop(case.system, case.observe, paths, case.settings)
+        assert not loop.connected and not loop.K.any()
+        fast = loop.prediction()
+        loop.connected = True  # the general formula
+        assert loop.prediction() == fast
+
+
 @pytest.mark.parametrize("tau, k", [(0.1, 0.5), (0.2, 0.5), (0.1, 2.0)], ids=["base", "other-tau", "other-k"])
 def test_block_model_cache_tells_parameters_apart(tau, k):
     from cosim.matrix.predict import block_lti
@@ -389,3 +407,47 @@ def test_warming_skips_a_broken_fmu_and_warms_the_others(reference, tmp_path):
     access._DESCRIPTIONS.pop(access._key(Path(good)), None)
     warm_fmus({"Broken": str(bad), "Good": good}, unzip=True)
     assert access._key(Path(good)) in access._DESCRIPTIONS
+
+
+def test_checked_parameters_of_a_reused_component_equal_a_fresh_check(reference):
+    """A worker's component checks each (name, value) once (the cases of a study repeat most of
+    them): the values are those of cosim.fmu.parameters.check, and a bad value is refused by name
+    every time it comes, never remembered as checked."""
+    from cosim.analytic.parameters import PARAMETER_NAMES, load_parameters
+    from cosim.fmu.parameters import ParameterError, check
+    from cosim.matrix.runner import build_fmus
+    from cosim.matrix.worker import ReusableFMUComponent
+
+    spec, _ = reference
+    path = next(iter(build_fmus(spec.cases(), None).values()))
+    comp = ReusableFMUComponent("bike", path)
+    try:
+        base = {k: v for k, v in load_parameters("benchmark").items() if k in PARAMETER_NAMES}
+        for v in (4.0, 5.0, 4.0, "6.5", 5):
+            values = {**base, "v": v, "phi0": 0.01}
+            assert comp._check(values) == check(values, comp._declared)
+            assert type(comp._check(values)["v"]) is float
+        for _ in range(2):
+            with pytest.raises(ParameterError, match="'v'"):
+                comp._check({**base, "v": "fast"})
+            with pytest.raises(ParameterError, match="unknown parameter 'nonsense'"):
+                comp._check({"v": 5.0, "nonsense": 1.0})
+            with pytest.raises(ParameterError, match="'v': expected a number"):
+                comp._check({"v": [5.0]})  # unhashable: checked (and refused) every time
+    finally:
+        comp.dispose()
+
+
+@pytest.mark.parametrize("value", [1.5, float("nan"), float("inf"), np.float64(2.5), np.int64(3), np.bool_(True),
+                                   1 + 2j, (1.0, 2.0), {"x": [np.float32(0.5), None]}],
+                         ids=["float", "nan", "inf", "numpy-float", "numpy-int", "numpy-bool", "complex", "tuple",
+                              "nested"])
+def test_encoded_record_is_the_cleaned_record(value):
+    """store.encode tries json's C encoder on the record as it is and walks it with _clean only
+    where that fails: the line is the same either way."""
+    import json
+
+    from cosim.matrix.store import _clean, encode
+
+    record = {"key": "k", "value": value, "observed": {"modes": [[0.1, -2.0]]}}
+    assert encode(record) == (json.dumps(_clean(record), sort_keys=True, allow_nan=False) + "\n").encode()

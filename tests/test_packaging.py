@@ -50,6 +50,18 @@ def test_wheel_contains_every_modelica_file(wheel):
     assert shipped == _library_files()
 
 
+def test_wheel_contains_every_c_source_the_package_compiles(wheel):
+    """The C the package compiles at run time (the FMU runtime, the master's stepping loop, the
+    matrix pencil, the WebAssembly support): a file missing from the wheel would make a normal
+    install fall back or fail where the checkout works."""
+    sources = {str(p.relative_to(ROOT)) for p in (ROOT / "cosim").rglob("*") if p.suffix in (".c", ".h")
+               and "tests" not in p.relative_to(ROOT).parts}
+    with zipfile.ZipFile(wheel) as archive:
+        shipped = set(archive.namelist())
+    assert {"cosim/matrix/pencil.c", "cosim/cosimulation/fastloop.c"} <= sources
+    assert sources <= shipped, sorted(sources - shipped)
+
+
 def test_installed_wheel_finds_its_models_and_builds_into_the_working_directory(wheel, tmp_path):
     """Install the wheel's package alone (dependencies come from this interpreter) and use it
     from an unrelated folder: `cosim list` and `cosim build` work, the FMU lands in ./fmus."""

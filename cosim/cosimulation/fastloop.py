@@ -2,12 +2,7 @@
 describe a block's native form (:class:`~cosim.cosimulation.registry.Native`) to it."""
 from __future__ import annotations
 
-import hashlib
-import os
-import shutil
-import subprocess
-import tempfile
-from ctypes import CDLL, POINTER, Structure, c_double, c_int, c_longlong, c_size_t, c_uint, c_void_p, cast
+from ctypes import POINTER, Structure, c_double, c_int, c_longlong, c_size_t, c_uint, c_void_p, cast
 from functools import lru_cache
 from pathlib import Path
 
@@ -131,43 +126,16 @@ def fast_block(native, u_set: np.ndarray, keep: list) -> FastBlock:
     return b
 
 
-def _cache_dir() -> Path:
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "cosim"
-
-
 @lru_cache(maxsize=1)
 def library():
     """The compiled loop, or None where it cannot be had (no C compiler, no writable cache
     folder, a library that does not load): the master then steps in Python, with the same results."""
-    digest = hashlib.sha256(SOURCE.read_bytes() + " ".join(FLAGS).encode()).hexdigest()[:16]
-    target = _cache_dir() / f"fastloop-{digest}.so"
-    try:
-        if not target.exists() and not _compile(target):
-            return None
-        lib = CDLL(str(target))
-    except OSError:  # an unwritable cache folder or a library that does not load
-        return None
-    lib.cosim_fast_run.restype = c_int
+    from cosim.native import load
+
+    lib = load(SOURCE, FLAGS)
+    if lib is not None:
+        lib.cosim_fast_run.restype = c_int
     return lib
-
-
-def _compile(target: Path) -> bool:
-    """Compile fastloop.c into ``target`` (atomically: concurrent processes may do the same)."""
-    compiler = os.environ.get("CC") or "gcc"
-    if shutil.which(compiler) is None:
-        return False
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, partial = tempfile.mkstemp(prefix=".fastloop-", suffix=".so", dir=target.parent)
-    os.close(fd)
-    try:
-        result = subprocess.run([compiler, *FLAGS, str(SOURCE), "-o", partial, "-lm"], capture_output=True, text=True)
-        if result.returncode != 0:
-            return False
-        os.replace(partial, target)
-        return True
-    finally:
-        Path(partial).unlink(missing_ok=True)
 
 
 def address(function) -> int:

@@ -356,6 +356,7 @@ class Loop:
         if ocomp not in blocks or ovar not in blocks[ocomp].outputs:
             raise PredictionError(f"observed signal '{observe}' is not an output of the linear model of '{ocomp}'")
         self.observed = self.slices[ocomp][2].start + blocks[ocomp].outputs.index(ovar)
+        self.connected = bool(wiring)
         self.eye = np.eye(ny)
         self.keep = None  # states kept: fixed while tuning (the structure does not change)
 
@@ -371,11 +372,14 @@ class Loop:
         self._write(name, b)
 
     def prediction(self) -> Prediction:
-        try:
-            Cy = np.linalg.solve(self.eye - self.D @ self.K, self.C)
-        except np.linalg.LinAlgError:
-            raise PredictionError("algebraic loop without a solution (I - D K is singular)") from None
-        Acl = self.A + self.B @ self.K @ Cy
+        if self.connected:
+            try:
+                Cy = np.linalg.solve(self.eye - self.D @ self.K, self.C)
+            except np.linalg.LinAlgError:
+                raise PredictionError("algebraic loop without a solution (I - D K is singular)") from None
+            Acl = self.A + self.B @ self.K @ Cy
+        else:  # K = 0: what the two lines above give, without their cost (a case of one FMU)
+            Cy, Acl = self.C, self.A
         keep = self.keep if self.keep is not None else _influencing(Acl, Cy[self.observed])
         if not keep.size:
             raise PredictionError("no state influences the observed signal")

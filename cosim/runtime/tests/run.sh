@@ -7,9 +7,10 @@
 #      FMU-state and initial-equation tests
 #   2. the FMI 3 harness (harness3.c, both APIs linked, to compare FMI 3 with FMI 2), the same way,
 #      with two other FMI 3 FMUs
-#   3. the runtime of each FMI version as a shared library exactly as `cosim build` compiles it;
+#   3. step_factor.c: the integrator's step size factor against its full formula, bit for bit
+#   4. the runtime of each FMI version as a shared library exactly as `cosim build` compiles it;
 #      checks the exports (every function of fmi2Functions.h / fmi3Functions.h, nothing else)
-#   4. if cmake is available: fmpy's CMake project for each version (plain cc, all warnings, no -lm)
+#   5. if cmake is available: fmpy's CMake project for each version (plain cc, all warnings, no -lm)
 set -eu
 
 here=$(cd "$(dirname "$0")" && pwd)
@@ -54,6 +55,10 @@ echo "== FMI 3 harness (-O2)"
 $CC $warn -O2 -DTEST_MODEL_ARRAYS -I"$fmi" -I"$runtime" "$here/harness3.c" "$here/test_model.c" \
     $fmi2_rt "$runtime/fmi3_api.c" -o "$out/harness3" -lm -ldl
 "$out/harness3" "$out/small3.so" "$out/twin3.so"
+
+echo "== the integrator's step size factor (-O2)"
+$CC $warn -O2 -I"$fmi" -I"$runtime" "$here/step_factor.c" "$here/test_model_small.c" -o "$out/step_factor" -lm
+"$out/step_factor"
 
 echo "== harness (-O0, address and undefined behaviour sanitizers)"
 others "-O0 -g $san" "_san"
