@@ -1317,9 +1317,14 @@ static rt_status integrate(rt_instance *in, const char *fn, double t_end)
                 continue;
             }
             /* A step shortened to end on t_end (its error estimate only bounds the error of
-               the shorter step) must not shrink the step size remembered for the next DoStep. */
-            h_prop = h_try * step_factor(err, rejected ? 1.0 : RT_FAC_MAX);
-            h = last && h_try < h ? rt_max(h, h_prop) : h_prop;
+               the shorter step) must not shrink the step size remembered for the next DoStep.
+               Where the remembered h is at least h_try times the largest factor, it stays
+               whatever the error: the factor is not computed (the same h, bit for bit). */
+            const double fac_max = rejected ? 1.0 : RT_FAC_MAX;
+            if (!(last && h_try < h && h >= h_try * fac_max)) {
+                h_prop = h_try * step_factor(err, fac_max);
+                h = last && h_try < h ? rt_max(h, h_prop) : h_prop;
+            }
             rejected = 0;
             nonfinite = 0;
             eval_failed = 0;
