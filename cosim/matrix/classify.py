@@ -270,7 +270,13 @@ def modal_fit(t, x, *, max_samples: int = MODAL_SAMPLES, max_order: int = MODAL_
     return None
 
 
-def _window_max(t: np.ndarray, ax: np.ndarray, a: float, b: float) -> float:
+def _window_max(t: np.ndarray, ax: np.ndarray, a: float, b: float, increasing: bool = False) -> float:
+    """max |x| over the samples with a - 1e-12 <= t <= b + 1e-12 (0 if none); on an ``increasing``
+    grid those are one slice, found by bisection instead of two masks over the whole run."""
+    if increasing:
+        lo = int(np.searchsorted(t, a - 1e-12, side="left"))
+        hi = int(np.searchsorted(t, b + 1e-12, side="right"))
+        return float(ax[lo:hi].max()) if hi > lo else 0.0
     sel = (t >= a - 1e-12) & (t <= b + 1e-12)
     return float(ax[sel].max()) if sel.any() else 0.0
 
@@ -326,8 +332,12 @@ def observe(t: np.ndarray, x: np.ndarray, status: str, observed_margin: float, s
     t = np.asarray(t, float)
     x = np.asarray(x, float)
     finite = np.isfinite(x)
-    ax = np.abs(np.where(finite, x, np.nan))
-    peak = float(np.nanmax(ax)) if finite.any() else math.nan
+    if finite.all():  # every run that did not diverge: no NaN to mask
+        ax = np.abs(x)
+        peak = float(ax.max()) if ax.size else math.nan
+    else:
+        ax = np.abs(np.where(finite, x, np.nan))
+        peak = float(np.nanmax(ax)) if finite.any() else math.nan
     out = {"class": None, "envelope_rate": None, "growth_rate": None, "growth_method": None, "modes": None,
            "max_roll": peak, "settling_time": None, "end_time": float(t[-1]) if t.size else 0.0}
     if status == "diverged" or not finite.all():
@@ -348,8 +358,9 @@ def observe(t: np.ndarray, x: np.ndarray, status: str, observed_margin: float, s
         return out
     T = float(t[-1] - t[0])
     third = T / 3
-    m2 = _window_max(t, ax, t[0] + third, t[0] + 2 * third)
-    m3 = _window_max(t, ax, t[0] + 2 * third, t[-1])
+    increasing = bool((t[1:] > t[:-1]).all())  # a run's time grid: the windows are slices
+    m2 = _window_max(t, ax, t[0] + third, t[0] + 2 * third, increasing)
+    m3 = _window_max(t, ax, t[0] + 2 * third, t[-1], increasing)
     if m3 <= 1e-12 * peak:
         sigma = -math.inf
     elif m2 <= 1e-12 * peak:

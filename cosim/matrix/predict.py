@@ -403,13 +403,16 @@ def _influencing(A: np.ndarray, row: np.ndarray) -> np.ndarray:
     """States with a path in the graph of A to a state the observed output reads."""
     if not A.size:
         return np.zeros(0, dtype=int)
-    nz = np.abs(A) > 1e-14 * max(1.0, float(np.abs(A).max()))
-    keep = np.abs(row) > 1e-14 * max(1.0, float(np.abs(row).max()))
-    while True:
-        grown = keep | nz[keep].any(axis=0)
-        if (grown == keep).all():
+    magnitude, reads = np.abs(A), np.abs(row)
+    nz = magnitude > 1e-14 * max(1.0, float(magnitude.max()))
+    keep = reads > 1e-14 * max(1.0, float(reads.max()))
+    count = int(keep.sum())
+    while True:  # grows only: done when the count stays
+        keep = keep | nz[keep].any(axis=0)
+        grown = int(keep.sum())
+        if grown == count:
             break
-        keep = grown
+        count = grown
     return np.flatnonzero(keep)
 
 
