@@ -138,5 +138,18 @@ def library():
     return lib
 
 
+#: Addresses of C functions already asked for, by id, with the function object itself (kept alive
+#: while cached, so that its id is not reused); an FMU's functions are asked for at every run.
+_ADDRESSES: dict[int, tuple[object, int]] = {}
+
+
 def address(function) -> int:
-    return cast(function, c_void_p).value
+    """The address of a ctypes function (cached: the cast costs more than a case's stepping set-up)."""
+    found = _ADDRESSES.get(id(function))
+    if found is not None and found[0] is function:
+        return found[1]
+    if len(_ADDRESSES) >= 1024:  # FMUs loaded and freed by the thousand: bounded
+        _ADDRESSES.clear()
+    value = cast(function, c_void_p).value
+    _ADDRESSES[id(function)] = (function, value)
+    return value

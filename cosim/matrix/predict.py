@@ -384,7 +384,7 @@ class Loop:
         if not keep.size:
             raise PredictionError("no state influences the observed signal")
         self.last_keep = keep
-        ev = np.linalg.eigvals(Acl[np.ix_(keep, keep)])
+        ev = np.linalg.eigvals(Acl[keep[:, None], keep])  # (= Acl[np.ix_(keep, keep)])
         ev = ev[np.lexsort((-ev.imag, -ev.real))]
         dom = complex(ev[0])
         if dom.imag < 0:
