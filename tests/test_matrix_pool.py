@@ -220,6 +220,55 @@ def test_forked_worker_computes_with_one_blas_thread(tmp_path):
     assert (before, found, after) == ("2", "True", "1")
 
 
+FORKED_THREADS = """
+import json, os, sys
+from cosim.matrix import worker
+from cosim.matrix.runner import run_matrix
+from cosim.matrix.spec import spec_from_dict
+serve = worker.serve
+
+def recording_serve(*args, **kwargs):  # what a forked worker has when it stops
+    try:
+        return serve(*args, **kwargs)
+    finally:
+        with open(os.path.join(sys.argv[2], f"worker-{os.getpid()}.json"), "w") as f:
+            json.dump({"threads": len(os.listdir("/proc/self/task")),
+                       "blas": list(worker.set_blas_threads({}).values())}, f)
+
+worker.serve = recording_serve
+before = list(worker.set_blas_threads({}).values())
+result = run_matrix(spec_from_dict(json.loads(sys.argv[1])), os.path.join(sys.argv[2], "out"), workers=2,
+                    progress=False, report=False)
+print(json.dumps({"before": before, "after": list(worker.set_blas_threads({}).values()),
+                  "start": result.timing["start"]}))
+"""
+
+
+def test_forked_workers_inherit_one_blas_thread_and_start_no_blas_pool(reference, tmp_path):
+    """The supervisor sets one BLAS thread before it forks and restores its own count after the
+    run; a forked worker keeps the inherited count, so OpenBLAS builds no thread pool in it (its
+    thread spun for ~0.1 s of CPU at every worker's start): a worker has its main thread and the
+    die-with-parent watchdog, nothing else."""
+    import json
+
+    spec, _ = reference
+    env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS")}
+    env["OPENBLAS_NUM_THREADS"] = "2"
+    data = _spec("threads")
+    out = subprocess.run([sys.executable, "-c", FORKED_THREADS, json.dumps(data), str(tmp_path)],
+                         capture_output=True, text=True, cwd=ROOT, env=env, timeout=300)
+    assert out.returncode == 0, out.stderr
+    result = json.loads(out.stdout.strip().splitlines()[-1])
+    if not result["before"]:
+        pytest.skip("no OpenBLAS found in the process")
+    assert result["start"] == "fork"
+    # the supervisor's numpy (and scipy, loaded during the run for the rider's prediction) as before
+    assert result["before"] == [2] and set(result["after"]) == {2}
+    workers = [json.loads(p.read_text()) for p in tmp_path.glob("worker-*.json")]
+    assert len(workers) == 2
+    assert all(w["threads"] == 2 and set(w["blas"]) == {1} for w in workers), workers
+
+
 # --------------------------------------------------------------------------- classification
 
 def _signal(kind: str, n: int) -> np.ndarray:

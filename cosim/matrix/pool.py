@@ -110,6 +110,9 @@ class _Forked:
                 stream.flush()
             except (AttributeError, OSError, ValueError):  # None (no console), closed
                 pass
+        from cosim.matrix.worker import set_blas_threads
+
+        set_blas_threads(1)  # the child inherits it (run_local restores the supervisor's count)
         pid = os.fork()
         if pid == 0:  # the worker: never returns into the supervisor's code
             code = 1
@@ -137,9 +140,9 @@ class _Forked:
                 from cosim.processes import die_with_parent
 
                 die_with_parent(parent)
-                from cosim.matrix.worker import serve, single_threaded_blas
+                from cosim.matrix.worker import serve
 
-                single_threaded_blas()
+                # one BLAS thread, inherited (set before the fork: see cosim.matrix.worker)
                 code = serve(os.fdopen(to_child_r, "rb", buffering=0), os.fdopen(from_child_w, "wb", buffering=0),
                              init)
             except BaseException:
@@ -349,13 +352,16 @@ def run_local(cases: list[dict], init: dict, workers: int, on_record, timeout: f
     sel = selectors.DefaultSelector()
 
     method = start_method()
+    blas_threads = {}
     if method == "fork":  # imported once here, inherited by every forked worker
-        from cosim.matrix.worker import import_plugins, warm_fmus, warm_imports, warm_up
+        from cosim.matrix.worker import import_plugins, set_blas_threads, warm_fmus, warm_imports, warm_up
 
         import_plugins(init.get("imports", []))
         warm_up()
         warm_imports(cases)
         warm_fmus(init.get("fmu_paths", {}))
+        # the workers inherit one BLAS thread; every library loaded by now is restored below
+        blas_threads = set_blas_threads(1)
 
     def new_child(wait: bool = True) -> Child:
         log = log_dir / f"worker-{next(counter)}.log" if log_dir else None
@@ -434,6 +440,10 @@ def run_local(cases: list[dict], init: dict, workers: int, on_record, timeout: f
                 child.stop()
             else:  # interrupted (Ctrl-C, an error): do not wait for running cases
                 child.kill()
+        if blas_threads:
+            from cosim.matrix.worker import set_blas_threads
+
+            set_blas_threads(blas_threads)
     return {"startup": t1 - t0, "run": t2 - t1, "start": method}
 
 

@@ -13,9 +13,12 @@ gives bit-identical results whichever worker runs it and whatever ran before.
 The same loop (:func:`serve`) also runs in a worker *forked* from the supervisor
 (:mod:`cosim.matrix.pool`, Linux): it then inherits the supervisor's imports and starts in
 milliseconds instead of the ~0.2 s an interpreter and numpy take. Either way a worker computes
-with one BLAS thread (:func:`single_threaded_blas`): the workers are the parallelism, and
-OpenBLAS threads of two workers on two shared cores spin against each other (a 9 ms SVD instead
-of 1 ms was measured).
+with one BLAS thread: the workers are the parallelism, and OpenBLAS threads of two workers on two
+shared cores spin against each other (a 9 ms SVD instead of 1 ms was measured). A spawned worker
+gets it from :data:`BLAS_THREAD_VARIABLES`; a forked one inherits it from the supervisor, which
+sets it before it forks (:func:`set_blas_threads`) -- setting it in the forked child instead
+makes OpenBLAS rebuild its thread pool there, whose thread then spins for ~0.1 s of CPU at every
+worker's start, a sixth of the capacity of a 600-run matrix on 2 cores.
 """
 from __future__ import annotations
 
@@ -307,12 +310,21 @@ def run_case(case: dict, cache: FMUCache, fmu_paths: dict) -> dict:
 BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
 
 
-def single_threaded_blas() -> bool:
-    """Limit the BLAS libraries already loaded in this process to one thread; True if one was found.
+#: (set, get) thread-count functions of the BLAS libraries a process may have loaded.
+_BLAS_THREAD_FUNCTIONS = (("openblas_set_num_threads", "openblas_get_num_threads"),
+                          ("scipy_openblas_set_num_threads64_", "scipy_openblas_get_num_threads64_"),
+                          ("scipy_openblas_set_num_threads", "scipy_openblas_get_num_threads"),
+                          ("openblas_set_num_threads64_", "openblas_get_num_threads64_"),
+                          ("MKL_Set_Num_Threads", "MKL_Get_Max_Threads"))
 
-    For a worker forked from a process whose numpy is imported (the environment variables of
-    :data:`BLAS_THREAD_VARIABLES` act only before numpy loads OpenBLAS). The BLAS libraries are
-    found in ``/proc/self/maps`` (Linux); elsewhere nothing is changed and False returned."""
+
+def set_blas_threads(count: int | dict) -> dict:
+    """Set the thread count of the BLAS libraries loaded in this process: ``count`` for all, or a
+    dict returned by an earlier call (restores those counts). Returns the counts before, by
+    library ({} where none is found: the libraries are looked up in ``/proc/self/maps``, Linux).
+
+    A process whose numpy is imported has its OpenBLAS threads already (the environment variables
+    of :data:`BLAS_THREAD_VARIABLES` act only before numpy loads it)."""
     import ctypes
     import re
 
@@ -320,23 +332,33 @@ def single_threaded_blas() -> bool:
         with open("/proc/self/maps") as f:
             libs = sorted(set(re.findall(r"(/\S*(?:openblas|blas|mkl_rt)\S*\.so[^\s]*)", f.read())))
     except OSError:
-        return False
-    done = False
+        return {}
+    before, seen = {}, set()
     for lib in libs:
         try:
             handle = ctypes.CDLL(lib)
         except OSError:
             continue
-        for symbol in ("openblas_set_num_threads", "scipy_openblas_set_num_threads64_",
-                       "scipy_openblas_set_num_threads", "openblas_set_num_threads64_", "MKL_Set_Num_Threads"):
-            function = getattr(handle, symbol, None)
-            if function is not None:
-                function.argtypes = [ctypes.c_int]
-                function.restype = None
-                function(1)
-                done = True
+        for setter, getter in _BLAS_THREAD_FUNCTIONS:
+            set_count, get_count = getattr(handle, setter, None), getattr(handle, getter, None)
+            if set_count is None or get_count is None:
+                continue
+            function = ctypes.cast(set_count, ctypes.c_void_p).value
+            if function in seen:  # the same library again (scipy's BLAS modules resolve to its OpenBLAS)
                 break
-    return done
+            seen.add(function)
+            set_count.argtypes, set_count.restype, get_count.restype = [ctypes.c_int], None, ctypes.c_int
+            before[lib] = get_count()
+            wanted = count.get(lib) if isinstance(count, dict) else count
+            if wanted is not None and wanted != before[lib]:
+                set_count(int(wanted))
+            break
+    return before
+
+
+def single_threaded_blas() -> bool:
+    """Limit the BLAS libraries loaded in this process to one thread; True if one was found."""
+    return bool(set_blas_threads(1))
 
 
 def warm_up() -> None:
