@@ -363,6 +363,24 @@ def test_unconnected_loop_predicts_what_the_closed_loop_formula_gives(reference)
         assert loop.prediction() == fast
 
 
+@pytest.mark.parametrize("n", [1, 2, 6, 12, 32])
+def test_influence_search_in_python_equals_the_array_iteration(n, monkeypatch):
+    """The states that influence the observed output: the plain-Python search of small graphs and
+    the whole-array iteration of large ones give the same set (random sparse graphs, chains)."""
+    from cosim.matrix import predict
+
+    rng = np.random.default_rng(n)
+    graphs = [rng.normal(size=(n, n)) * (rng.uniform(size=(n, n)) < density) for density in (0.0, 0.1, 0.3, 1.0)]
+    graphs.append(np.diag(np.ones(n - 1), -1) if n > 1 else np.ones((1, 1)))  # a chain: x_k drives x_k+1
+    for A in graphs:
+        for row in (np.eye(n)[-1], np.eye(n)[0], rng.normal(size=n) * (rng.uniform(size=n) < 0.3)):
+            small = predict._influencing(A, row)
+            monkeypatch.setattr(predict, "SMALL_GRAPH", 0)
+            large = predict._influencing(A, row)
+            monkeypatch.setattr(predict, "SMALL_GRAPH", 32)
+            assert small.tolist() == large.tolist()
+
+
 @pytest.mark.parametrize("tau, k", [(0.1, 0.5), (0.2, 0.5), (0.1, 2.0)], ids=["base", "other-tau", "other-k"])
 def test_block_model_cache_tells_parameters_apart(tau, k):
     from cosim.matrix.predict import block_lti
