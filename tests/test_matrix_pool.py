@@ -453,6 +453,18 @@ def test_first_case_after_the_warm_up_imports_and_reads_nothing(reference, study
     assert result["new"] == [], result["new"]
 
 
+def test_window_maximum_by_slices_equals_the_masked_one():
+    """On an increasing time grid the windows of observe are slices (found by bisection): the same
+    maxima as the masks over the whole run, also for windows outside the run or between samples."""
+    rng = np.random.default_rng(3)
+    for _ in range(500):
+        t = np.unique(np.round(np.cumsum(rng.uniform(0.0, 1.0, int(rng.integers(1, 200)))), int(rng.integers(0, 4))))
+        ax = rng.uniform(size=t.size)
+        a, b = np.sort(rng.uniform(t[0] - 1.0, t[-1] + 1.0, 2))
+        for lo, hi in ((a, b), (t[0], t[-1]), (t[-1] / 3, 2 * t[-1] / 3), (b, a)):
+            assert classify._window_max(t, ax, lo, hi, True) == classify._window_max(t, ax, lo, hi)
+
+
 @pytest.mark.parametrize("n", [1, 2, 3, 10, 11, 500, 1001])
 def test_median_equals_numpy_median_bit_for_bit(n):
     rng = np.random.default_rng(n)

@@ -274,8 +274,8 @@ def _window_max(t: np.ndarray, ax: np.ndarray, a: float, b: float, increasing: b
     """max |x| over the samples with a - 1e-12 <= t <= b + 1e-12 (0 if none); on an ``increasing``
     grid those are one slice, found by bisection instead of two masks over the whole run."""
     if increasing:
-        lo = int(np.searchsorted(t, a - 1e-12, side="left"))
-        hi = int(np.searchsorted(t, b + 1e-12, side="right"))
+        lo = int(t.searchsorted(a - 1e-12, side="left"))
+        hi = int(t.searchsorted(b + 1e-12, side="right"))
         return float(ax[lo:hi].max()) if hi > lo else 0.0
     sel = (t >= a - 1e-12) & (t <= b + 1e-12)
     return float(ax[sel].max()) if sel.any() else 0.0
