@@ -196,8 +196,10 @@ def test_export_to_an_unusable_path_is_one_clear_error(tmp_path, make, message):
 def test_serves_the_same_site_on_localhost(site, tmp_path, stop, status):
     """`cosim app --port 0` serves the exported files on 127.0.0.1 (a free port), byte for byte;
     Ctrl-C or SIGTERM stops it and its temporary folder is gone."""
+    folders = set(Path(tempfile.gettempdir()).glob("cosim-app-*"))  # (another test's, if it failed)
+    env = {**os.environ, "PYTHONFAULTHANDLER": "1"}  # a server that does not stop shows where it hangs
     process = subprocess.Popen([sys.executable, "-m", "cosim", "app", "--port", "0"], cwd=tmp_path, text=True,
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)
     try:
         line = process.stdout.readline()
         match = re.search(r"serving the app on (http://127\.0\.0\.1:\d+/)", line)
@@ -206,8 +208,14 @@ def test_serves_the_same_site_on_localhost(site, tmp_path, stop, status):
             with urllib.request.urlopen(match.group(1) + name, timeout=30) as response:
                 assert response.read() == (site / name).read_bytes(), name
         process.send_signal(stop)
-        assert process.wait(timeout=30) == status
-        assert not list(Path(tempfile.gettempdir()).glob("cosim-app-*"))
+        try:
+            code = process.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            process.send_signal(signal.SIGABRT)  # faulthandler writes every thread's stack to stderr
+            process.wait(timeout=30)
+            pytest.fail(f"the server had not stopped 30 s after {stop.name}:\n{process.stderr.read()[-6000:]}")
+        assert code == status
+        assert set(Path(tempfile.gettempdir()).glob("cosim-app-*")) == folders
     finally:
         if process.poll() is None:
             process.kill()
