@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import re
 import shutil
 import subprocess
 import tempfile
@@ -25,6 +26,18 @@ def cache_dir() -> Path:
     """The folder of the compiled helpers: ``$XDG_CACHE_HOME/cosim``, else ``~/.cache/cosim``."""
     base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
     return Path(base) / "cosim"
+
+
+def loaded_libraries(pattern: str) -> list[str]:
+    """Paths of the shared libraries loaded in this process whose path matches the regular
+    expression ``pattern`` (e.g. ``openblas|blas``), from ``/proc/self/maps`` (Linux; elsewhere
+    none): how the BLAS and LAPACK that numpy loaded are found."""
+    try:
+        with open("/proc/self/maps") as f:
+            maps = f.read()
+    except OSError:
+        return []
+    return sorted(set(re.findall(rf"(/\S*(?:{pattern})\S*\.so[^\s]*)", maps)))
 
 
 def load(source: Path, flags: list[str], libraries: tuple[str, ...] = ("-lm",)) -> CDLL | None:

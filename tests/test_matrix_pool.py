@@ -201,14 +201,14 @@ def test_fork_only_from_a_single_threaded_process(monkeypatch, requested, thread
 
 
 def test_forked_worker_computes_with_one_blas_thread(tmp_path):
-    """single_threaded_blas() in a process whose numpy already runs OpenBLAS with 2 threads."""
+    """set_blas_threads(1) in a process whose numpy already runs OpenBLAS with 2 threads."""
     code = ("import ctypes, re, numpy\n"
-            "from cosim.matrix.worker import single_threaded_blas\n"
+            "from cosim.matrix.worker import set_blas_threads\n"
             "libs = sorted(set(re.findall(r'(/\\S*openblas\\S*\\.so\\S*)', open('/proc/self/maps').read())))\n"
             "get = [getattr(ctypes.CDLL(p), n) for p in libs for n in ('openblas_get_num_threads',\n"
             "       'scipy_openblas_get_num_threads64_') if hasattr(ctypes.CDLL(p), n)][0]\n"
             "before = get()\n"
-            "print(before, single_threaded_blas(), get())\n")
+            "print(before, bool(set_blas_threads(1)), get())\n")
     env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS")}
     env["OPENBLAS_NUM_THREADS"] = "2"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, env=env,

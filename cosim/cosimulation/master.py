@@ -8,7 +8,6 @@ name lookups.
 from __future__ import annotations
 
 from dataclasses import dataclass
-
 from functools import lru_cache
 
 import numpy as np
@@ -459,6 +458,7 @@ class System:
         steps_done, failed, fmi_status, failed_call = c_long(0), c_int(-1), c_int(0), c_int(1)
         failed_time = c_double(np.nan)
         fall = self.fall_index if self.fall_index is not None else -1
+
         def pointer_to(array: np.ndarray) -> c_void_p:  # (data_as costs ~2 us a call, five a run)
             return c_void_p(array.ctypes.data)
 

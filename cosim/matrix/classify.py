@@ -223,7 +223,7 @@ def modal_fit(t, x, *, max_samples: int = MODAL_SAMPLES, max_order: int = MODAL_
         Try the small pencil (:data:`SMALL_PENCIL`) first.
     native : bool
         Fit in C (:mod:`cosim.matrix.pencil`: the same steps with the same LAPACK routines, a
-        fifth of the cost) where it can be had; False: always with numpy, as below.
+        third of the cost) where it can be had; False: always with numpy, as below.
 
     Returns
     -------

@@ -326,15 +326,11 @@ def set_blas_threads(count: int | dict) -> dict:
     A process whose numpy is imported has its OpenBLAS threads already (the environment variables
     of :data:`BLAS_THREAD_VARIABLES` act only before numpy loads it)."""
     import ctypes
-    import re
 
-    try:
-        with open("/proc/self/maps") as f:
-            libs = sorted(set(re.findall(r"(/\S*(?:openblas|blas|mkl_rt)\S*\.so[^\s]*)", f.read())))
-    except OSError:
-        return {}
+    from cosim.native import loaded_libraries
+
     before, seen = {}, set()
-    for lib in libs:
+    for lib in loaded_libraries("openblas|blas|mkl_rt"):
         try:
             handle = ctypes.CDLL(lib)
         except OSError:
@@ -354,11 +350,6 @@ def set_blas_threads(count: int | dict) -> dict:
                 set_count(int(wanted))
             break
     return before
-
-
-def single_threaded_blas() -> bool:
-    """Limit the BLAS libraries loaded in this process to one thread; True if one was found."""
-    return bool(set_blas_threads(1))
 
 
 def warm_up() -> None:
