@@ -33,6 +33,7 @@ from cosim.errors import BuildError, CosimError, ModelicaError, OutputError, Par
 from cosim.outputs import check_output_folder
 from cosim.processes import die_with_parent
 from cosim.compiler import fmu as fmu_files
+from cosim.compiler import schedule
 from cosim.compiler.library import compiler_digest  # noqa: F401 (cosim.compiler.build.compiler_digest)
 from cosim.compiler.library import tool_versions as _tool_versions
 from cosim.compiler.codegen import (FMI_VERSIONS, casadi_functions, generated_sources, unoptimized_sources,
@@ -461,7 +462,8 @@ def build(models: list[str] | None = None, output: str | Path = DEFAULT_OUTPUT, 
     output : path, optional
         Folder of the FMUs (default: ``$COSIM_FMU_DIR``, else ``./fmus`` of the working directory).
     jobs : int
-        Parallel builds (>= 1); worker processes die with the calling process.
+        Parallel builds (>= 1); worker processes die with the calling process. They start the
+        models whose last builds took longest first (:mod:`cosim.compiler.schedule`).
     library_path : path, optional
         Modelica library folder (default: ``$COSIM_MODELICA_PATH``, else the shipped library).
     force : bool
@@ -496,11 +498,15 @@ def build(models: list[str] | None = None, output: str | Path = DEFAULT_OUTPUT, 
             library.entry(name)  # unknown names fail before any work starts
         except ModelicaError:
             pass  # a model of a file that did not parse fails in its turn; the others are built
-    tasks = [(name, str(output), library_path, force, versions) for name in names]
-    if jobs > 1 and len(tasks) > 1:
-        outcomes = _run_parallel(tasks, jobs)
+    if jobs > 1 and len(names) > 1:
+        started = schedule.longest_first(names)
+        tasks = [(name, str(output), library_path, force, versions) for name in started]
+        done = dict(zip(started, _run_parallel(tasks, jobs)))
+        outcomes = [done[name] for name in names]
     else:
-        outcomes = [_build_one(task) for task in tasks]
+        outcomes = [_build_one((name, str(output), library_path, force, versions)) for name in names]
+    schedule.record({outcome[0].model: max(r.seconds for r in outcome) for outcome in outcomes
+                     if isinstance(outcome, list) and outcome and any(r.rebuilt for r in outcome)})
     results = [r for outcome in outcomes for r in (outcome if isinstance(outcome, list) else [outcome])]
     errors = [r for r in results if isinstance(r, Exception)]
     if not models:  # "everything" includes the files that did not parse (once each)

@@ -579,7 +579,8 @@ def _flatten(library: Library, model_name: str) -> FlatModel:
     pymoca_patches.apply()
     library.entry(model_name)
     try:
-        flat = tree.flatten(library.tree, ast.ComponentRef.from_string(model_name))
+        with pymoca_patches.scopes_kept():
+            flat = tree.flatten(library.tree, ast.ComponentRef.from_string(model_name))
     except RecursionError:
         raise ModelicaError(f"{library.file_of(model_name)}: cannot flatten {model_name}: "
                             "the model is nested too deeply (a class that contains or extends itself?)") from None
