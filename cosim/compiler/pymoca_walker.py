@@ -79,13 +79,13 @@ def install() -> None:
 
         def entry(cls: type) -> tuple:
             name = cls.__name__
-            found = table[cls] = (name, method(listener, "enter" + name), method(listener, "exit" + name),
+            found = table[cls] = (method(listener, "enter" + name), method(listener, "exit" + name),
                                   skip_cache.get((cls, generator)) or skipped(cls, generator))
             return found
 
         def visit(node) -> None:
             cls = node.__class__
-            name, enter, exit_, skip = table.get(cls) or entry(cls)
+            enter, exit_, skip = table.get(cls) or entry(cls)
             if plain_every:
                 context[type(node).__name__] = node
             elif every_enter is not None:
@@ -98,7 +98,7 @@ def install() -> None:
                 if child_name in skip:
                     continue
                 child = attributes[child_name]
-                if isinstance(child, node_class):
+                if isinstance(child, node_class):  # (visit_any inlined: the hot path)
                     visit(child)
                 elif isinstance(child, (dict, list)):
                     visit_container(child)
@@ -112,12 +112,12 @@ def install() -> None:
         def visit_container(container) -> None:
             if isinstance(container, dict):
                 for k in container.keys():
-                    _visit_any(container[k])
+                    visit_any(container[k])
             else:
                 for i in range(len(container)):
-                    _visit_any(container[i])
+                    visit_any(container[i])
 
-        def _visit_any(child) -> None:
+        def visit_any(child) -> None:
             if isinstance(child, node_class):
                 visit(child)
             elif isinstance(child, (dict, list)):
