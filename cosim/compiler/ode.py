@@ -220,8 +220,9 @@ def _make_explicit(flat: FlatModel) -> ExplicitModel:
             f"({len(xd)} state derivatives, {len(z)} algebraic variables)")
 
     W = _column(w)
-    jac = ca.jacobian(residual, W)
-    sp = jac.sparsity()
+    # only the structure is needed: the sparsity pattern alone, without the symbolic Jacobian
+    # (a tenth of making the nonlinear bicycles explicit; the same pattern for every model)
+    sp = ca.jacobian_sparsity(residual, W)
     rows = [[] for _ in range(neq)]
     for r, c in zip(*sp.get_triplet()):
         rows[r].append(c)
