@@ -189,3 +189,29 @@ def test_fmi3_arrays_group_only_uniform_consecutive_state_arrays(spec, expected)
     from cosim.compiler.description import fmi3_arrays
 
     assert fmi3_arrays(_variables(spec)) == expected
+
+
+def test_pack_deflates_every_file_at_the_fast_level(tmp_path):
+    """pack() writes each file deflated at PACK_LEVEL (zipfile ignores the archive's level for an
+    entry given as a ZipInfo; the level is given per entry) with fixed dates and modes."""
+    import zipfile
+    import zlib
+
+    from cosim.compiler.fmu import PACK_LEVEL, pack
+
+    staging = tmp_path / "staging"
+    (staging / "sources").mkdir(parents=True)
+    text = "".join(f"a{k} = b{k} * {k}.0 + sin(c{k});\n" for k in range(3000)).encode()
+    (staging / "sources" / "model.c").write_bytes(text)
+    (staging / "modelDescription.xml").write_bytes(b"<fmiModelDescription/>\n" * 50)
+    pack(staging, tmp_path / "x.fmu")
+    with zipfile.ZipFile(tmp_path / "x.fmu") as archive:
+        infos = {i.filename: i for i in archive.infolist()}
+        assert set(infos) == {"sources/model.c", "modelDescription.xml"}
+        for name, info in infos.items():
+            data = (staging / name).read_bytes()
+            deflate = zlib.compressobj(PACK_LEVEL, zlib.DEFLATED, -15)
+            assert info.compress_type == zipfile.ZIP_DEFLATED
+            assert info.compress_size == len(deflate.compress(data) + deflate.flush()), name
+            assert info.date_time == (2000, 1, 1, 0, 0, 0) and info.external_attr == 0o644 << 16
+            assert archive.read(name) == data
