@@ -10,6 +10,7 @@
 """
 from __future__ import annotations
 
+import contextlib
 import json
 
 import pytest
@@ -90,15 +91,9 @@ def test_scopes_kept_for_a_flattening_give_the_same_flat_model(model, monkeypatc
     library = load_library()
     kept = _fingerprint(flatten(library, model), library.entry(model))
     # without the context, each full scope lives for one symbol's modifications (the old way)
-    monkeypatch.setattr(pymoca_patches, "scopes_kept", lambda: _nothing())
+    monkeypatch.setattr(pymoca_patches, "scopes_kept", contextlib.nullcontext)
     per_symbol = _fingerprint(flatten(library, model), library.entry(model))
     assert kept == per_symbol
-
-
-def _nothing():
-    import contextlib
-
-    return contextlib.nullcontext()
 
 
 def test_a_changed_scope_has_another_signature(flat_trees):

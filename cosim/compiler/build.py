@@ -498,13 +498,11 @@ def build(models: list[str] | None = None, output: str | Path = DEFAULT_OUTPUT, 
             library.entry(name)  # unknown names fail before any work starts
         except ModelicaError:
             pass  # a model of a file that did not parse fails in its turn; the others are built
-    if jobs > 1 and len(names) > 1:
-        started = schedule.longest_first(names)
-        tasks = [(name, str(output), library_path, force, versions) for name in started]
-        done = dict(zip(started, _run_parallel(tasks, jobs)))
-        outcomes = [done[name] for name in names]
-    else:
-        outcomes = [_build_one((name, str(output), library_path, force, versions)) for name in names]
+    parallel = jobs > 1 and len(names) > 1
+    started = schedule.longest_first(names) if parallel else names
+    tasks = [(name, str(output), library_path, force, versions) for name in started]
+    done = dict(zip(started, _run_parallel(tasks, jobs) if parallel else map(_build_one, tasks)))
+    outcomes = [done[name] for name in names]
     schedule.record({outcome[0].model: max(r.seconds for r in outcome) for outcome in outcomes
                      if isinstance(outcome, list) and outcome and any(r.rebuilt for r in outcome)})
     results = [r for outcome in outcomes for r in (outcome if isinstance(outcome, list) else [outcome])]

@@ -39,7 +39,9 @@ def install() -> None:
     skip_cache: dict[tuple[type, bool], frozenset] = {}
 
     def skipped(cls: type, generator: bool) -> frozenset:
-        """The children of a ``cls`` node that TreeWalker (or GeneratorWalker) skips."""
+        """The children of a ``cls`` node that TreeWalker (or GeneratorWalker) skips (cached)."""
+        if (cls, generator) in skip_cache:
+            return skip_cache[cls, generator]
         names = set()
         if issubclass(cls, parent_links):
             names |= {"parent", "parent_instance"}
@@ -70,17 +72,16 @@ def install() -> None:
 
         every_enter = method(listener, "enterEvery")
         every_exit = method(listener, "exitEvery")
-        plain_every = (every_enter is not None and every_exit is not None and "enterEvery" not in vars(listener)
-                       and "exitEvery" not in vars(listener)
-                       and getattr(type(listener), "enterEvery") is base.enterEvery
-                       and getattr(type(listener), "exitEvery") is base.exitEvery)
+        # TreeListener's own enterEvery/exitEvery only keep the context: done inline below
+        plain_every = all(name not in vars(listener) and getattr(type(listener), name, None) is getattr(base, name)
+                          for name in ("enterEvery", "exitEvery"))
         context = listener.context if plain_every else None
         table: dict[type, tuple] = {}
 
         def entry(cls: type) -> tuple:
             name = cls.__name__
             found = table[cls] = (method(listener, "enter" + name), method(listener, "exit" + name),
-                                  skip_cache.get((cls, generator)) or skipped(cls, generator))
+                                  skipped(cls, generator))
             return found
 
         def visit(node) -> None:
