@@ -1,5 +1,6 @@
 """The cache of the compiled runtime (``$XDG_CACHE_HOME/cosim/runtime/<key>/<stem>.o.entry``, one
-entry per runtime source: the core ``cosim_runtime.c`` and the API ``fmi2_api.c`` of an FMI 2 FMU):
+entry per runtime source: the core ``cosim_runtime.c``, the tape interpreter ``cosim_tape.c`` and
+the API ``fmi2_api.c`` of an FMI 2 FMU):
 reused by the next build, rebuilt when the compiler changes, a corrupt entry ignored (and
 replaced), concurrent builds safe; an FMU built from the cached objects is the same, byte for
 byte, as one built without the cache."""
@@ -19,7 +20,7 @@ from cosim.compiler.build import build, build_model, runtime_cache
 from cosim.compiler.library import load_library
 
 SMALL = ("Bicycle.Control.PD", "Bicycle.Control.Proportional")
-FMI2_RUNTIME = ("cosim_runtime.c", "fmi2_api.c")  # the runtime sources of an FMI 2 FMU
+FMI2_RUNTIME = ("cosim_runtime.c", "cosim_tape.c", "fmi2_api.c")  # the runtime sources of an FMI 2 FMU
 
 
 @pytest.fixture(scope="module")
@@ -73,7 +74,7 @@ def test_runtime_compiled_once_and_reused(library, tmp_path, compiles):
     build_model(SMALL[0], tmp_path, library)
     assert _runtime(compiles) == list(FMI2_RUNTIME)
     entries = _entries()
-    assert sorted(e.name for e in entries) == ["cosim_runtime.o.entry", "fmi2_api.o.entry"]
+    assert sorted(e.name for e in entries) == ["cosim_runtime.o.entry", "cosim_tape.o.entry", "fmi2_api.o.entry"]
     assert all(map(_valid, entries))
     before = [e.stat().st_mtime_ns for e in entries]
     compiles.clear()
@@ -114,7 +115,7 @@ def test_new_compiler_gets_its_own_object(library, tmp_path, compiles, monkeypat
     build_model(SMALL[0], tmp_path / "out", library, force=True)
     assert _runtime(compiles) == list(FMI2_RUNTIME)
     entries = _entries()
-    assert len(entries) == 4 and set(first) < set(entries) and all(_valid(e) for e in entries)
+    assert len(entries) == 2 * len(FMI2_RUNTIME) and set(first) < set(entries) and all(_valid(e) for e in entries)
 
 
 @pytest.mark.parametrize("damage", ["truncated", "flipped-byte", "empty", "foreign"])
@@ -156,18 +157,18 @@ def test_concurrent_builds_share_one_complete_entry(tmp_path):
 
 
 def test_fmi3_runtime_objects_cached_beside_fmi2(library, tmp_path, compiles):
-    """An FMI 3 FMU has the core and the FMI 3 API: both compiled by the first FMI 3 build (the
-    core's object depends on the FMI headers beside it, so FMI 2's is not taken), then reused; the
-    FMI 2 entries stay as they were."""
+    """An FMI 3 FMU has the core, the tape interpreter and the FMI 3 API: all compiled by the
+    first FMI 3 build (an object's key has the FMI headers beside it, so FMI 2's are not taken),
+    then reused; the FMI 2 entries stay as they were."""
     build_model(SMALL[0], tmp_path, library)
     fmi2_entries = {e: e.stat().st_mtime_ns for e in _entries()}
     compiles.clear()
     build_model(SMALL[0], tmp_path, library, fmi_version="3")
-    assert _runtime(compiles) == ["cosim_runtime.c", "fmi3_api.c"]
+    assert _runtime(compiles) == ["cosim_runtime.c", "cosim_tape.c", "fmi3_api.c"]
     compiles.clear()
     build_model(SMALL[1], tmp_path, library, fmi_version="3")
     assert not _runtime(compiles) and compiles == [fmu_module.UNITY_FILE]
     entries = _entries()
-    assert len(entries) == 4 and sorted(e.name for e in entries if e not in fmi2_entries) == [
-        "cosim_runtime.o.entry", "fmi3_api.o.entry"]
+    assert len(entries) == 6 and sorted(e.name for e in entries if e not in fmi2_entries) == [
+        "cosim_runtime.o.entry", "cosim_tape.o.entry", "fmi3_api.o.entry"]
     assert all(e.stat().st_mtime_ns == stamp for e, stamp in fmi2_entries.items())

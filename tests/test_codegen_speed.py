@@ -4,8 +4,8 @@
   parameter change by the runtime) give derivatives and outputs equal, bit for bit, to the model's
   own expressions;
 * the compiler commands: a small model as one translation unit (``fmu.UNITY_FILE``), a large one file
-  by file with the code no integration step runs (directional derivatives, local variables) at -O0
-  and the model's ``eval`` optimized.
+  by file, either way with the code no integration step runs (directional derivatives)
+  unoptimized and the model's ``eval`` optimized; the local variables are no code but a tape.
 """
 from __future__ import annotations
 
@@ -51,15 +51,24 @@ def test_hoisted_evaluation_equals_the_model_bit_for_bit(library, name, hoisted)
         assert np.array_equal(evaluate(0.3, x, u, p, hoist(p))[0].full(), expected)
 
 
-def _commands(library, tmp_path, monkeypatch, name) -> list[list[str]]:
-    """The gcc commands `cosim build` would run for ``name`` (recorded, not run)."""
+def _commands(library, tmp_path, monkeypatch, name, units: list[str] | None = None) -> list[list[str]]:
+    """The gcc commands `cosim build` would run for ``name`` (recorded, not run); the text of the
+    one translation unit of a small model is appended to ``units``."""
     flat, model = _explicit(library, name)
     info = describe(library.entry(name), flat, model)
     info.guid = "{00000000-0000-0000-0000-000000000000}"
     sources = tmp_path / "sources"
     write_sources(info, model, sources)
     seen: list[list[str]] = []
-    monkeypatch.setattr(fmu_module, "_run_compiler", lambda commands, *args: seen.extend(commands))
+
+    def record(commands, *args):
+        seen.extend(commands)
+        unity = sources / fmu_module.UNITY_FILE
+        if unity.exists() and any("-c" in c for c in commands):  # the compilation, not the link
+            units.append(unity.read_text())
+
+    units = [] if units is None else units
+    monkeypatch.setattr(fmu_module, "_run_compiler", record)
     fmu_module.compile_binary(sources, info.identifier, tmp_path / "x.so", generated=(),
                               unoptimized=tuple(unoptimized_sources(info)), objects=tmp_path / "objects")
     assert not (sources / fmu_module.UNITY_FILE).exists(), "the translation unit is removed after the build"
@@ -72,7 +81,7 @@ def _compiled(commands) -> dict[str, list[str]]:
 
 def test_small_model_is_one_translation_unit(library, tmp_path, monkeypatch):
     compiled = _compiled(_commands(library, tmp_path, monkeypatch, "Bicycle.Control.PD"))
-    runtime = {"cosim_runtime.c", "fmi2_api.c"}  # the core and the FMI 2 API
+    runtime = {"cosim_runtime.c", "fmi2_api.c", "cosim_tape.c"}  # the core, the FMI 2 API, the tape interpreter
     assert runtime <= set(fmu_module.RUNTIME_SOURCES)
     assert set(compiled) == {fmu_module.UNITY_FILE, *runtime}
     assert fmu_module.UNITY_OPTIMIZATION in compiled[fmu_module.UNITY_FILE]
@@ -80,12 +89,30 @@ def test_small_model_is_one_translation_unit(library, tmp_path, monkeypatch):
         assert fmu_module.RUNTIME_OPTIMIZATION in compiled[source]
 
 
+def test_small_model_compiles_what_integration_never_runs_without_optimization(library, tmp_path, monkeypatch):
+    # an assembly small enough for one translation unit still has directional derivatives
+    name = "Bicycle.Bicycles.SelfStabilizingGyro"
+    units: list[str] = []
+    compiled = _compiled(_commands(library, tmp_path, monkeypatch, name, units))
+    assert fmu_module.UNITY_FILE in compiled and len(units) == 1
+    lines = units[0].splitlines()
+    pragma = lines.index(fmu_module.UNOPTIMIZED_PRAGMA)
+    included = [line.split('"')[1] for line in lines if line.startswith("#include")]
+    _, model = _explicit(library, name)
+    unoptimized = unoptimized_sources(model)
+    assert "model_jvp.c" in unoptimized
+    assert sorted(included) == sorted(["model.c", "model_functions.c", *unoptimized]), "every model file once"
+    after = [line.split('"')[1] for line in lines[pragma + 1:]]
+    assert sorted(after) == sorted(unoptimized), "only the code no integration step runs follows the pragma"
+
+
 def test_large_model_optimizes_only_what_integration_runs(library, tmp_path, monkeypatch):
     compiled = _compiled(_commands(library, tmp_path, monkeypatch, "Bicycle.Bicycles.Whipple"))
     assert fmu_module.UNITY_FILE not in compiled
-    assert "model_jvp.c" in compiled and any(f.startswith("model_locals") for f in compiled)
+    assert "model_jvp.c" in compiled
+    assert not any(f.startswith("model_locals") for f in compiled), "the local variables are a tape in model.c"
     for file, command in compiled.items():
-        if file == "model_jvp.c" or file.startswith("model_locals"):
+        if file == "model_jvp.c":
             assert "-O0" in command, file
         elif file == "model_functions.c":  # eval: every integration step
             assert "-O0" not in command and "-O1" in command, command

@@ -1,6 +1,7 @@
 """Model-specific C: CasADi generates the functions, a small template wraps them into the
 ``cosim_model`` tables (``runtime/cosim_model.h``) that the shared runtime expects: its core
-``runtime/cosim_runtime.c`` with the API of one FMI version, ``fmi2_api.c`` or ``fmi3_api.c``."""
+``runtime/cosim_runtime.c`` with the API of one FMI version, ``fmi2_api.c`` or ``fmi3_api.c``, and
+the interpreter of the tape of the local variables, ``cosim_tape.c`` (:mod:`cosim.compiler.tape`)."""
 from __future__ import annotations
 
 import shutil
@@ -10,12 +11,15 @@ import casadi as ca
 
 from cosim.compiler.description import ModelInfo
 from cosim.compiler.ode import ExplicitModel
+from cosim.compiler.tape import tape_tables
 
 RUNTIME_DIR = Path(__file__).resolve().parents[1] / "runtime"
-RUNTIME_SOURCES = ("cosim_runtime.c", "fmi2_api.c", "cosim_runtime.h", "cosim_model.h")
+RUNTIME_SOURCES = ("cosim_runtime.c", "fmi2_api.c", "cosim_tape.c", "cosim_runtime.h", "cosim_model.h",
+                   "cosim_tape.h")
 FMI_HEADERS = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
 # FMI 3.0 FMUs: the version-independent core of the runtime and its FMI 3 API, FMI 3's headers.
-FMI3_RUNTIME_SOURCES = ("cosim_runtime.c", "fmi3_api.c", "cosim_runtime.h", "cosim_model.h")
+FMI3_RUNTIME_SOURCES = ("cosim_runtime.c", "fmi3_api.c", "cosim_tape.c", "cosim_runtime.h", "cosim_model.h",
+                        "cosim_tape.h")
 FMI3_HEADERS = ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")
 # Above this many doubles the CasADi work array goes to the heap, not the stack (thread stacks are small).
 STACK_WORK_LIMIT = 16384
@@ -27,8 +31,6 @@ STACK_WORK_LIMIT = 16384
 NEWTON_ABSTOL = 1e-14
 NEWTON_MAX_ITER = 50
 INIT_TOLERANCE = 1e-10
-# Algebraic variables per function (and C file) of eval_locals, see local_chunks.
-LOCALS_PER_FILE = 1000
 # The FMI versions an FMU can be built for ("2": FMI 2.0, "3": FMI 3.0).
 FMI_VERSIONS = ("2", "3")
 
@@ -42,8 +44,8 @@ def fmi_header_dir() -> Path:
 
 def casadi_functions(model: ExplicitModel) -> list[ca.Function]:
     """The functions of the runtime contract, as CasADi functions: ``cosim_calc``, ``cosim_start``,
-    ``cosim_eval``, ``cosim_jvp``, ``cosim_hoist``, ``cosim_vjp`` and the chunks ``cosim_locals<k>``
-    of ``eval_locals`` (none if every algebraic variable is an output).
+    ``cosim_eval``, ``cosim_jvp``, ``cosim_hoist``, ``cosim_vjp`` and ``cosim_locals``, all of z
+    for ``eval_locals`` (absent if every algebraic variable is an output).
 
     ``cosim_jvp`` (forward mode, directional derivatives) and ``cosim_vjp`` (reverse mode, adjoint
     derivatives of FMI 3) differentiate the same outputs, der(x) and the output variables, with
@@ -62,7 +64,7 @@ def casadi_functions(model: ExplicitModel) -> list[ca.Function]:
     # defines them for the ModelStructure unknowns). Compiled with the rest, they took two thirds of
     # the build and of every model evaluation.
     outputs = derivative_outputs(model)
-    z_eval = ca.vertcat(*[model.z[k] for k in outputs]) if local_chunks(model) else model.z
+    z_eval = ca.vertcat(*[model.z[k] for k in outputs]) if has_locals(model) else model.z
     differentiated = ca.vertcat(model.xdot, *[model.z[k] for k in outputs])
     # Integer and Boolean parameters are not differentiated (d/dn of (-1)^n is NaN, and NaN*0 is NaN).
     real = [k for k, s in enumerate(model.parameters) if s.python_type is float]
@@ -106,8 +108,8 @@ def casadi_functions(model: ExplicitModel) -> list[ca.Function]:
                     ["t", "x", "u", "p", "dx", "du", "dp"], ["dxdot", "dz"]),
         ca.Function("cosim_hoist", [p], [q_value], ["p"], ["q"]),
         adjoint_function,
-        *(ca.Function(f"cosim_locals{k}", [t, x, u, p], [model.z[first:stop]], ["t", "x", "u", "p"], ["z"])
-          for k, (first, stop) in enumerate(local_chunks(model))),
+        *([ca.Function("cosim_locals", [t, x, u, p], [model.z], ["t", "x", "u", "p"], ["z"])]
+          if has_locals(model) else []),
     ]
 
 
@@ -117,16 +119,11 @@ def derivative_outputs(model: ExplicitModel) -> list[int]:
     return [k for k, s in enumerate(model.algebraics) if s.output]
 
 
-def local_chunks(model: ExplicitModel | ModelInfo) -> list[tuple[int, int]]:
-    """Ranges ``[first, stop)`` of ``z`` that the functions of ``eval_locals`` compute, one C file
-    each (gcc's time grows faster than the size of a function: 4000 variables in one took 2.4 s,
-    in four 1.1 s, and the files compile in parallel); none if every algebraic variable is an
-    output (then ``eval`` computes all of ``z``)."""
-    if isinstance(model, ModelInfo):
-        nz, any_local = model.sizes["nz"], any(v.causality != "output" for v in model.by_role("algebraic"))
-    else:
-        nz, any_local = model.z.numel(), not all(s.output for s in model.algebraics)
-    return [(k, min(k + LOCALS_PER_FILE, nz)) for k in range(0, nz, LOCALS_PER_FILE)] if any_local else []
+def has_locals(model: ExplicitModel) -> bool:
+    """Whether the model has local algebraic variables, which ``eval_locals`` computes (with all
+    of z) from a tape that the runtime interprets (:mod:`cosim.compiler.tape`); without them
+    ``eval`` computes all of z."""
+    return not all(s.output for s in model.algebraics)
 
 
 def runtime_files(fmi_version: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
@@ -149,25 +146,24 @@ def generated_sources(model: ExplicitModel | ModelInfo, fmi_version: str = "2") 
     """The C files CasADi writes: the small functions with ``eval``; the Jacobian-vector product,
     the largest function, and (FMI 3 only) the vector-Jacobian product, each in a file of its own
     so that gcc compiles them in parallel with the rest (the build time of a large model is mostly
-    gcc's); the chunks of ``eval_locals``."""
+    gcc's). (``eval_locals`` is no C code but a tape in ``model.c``.)"""
     return ["model_functions.c", *unoptimized_sources(model, fmi_version)]
 
 
 def unoptimized_sources(model: ExplicitModel | ModelInfo, fmi_version: str = "2") -> list[str]:
     """The C files that no integration step runs, compiled without optimization: the
-    Jacobian-vector product (directional derivatives, called per linearization), the
-    vector-Jacobian product (adjoint derivatives, ``fmi3GetAdjointDerivative``) and the chunks of
-    ``eval_locals`` (called when an importer reads a local variable). They are most of gcc's time
-    for the nonlinear bicycles (-O1: 2.0 s of 2.9 s of CPU for the one with a rider); at -O0 the
-    1001-speed linearization sweep of the Whipple bicycle takes 0.09 s instead of 0.06 s, and
-    its results do not change by a bit.
+    Jacobian-vector product (directional derivatives, called per linearization) and the
+    vector-Jacobian product (adjoint derivatives, ``fmi3GetAdjointDerivative``). With the local
+    variables they were most of gcc's time for the nonlinear bicycles (-O1: 2.0 s of 2.9 s of CPU
+    for the one with a rider); at -O0 the 1001-speed linearization sweep of the Whipple bicycle
+    takes 0.09 s instead of 0.06 s, and its results do not change by a bit.
 
     FMI 2 has no adjoint derivatives: its FMUs have no vector-Jacobian product (``vjp = NULL``),
     which would cost them about as much gcc time as the Jacobian-vector product for nothing
     (0.34 s of CPU at -O0 for the nonlinear bicycle with a rider; FMI 3 builds of every model take
     about 6 % more CPU than FMI 2 builds)."""
     adjoint = ["model_vjp.c"] if _check_version(fmi_version) == "3" else []
-    return ["model_jvp.c", *adjoint, *(f"model_locals{k}.c" for k in range(len(local_chunks(model))))]
+    return ["model_jvp.c", *adjoint]
 
 
 def _check_version(fmi_version: str) -> str:
@@ -259,7 +255,7 @@ def model_c(info: ModelInfo, functions: list[ca.Function], fmi_version: str = "2
     """The tables and wrappers of ``model.c`` of an FMU of ``fmi_version`` ("2" or "3": the same
     tables; only FMI 3 has the vector-Jacobian product)."""
     fmi3 = _check_version(fmi_version) == "3"  # adjoint derivatives and arrays
-    calc, start, evaluate, jvp, hoist, vjp, *chunks = functions
+    calc, start, evaluate, jvp, hoist, vjp, *local = functions
     types = [f"COSIM_{v.type.upper()}" for v in info.variables]
     starts = [_c_double(v.start) for v in info.variables]
     names = [_c_string(v.name) for v in info.variables]
@@ -277,7 +273,7 @@ def model_c(info: ModelInfo, functions: list[ca.Function], fmi_version: str = "2
     arrays = fmi3 and any(length != "1" for length in lengths)
     return (
         f"/* Generated by cosim for {info.name}. Do not edit: run `cosim build` instead. */\n"
-        "#include <math.h>\n#include <stdlib.h>\n#include \"cosim_model.h\"\n"
+        "#include <math.h>\n#include <stdlib.h>\n#include \"cosim_model.h\"\n#include \"cosim_tape.h\"\n"
         + "".join(f"#include \"{Path(name).with_suffix('.h')}\"\n"
                   for name in generated_sources(info, fmi_version)) + "\n"
         + _array("cosim_type", "types", types)
@@ -290,7 +286,7 @@ def model_c(info: ModelInfo, functions: list[ca.Function], fmi_version: str = "2
         + _wrapper(calc, "const double *p, double *c", ["p"], ["c"])
         + _start_wrapper(info, start)
         + _wrapper(hoist, "const double *p, double *q", ["p"], ["q"])
-        + _eval_wrappers(info, evaluate, hoist.numel_out(0), chunks)
+        + _eval_wrappers(info, evaluate, hoist.numel_out(0), local[0] if local else None)
         + _wrapper(jvp, "double t, const double *x, const double *u, const double *p, const double *dx, "
                         "const double *du, const double *dp, double *dxdot, double *dz",
                    ["&t", "x", "u", "p", "dx", "du", "dp"], ["dxdot", "dz"])
@@ -305,7 +301,7 @@ def model_c(info: ModelInfo, functions: list[ca.Function], fmi_version: str = "2
         "    names,\n"
         f"    {_c_string(info.init_unknowns) if info.init_unknowns else '0'},\n"
         f"    {'z_jvp_slot' if jvp_slots else '0'},\n"
-        f"    {'call_locals' if chunks else '0'},\n"
+        f"    {'call_locals' if local else '0'},\n"
         f"    {hoist.numel_out(0)}, call_hoist, eval_hoisted,\n"
         f"    {'call_vjp' if fmi3 else '0'},\n"
         f"    {'fmi3_length' if arrays else '0'}\n"
@@ -328,14 +324,15 @@ def _vjp_wrapper(info: ModelInfo, vjp: ca.Function) -> str:
             "}\n")
 
 
-def _eval_wrappers(info: ModelInfo, evaluate: ca.Function, nq: int, chunks: list[ca.Function]) -> str:
+def _eval_wrappers(info: ModelInfo, evaluate: ca.Function, nq: int, local: ca.Function | None) -> str:
     """``eval_hoisted``, ``call_eval`` and ``call_locals`` of the runtime contract. Without locals
-    ``cosim_eval`` computes all of z; with locals only the outputs, which ``eval_hoisted`` scatters
-    into z. ``call_eval`` computes the hoisted subexpressions q (``nq`` of them) first."""
+    (``local`` None) ``cosim_eval`` computes all of z; with locals only the outputs, which
+    ``eval_hoisted`` scatters into z, and ``call_locals`` runs the tape of ``local`` (all of z).
+    ``call_eval`` computes the hoisted subexpressions q (``nq`` of them) first."""
     signature = ("double t, const double *x, const double *u, const double *p, const double *q, double *xdot, "
                  "double *z")
     args = ["&t", "x", "u", "p", "q"]
-    if not chunks:
+    if local is None:
         text = _wrapper(evaluate, signature, args, ["xdot", "z"], "eval_hoisted")
     else:
         outputs = [str(k) for k, v in enumerate(info.by_role("algebraic")) if v.causality == "output"]
@@ -354,14 +351,13 @@ def _eval_wrappers(info: ModelInfo, evaluate: ca.Function, nq: int, chunks: list
              "    if (call_hoist(p, q) != 0) return 1;\n"
              "    return eval_hoisted(t, x, u, p, q, xdot, z);\n"
              "}\n")
-    if not chunks:
+    if local is None:
         return text
-    local_signature = "double t, const double *x, const double *u, const double *p, double *z"
-    calls = []
-    for k, (chunk, (first, _)) in enumerate(zip(chunks, local_chunks(info))):
-        text += _wrapper(chunk, local_signature, ["&t", "x", "u", "p"], ["z"], f"call_locals{k}")
-        calls.append(f"    if (call_locals{k}(t, x, u, p, z + {first}) != 0) return 1;\n")
-    return text + f"static int call_locals({local_signature}) {{\n" + "".join(calls) + "    return 0;\n}\n"
+    return (text + tape_tables(local, "locals_tape", info.name)
+            + "static int call_locals(double t, const double *x, const double *u, const double *p, double *z) {\n"
+            "    const double *arg[4] = {&t, x, u, p};\n"
+            "    return cosim_tape_run(&locals_tape, arg, z);\n"
+            "}\n")
 
 
 def _start_wrapper(info: ModelInfo, start: ca.Function) -> str:
@@ -404,6 +400,23 @@ def _start_wrapper(info: ModelInfo, start: ca.Function) -> str:
     )
 
 
+def shared_subexpressions(f: ca.Function) -> ca.Function:
+    """``f`` with each of its common subexpressions computed once (``ca.cse``), for an SX function
+    (an MX one is returned as it is).
+
+    CasADi's SX graphs repeat what the model's equations and the differentiation repeat: the sines
+    and cosines of the same angles in every connector of an assembly, the same products in the
+    directional derivatives. gcc cannot merge calls of ``sin`` or ``cos`` (they may set errno), nor
+    anything at -O0: the functions of the nonlinear bicycle with a rider have 18 % fewer operations
+    (42,900 instead of 52,300; the locals' tape included), 12 % less gcc time and fewer operations per
+    step. The same operations on the same
+    values in the same order: results do not change by a bit."""
+    if not f.is_a("SXFunction"):
+        return f
+    inputs = f.sx_in()
+    return ca.Function(f.name(), inputs, ca.cse(f.call(inputs)), f.name_in(), f.name_out())
+
+
 def write_sources(info: ModelInfo, model: ExplicitModel, folder: Path,
                   functions: list[ca.Function] | None = None, fmi_version: str = "2") -> list[str]:
     """Write every C source and header of the FMU of ``fmi_version`` ("2" or "3") into ``folder``;
@@ -411,8 +424,12 @@ def write_sources(info: ModelInfo, model: ExplicitModel, folder: Path,
     them already (building them again costs a second symbolic differentiation of the model)."""
     folder.mkdir(parents=True, exist_ok=True)
     functions = functions if functions is not None else casadi_functions(model)
-    calc, start, evaluate, jvp, hoist, vjp, *chunks = functions
-    groups = [[calc, start, evaluate, hoist], [jvp], *([[vjp]] if fmi_version == "3" else []), *([c] for c in chunks)]
+    calc, start, evaluate, jvp, hoist, vjp, *local = functions
+    calc, evaluate, jvp, hoist, *local = map(shared_subexpressions, (calc, evaluate, jvp, hoist, *local))
+    if fmi_version == "3":  # FMI 2 has no adjoint derivatives: its vjp is never written
+        vjp = shared_subexpressions(vjp)
+    functions = [calc, start, evaluate, jvp, hoist, vjp, *local]
+    groups = [[calc, start, evaluate, hoist], [jvp], *([[vjp]] if fmi_version == "3" else [])]
     for file, group in zip(generated_sources(model, fmi_version), groups, strict=True):
         generator = ca.CodeGenerator(file, {"with_header": True, "casadi_real": "double"})
         for f in group:

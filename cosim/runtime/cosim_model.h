@@ -64,7 +64,8 @@ typedef struct {
        dz is all of z. */
     const int *z_jvp_slot;
     /* All of z (the local algebraic variables included), computed only when an importer reads a
-       local: the integrators need der(x) and the outputs.  NULL: eval computes all of z. */
+       local: the integrators need der(x) and the outputs.  NULL: eval computes all of z.  (`cosim build`
+       makes it run a tape, see cosim_tape.h: no code for gcc to compile.) */
     int (*eval_locals)(double t, const double *x, const double *u, const double *p, double *z);
     /* Optional (nq = 0: absent): the subexpressions of der(x) and z that depend on the parameters only,
        q = calc_hoisted(p), computed once when the parameters change instead of in every evaluation
