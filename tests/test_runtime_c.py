@@ -36,9 +36,10 @@ def test_runtime_harness():
                             timeout=600)
     assert result.returncode == 0, result.stdout[-4000:] + result.stderr[-4000:]
     assert "all runtime tests passed" in result.stdout
-    # both harnesses ran, each twice (-O2, sanitizers), without a failed check
+    # both harnesses and the tape interpreter's ran, each twice (-O2, sanitizers), without a failed check
     assert result.stdout.count("FMI 2.0 runtime tests") == 1 and result.stdout.count("FMI 3.0 runtime tests") == 1
-    assert result.stdout.count(" checks, 0 failed") == 4 and "FAILED" not in result.stdout
+    assert result.stdout.count("tape: 17 checks, 0 failed") == 2
+    assert result.stdout.count(" checks, 0 failed") == 6 and "FAILED" not in result.stdout
     assert "FMI 3 and FMI 2 bit-identical: NO" not in result.stdout
     # the step size factor decided without the fifth root where it is clamped: the same bits
     assert "step_factor: 1200018 checks, 0 differ from the full formula" in result.stdout

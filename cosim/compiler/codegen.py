@@ -108,7 +108,7 @@ def casadi_functions(model: ExplicitModel) -> list[ca.Function]:
                     ["t", "x", "u", "p", "dx", "du", "dp"], ["dxdot", "dz"]),
         ca.Function("cosim_hoist", [p], [q_value], ["p"], ["q"]),
         adjoint_function,
-        *([ca.Function("cosim_locals", [t, x, u, p], [model.z], ["t", "x", "u", "p"], ["z"])]
+        *([ca.Function("cosim_locals", [t, x, u, p], [ca.densify(model.z)], ["t", "x", "u", "p"], ["z"])]
           if has_locals(model) else []),
     ]
 

@@ -63,9 +63,9 @@ def compile_binary(sources: Path, identifier: str, target: Path, cc: str | None 
     ``objects`` (default: a temporary folder). gcc runs in ``sources`` on relative file names, so
     that no temporary path ends up in the binary (the same sources give the same bytes).
 
-    The runtime (:data:`RUNTIME_SOURCES` that ``sources`` has: the core ``cosim_runtime.c`` and
-    the API of the FMU's FMI version, the same for every FMU, 70 % of the gcc time of a small
-    model) is taken from the object cache ``cache`` (a folder, see :func:`load_runtime_object`),
+    The runtime (:data:`RUNTIME_SOURCES` that ``sources`` has: the core ``cosim_runtime.c``, the
+    API of the FMU's FMI version and the tape interpreter ``cosim_tape.c``, the same for every
+    FMU, 70 % of the gcc time of a small model) is taken from the object cache ``cache`` (a folder, see :func:`load_runtime_object`),
     one object per runtime source, when one is given, and stored there when compiled; the FMU ships
     its sources all the same.
     """
@@ -111,7 +111,7 @@ def compile_binary(sources: Path, identifier: str, target: Path, cc: str | None 
 
 
 # In the one translation unit of a small model, the functions of the files no integration step
-# runs (``unoptimized``: directional derivatives, local variables) come after this pragma and are
+# runs (``unoptimized``: the directional derivatives) come after this pragma and are
 # compiled without optimization, as they are in a large model: a third less gcc time for a
 # component-assembled bicycle (0.15 s instead of 0.23 s), the same results (see HUGE_FILE). A
 # compiler that does not know the pragma (clang) ignores it (-w) and optimizes them all.

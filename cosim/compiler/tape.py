@@ -14,23 +14,30 @@ import casadi as ca
 
 from cosim.errors import BuildError
 
-# CasADi operation -> the operation of cosim_tape.h (its name without TAPE_)
-_OPERATIONS = ("INPUT", "OUTPUT", "CONST", "ASSIGN", "ADD", "SUB", "MUL", "DIV", "NEG", "TWICE", "SQ", "INV",
-               "EXP", "LOG", "POW", "CONSTPOW", "SQRT", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "ATAN2",
-               "SINH", "COSH", "TANH", "ASINH", "ACOSH", "ATANH", "LT", "LE", "EQ", "NE", "NOT", "AND", "OR",
-               "IF_ELSE_ZERO", "FLOOR", "CEIL", "FMOD", "REMAINDER", "FABS", "SIGN", "COPYSIGN", "FMIN", "FMAX",
-               "ERF", "LOG1P", "EXPM1", "HYPOT")
-OPERATIONS = {getattr(ca, f"OP_{name}"): f"TAPE_{name}" for name in _OPERATIONS}
+# The operations of cosim_tape.h (their names without TAPE_) with their number of operands.
+_ARITY = {"ASSIGN": 1, "ADD": 2, "SUB": 2, "MUL": 2, "DIV": 2, "NEG": 1, "TWICE": 1, "SQ": 1, "INV": 1,
+          "EXP": 1, "LOG": 1, "POW": 2, "CONSTPOW": 2, "SQRT": 1, "SIN": 1, "COS": 1, "TAN": 1, "ASIN": 1,
+          "ACOS": 1, "ATAN": 1, "ATAN2": 2, "SINH": 1, "COSH": 1, "TANH": 1, "ASINH": 1, "ACOSH": 1,
+          "ATANH": 1, "LT": 2, "LE": 2, "EQ": 2, "NE": 2, "NOT": 1, "AND": 2, "OR": 2, "IF_ELSE_ZERO": 2,
+          "FLOOR": 1, "CEIL": 1, "FMOD": 2, "REMAINDER": 2, "FABS": 1, "SIGN": 1, "COPYSIGN": 2, "FMIN": 2,
+          "FMAX": 2, "ERF": 1, "LOG1P": 1, "EXPM1": 1, "HYPOT": 2}
+#: CasADi operation -> (the operation of cosim_tape.h, its number of operands); INPUT, OUTPUT and
+#: CONST, which read no work entries, are written apart.
+OPERATIONS = {getattr(ca, f"OP_{name}"): (f"TAPE_{name}", arity) for name, arity in _ARITY.items()}
 _NAMES = {code: name for name, code in vars(ca).items() if name.startswith("OP_") and isinstance(code, int)}
+# A constant the tables cannot hold as a decimal number (old MSVC has no constant NAN or INFINITY
+# for a static initializer): an instruction CONST with this b, its value made by the interpreter.
+_SPECIAL = {"inf": 1, "-inf": 2, "nan": 3}
 
 
-def _constant(value: float) -> str:
-    """A double as C source that reads back as the same bits."""
+def _constant(value: float) -> tuple[str, int]:
+    """A double as (C source that reads back as the same bits, 0), or ("0", the code of
+    :data:`_SPECIAL`) for an infinity or NaN."""
     if math.isnan(value):
-        return "NAN"
+        return "0", _SPECIAL["nan"]
     if math.isinf(value):
-        return "INFINITY" if value > 0 else "-INFINITY"
-    return repr(float(value))  # the shortest decimal that reads back as the same double
+        return "0", _SPECIAL["inf" if value > 0 else "-inf"]
+    return repr(float(value)), 0  # the shortest decimal that reads back as the same double
 
 
 def tape_tables(f: ca.Function, name: str, model_name: str = "the model") -> str:
@@ -43,8 +50,8 @@ def tape_tables(f: ca.Function, name: str, model_name: str = "the model") -> str
         If ``f`` uses an operation no tape has (CasADi's ``erfinv``, calls of other functions),
         naming it.
     """
-    if not f.is_a("SXFunction") or f.n_out() != 1:
-        raise ValueError(f"a tape needs an SX function with one output, got {f.class_name()} {f.name()}")
+    if not f.is_a("SXFunction") or f.n_out() != 1 or not f.sparsity_out(0).is_dense():
+        raise ValueError(f"a tape needs an SX function with one dense output, got {f.class_name()} {f.name()}")
     rows, constants = [], []
     for k in range(f.n_instructions()):
         op = f.instruction_id(k)
@@ -54,16 +61,19 @@ def tape_tables(f: ca.Function, name: str, model_name: str = "the model") -> str
         elif op == ca.OP_OUTPUT:
             rows.append(f"{{TAPE_OUTPUT,{inputs[0]},{outputs[0]},{outputs[1]}}}")
         elif op == ca.OP_CONST:
-            rows.append(f"{{TAPE_CONST,{outputs[0]},{len(constants)},0}}")
-            constants.append(_constant(f.instruction_constant(k)))
-        elif op in OPERATIONS:
-            a, b = (inputs + [0, 0])[:2]
-            rows.append(f"{{{OPERATIONS[op]},{outputs[0]},{a},{b}}}")
+            text, special = _constant(f.instruction_constant(k))
+            rows.append(f"{{TAPE_CONST,{outputs[0]},{len(constants)},{special}}}")
+            constants.append(text)
+        elif op in OPERATIONS and len(inputs) == OPERATIONS[op][1] and len(outputs) == 1:
+            operation, arity = OPERATIONS[op]
+            rows.append(f"{{{operation},{outputs[0]},{inputs[0]},{inputs[1] if arity == 2 else 0}}}")
         else:
             raise BuildError(f"{model_name}: its local variables use the operation "
                              f"{_NAMES.get(op, op)}, which `cosim build` cannot compute yet")
-    lines = [f"static const cosim_tape_instruction {name}_code[{max(1, len(rows))}] = {{",
+    rows = rows or ["{TAPE_ASSIGN,0,0,0}"]  # (an empty initializer is not C99; never run: n = 0)
+    lines = [f"static const cosim_tape_instruction {name}_code[{len(rows)}] = {{",
              *(",".join(rows[i:i + 8]) + "," for i in range(0, len(rows), 8)), "};",
              f"static const double {name}_constants[{max(1, len(constants))}] = {{{', '.join(constants) or '0'}}};",
-             f"static const cosim_tape {name} = {{{len(rows)}, {name}_code, {name}_constants, {max(1, f.sz_w())}}};"]
+             f"static const cosim_tape {name} = {{{f.n_instructions()}, {name}_code, {name}_constants, "
+             f"{max(1, f.sz_w())}}};"]
     return "\n".join(lines) + "\n"

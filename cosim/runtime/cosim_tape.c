@@ -2,7 +2,9 @@
  * cosim_tape.c -- the interpreter of the tapes of cosim_tape.h.  Each case is what CasADi 3.7's
  * code generator writes for the operation under C99 (casadi/core/calculus.h and its runtime
  * helpers casadi_sq, casadi_sign, casadi_fmin, ...), so that the results are the same bits
- * (tests/test_tape.py compares them with CasADi's C on ordinary and special values).
+ * (tests/test_tape.py compares them with CasADi's C on ordinary and special values).  Like
+ * CasADi's C, it rounds every operation to double: the same bits on SSE2 (x86-64, AArch64), not on
+ * x87, where compiled code may keep intermediates in wider registers.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -29,7 +31,9 @@ static int run(const cosim_tape *tape, const double *const *arg, double *res, do
         switch ((cosim_tape_op)in->op) {
         case TAPE_INPUT: *r = arg[in->a] ? arg[in->a][in->b] : 0; break;
         case TAPE_OUTPUT: if (res) res[in->b] = w[in->o]; break;
-        case TAPE_CONST: *r = tape->constants[in->a]; break;
+        case TAPE_CONST:
+            *r = in->b == 0 ? tape->constants[in->a] : in->b == 1 ? INFINITY : in->b == 2 ? -INFINITY : NAN;
+            break;
         case TAPE_ASSIGN: *r = X; break;
         case TAPE_ADD: *r = X + Y; break;
         case TAPE_SUB: *r = X - Y; break;
@@ -77,6 +81,7 @@ static int run(const cosim_tape *tape, const double *const *arg, double *res, do
         case TAPE_LOG1P: *r = log1p(X); break;
         case TAPE_EXPM1: *r = expm1(X); break;
         case TAPE_HYPOT: *r = hypot(X, Y); break;
+        default: return 1; /* not a tape of this runtime */
         }
     }
 #undef X

@@ -9,13 +9,12 @@
  *
  * Every instruction computes exactly what CasADi's generated C computes for it (the same IEEE
  * operations and C library functions on the same values): a tape gives the same bits as the
- * function compiled by gcc.  (One thing C leaves open: which zero fmin and fmax return for +0 and
- * -0; gcc passes their operands in either order, so compiled code does not fix it either.)
+ * function compiled by gcc (double arithmetic on SSE2).  One thing C leaves open: which zero fmin
+ * and fmax return for +0 and -0; gcc passes their operands in either order, so compiled code does
+ * not fix it either.
  */
 #ifndef COSIM_TAPE_H
 #define COSIM_TAPE_H
-
-#include <math.h> /* INFINITY and NAN among the constants of a tape */
 
 /* The operations (names as in CasADi's casadi::Operation without the OP_ prefix). */
 typedef enum {
@@ -30,7 +29,8 @@ typedef enum {
 } cosim_tape_op;
 
 /* One instruction: w[o] = op(w[a], w[b]); INPUT: w[o] = arg[a][b] (0 if arg[a] is NULL);
-   OUTPUT: res[b] = w[o]; CONST: w[o] = constants[a]. */
+   OUTPUT: res[b] = w[o] (nothing if res is NULL); CONST: w[o] = constants[a] if b is 0, else
+   +infinity (b = 1), -infinity (2) or NaN (3), which not every C compiler takes in a static table. */
 typedef struct {
     unsigned char op;  /* a cosim_tape_op */
     int o, a, b;
@@ -44,7 +44,7 @@ typedef struct {
 } cosim_tape;
 
 /* Run the tape on the inputs arg (NULL entries read as zeros) into res; 0 on success, 1 if the work
-   array could not be allocated. */
+   array could not be allocated or an instruction is unknown. */
 int cosim_tape_run(const cosim_tape *tape, const double *const *arg, double *res);
 
 #endif

@@ -1,7 +1,8 @@
 """`cosim build --wasm`: an FMI 2.0 FMU -> a WebAssembly module for the browser.
 
 The module is compiled from the FMU's own C sources (those its modelDescription.xml lists for
-Co-Simulation: the generated model code, cosim_runtime.c and fmi2_api.c) and ``wasm_api.c``, a
+Co-Simulation: the generated model code, cosim_runtime.c, fmi2_api.c and the tape interpreter
+cosim_tape.c) and ``wasm_api.c``, a
 small API for JavaScript on top of the FMI 2 functions, by the C compiler of the ``ziglang``
 wheel (Zig's clang with wasi-libc) for ``wasm32-wasi`` as a reactor (a library with no ``main``:
 ``_initialize``, then any export). It imports nothing: the page needs no WASI implementation.

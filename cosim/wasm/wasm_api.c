@@ -1,7 +1,7 @@
 /*
  * wasm_api.c -- a JavaScript-friendly API on the FMI 2.0 Co-Simulation API of an FMU built by
  * `cosim build`, for the WebAssembly module that `cosim build --wasm` compiles from the FMU's own
- * C sources (generated model code + cosim_runtime.c + fmi2_api.c) with this file.
+ * C sources (generated model code + cosim_runtime.c + fmi2_api.c + cosim_tape.c) with this file.
  *
  * JavaScript cannot pass C callbacks or arrays by value, so
  *   - the FMI 2 callbacks are C functions here: memory comes from wasi-libc's calloc/free and the

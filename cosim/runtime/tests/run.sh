@@ -7,9 +7,11 @@
 #      FMU-state and initial-equation tests
 #   2. the FMI 3 harness (harness3.c, both APIs linked, to compare FMI 3 with FMI 2), the same way,
 #      with two other FMI 3 FMUs
-#   3. step_factor.c: the integrator's step size factor against its full formula, bit for bit
-#   4. the runtime of each FMI version as a shared library exactly as `cosim build` compiles it;
-#      checks the exports (every function of fmi2Functions.h / fmi3Functions.h, nothing else)
+#   3. step_factor.c: the integrator's step size factor against its full formula, bit for bit;
+#      tape_harness.c: the tape interpreter cosim_tape.c (-O2, then with ASan/UBSan)
+#   4. the runtime of each FMI version as a shared library exactly as `cosim build` compiles it
+#      (with the tape interpreter); checks the exports (every function of fmi2Functions.h /
+#      fmi3Functions.h, nothing else)
 #   5. if cmake is available: fmpy's CMake project for each version (plain cc, all warnings, no -lm)
 set -eu
 
@@ -60,6 +62,13 @@ echo "== the integrator's step size factor (-O2)"
 $CC $warn -O2 -I"$fmi" -I"$runtime" "$here/step_factor.c" "$here/test_model_small.c" -o "$out/step_factor" -lm
 "$out/step_factor"
 
+echo "== the tape interpreter (-O2, then -O0 with address and undefined behaviour sanitizers)"
+$CC $warn -O2 -I"$runtime" "$here/tape_harness.c" "$runtime/cosim_tape.c" -o "$out/tape" -lm
+"$out/tape"
+$CC $warn -O0 -g $san -I"$runtime" "$here/tape_harness.c" "$runtime/cosim_tape.c" -o "$out/tape_san" -lm
+"$out/tape_san" > "$out/tape_san.log" 2>&1 || { cat "$out/tape_san.log"; exit 1; }
+tail -n 1 "$out/tape_san.log"
+
 echo "== harness (-O0, address and undefined behaviour sanitizers)"
 others "-O0 -g $san" "_san"
 $CC $warn -O0 -g $san -I"$fmi" -I"$runtime" "$here/harness.c" "$here/test_model.c" $fmi2_rt \
@@ -92,8 +101,8 @@ exports() {
     echo "exports: $(echo "$exports" | wc -l) fmi$1 functions, nothing else"
 }
 echo "== shared library as built by cosim build"
-exports 2 "$fmi2_rt"
-exports 3 "$fmi3_rt"
+exports 2 "$fmi2_rt $runtime/cosim_tape.c"
+exports 3 "$fmi3_rt $runtime/cosim_tape.c"
 
 # fmpy's CMake project for FMI version $1 with the runtime files $2 (;-separated); $3: the libc
 # functions the runtime may need.
