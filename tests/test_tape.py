@@ -39,11 +39,10 @@ def _all_operations():
     return g, [len(exprs) - 2, len(exprs) - 1]
 
 
-def _compile(tmp_path, name: str, source: str, extra=()) -> ctypes.CDLL:
-    c_file = tmp_path / f"{name}.c"
-    c_file.write_text(source)
+def _compile(tmp_path, name: str, sources: list) -> ctypes.CDLL:
+    """The C files ``sources`` as the shared library ``name``, without optimization (as eval_locals was)."""
     lib = tmp_path / f"{name}.so"
-    subprocess.run(["gcc", "-std=c99", "-fPIC", "-shared", "-w", "-O0", f"-I{RUNTIME_DIR}", str(c_file), *extra,
+    subprocess.run(["gcc", "-std=c99", "-fPIC", "-shared", "-w", "-O0", f"-I{RUNTIME_DIR}", *map(str, sources),
                     "-o", str(lib), "-lm"], check=True)
     return ctypes.CDLL(str(lib))
 
@@ -60,16 +59,16 @@ def test_every_operation_gives_the_bits_of_casadis_generated_c(tmp_path):
     used = {f.instruction_id(k) for k in range(f.n_instructions())}
     assert used <= known
     assert len(used) >= 45, "the test function exercises (nearly) every operation of the tape"
-    # the reference: CasADi's own C, compiled without optimization as eval_locals was
+    # the reference: CasADi's own C
     generator = ca.CodeGenerator("reference.c", {"casadi_real": "double", "casadi_int": "long long"})
     generator.add(f)
     generator.generate(str(tmp_path) + "/")
-    subprocess.run(["gcc", "-std=c99", "-fPIC", "-shared", "-w", "-O0", str(tmp_path / "reference.c"), "-o",
-                    str(tmp_path / "reference.so"), "-lm"], check=True)
-    reference = ctypes.CDLL(str(tmp_path / "reference.so"))
-    taped = _compile(tmp_path, "taped", '#include "cosim_tape.h"\n' + tape.tape_tables(f, "t") +
-                     "int run(const double *x, double *z) { const double *arg[1] = {x}; "
-                     "return cosim_tape_run(&t, arg, z); }\n", extra=[str(RUNTIME_DIR / "cosim_tape.c")])
+    reference = _compile(tmp_path, "reference", [tmp_path / "reference.c"])
+    taped_c = tmp_path / "taped.c"
+    taped_c.write_text('#include "cosim_tape.h"\n' + tape.tape_tables(f, "t") +
+                       "int run(const double *x, double *z) { const double *arg[1] = {x}; "
+                       "return cosim_tape_run(&t, arg, z); }\n")
+    taped = _compile(tmp_path, "taped", [taped_c, RUNTIME_DIR / "cosim_tape.c"])
     n = f.nnz_out(0)
     D = ctypes.POINTER(ctypes.c_double)
     for x in _inputs():

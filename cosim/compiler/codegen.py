@@ -10,17 +10,11 @@ from pathlib import Path
 import casadi as ca
 
 from cosim.compiler.description import ModelInfo
+from cosim.compiler.fmu import RUNTIME_FILES
 from cosim.compiler.ode import ExplicitModel
 from cosim.compiler.tape import tape_tables
 
 RUNTIME_DIR = Path(__file__).resolve().parents[1] / "runtime"
-RUNTIME_SOURCES = ("cosim_runtime.c", "fmi2_api.c", "cosim_tape.c", "cosim_runtime.h", "cosim_model.h",
-                   "cosim_tape.h")
-FMI_HEADERS = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
-# FMI 3.0 FMUs: the version-independent core of the runtime and its FMI 3 API, FMI 3's headers.
-FMI3_RUNTIME_SOURCES = ("cosim_runtime.c", "fmi3_api.c", "cosim_tape.c", "cosim_runtime.h", "cosim_model.h",
-                        "cosim_tape.h")
-FMI3_HEADERS = ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")
 # Above this many doubles the CasADi work array goes to the heap, not the stack (thread stacks are small).
 STACK_WORK_LIMIT = 16384
 # Newton solve of the initial equations: stop when max |residual| <= NEWTON_ABSTOL (or the step is
@@ -128,10 +122,9 @@ def has_locals(model: ExplicitModel) -> bool:
 
 def runtime_files(fmi_version: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
     """The runtime's files of an FMU of ``fmi_version``: those of ``cosim/runtime`` (C sources and
-    headers) and the FMI standard's headers (from FMPy, :func:`fmi_header_dir`)."""
-    if _check_version(fmi_version) == "3":
-        return FMI3_RUNTIME_SOURCES, FMI3_HEADERS
-    return RUNTIME_SOURCES, FMI_HEADERS
+    headers) and the FMI standard's headers (from FMPy, :func:`fmi_header_dir`); see
+    :data:`cosim.compiler.fmu.RUNTIME_FILES`."""
+    return RUNTIME_FILES[_check_version(fmi_version)]
 
 
 def source_files(model: ExplicitModel | ModelInfo, fmi_version: str = "2") -> list[str]:
@@ -408,9 +401,9 @@ def shared_subexpressions(f: ca.Function) -> ca.Function:
     and cosines of the same angles in every connector of an assembly, the same products in the
     directional derivatives. gcc cannot merge calls of ``sin`` or ``cos`` (they may set errno), nor
     anything at -O0: the functions of the nonlinear bicycle with a rider have 18 % fewer operations
-    (42,900 instead of 52,300; the locals' tape included), 12 % less gcc time and fewer operations per
-    step. The same operations on the same
-    values in the same order: results do not change by a bit."""
+    (42,900 instead of 52,300; the locals' tape included), 12 % less gcc time and fewer operations
+    per step. The same operations on the same values in the same order: results do not change by
+    a bit."""
     if not f.is_a("SXFunction"):
         return f
     inputs = f.sx_in()
@@ -426,8 +419,7 @@ def write_sources(info: ModelInfo, model: ExplicitModel, folder: Path,
     functions = functions if functions is not None else casadi_functions(model)
     calc, start, evaluate, jvp, hoist, vjp, *local = functions
     calc, evaluate, jvp, hoist, *local = map(shared_subexpressions, (calc, evaluate, jvp, hoist, *local))
-    if fmi_version == "3":  # FMI 2 has no adjoint derivatives: its vjp is never written
-        vjp = shared_subexpressions(vjp)
+    vjp = shared_subexpressions(vjp) if fmi_version == "3" else vjp  # FMI 2 has no adjoint derivatives
     functions = [calc, start, evaluate, jvp, hoist, vjp, *local]
     groups = [[calc, start, evaluate, hoist], [jvp], *([[vjp]] if fmi_version == "3" else [])]
     for file, group in zip(generated_sources(model, fmi_version), groups, strict=True):

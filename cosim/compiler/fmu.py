@@ -65,9 +65,9 @@ def compile_binary(sources: Path, identifier: str, target: Path, cc: str | None 
 
     The runtime (:data:`RUNTIME_SOURCES` that ``sources`` has: the core ``cosim_runtime.c``, the
     API of the FMU's FMI version and the tape interpreter ``cosim_tape.c``, the same for every
-    FMU, 70 % of the gcc time of a small model) is taken from the object cache ``cache`` (a folder, see :func:`load_runtime_object`),
-    one object per runtime source, when one is given, and stored there when compiled; the FMU ships
-    its sources all the same.
+    FMU, 70 % of the gcc time of a small model) is taken from the object cache ``cache`` (a
+    folder, see :func:`load_runtime_object`), one object per runtime source, when one is given,
+    and stored there when compiled; the FMU ships its sources all the same.
     """
     compiler = cc or os.environ.get("CC") or "gcc"
     if shutil.which(compiler) is None:
@@ -129,17 +129,26 @@ def unity_source(model_files: list[Path], unoptimized: tuple[str, ...] = ()) -> 
     return "\n".join(lines) + "\n"
 
 
-# The runtime, the same C for every FMU: the version-independent core, the API of one FMI version
-# (an FMU has the core and one of the APIs) and the interpreter of tapes (the local variables). It is always compiled with -O2 (also in an
-# FMU whose generated code is large enough for -O1): one object per source serves every model, and
-# the flags change no result (x86-64 without -march has no fused multiply-add for gcc to contract
-# into).
-RUNTIME_SOURCES = ("cosim_runtime.c", "fmi2_api.c", "fmi3_api.c", "cosim_tape.c")
+# The runtime, the same C for every FMU, by FMI version: its own files (cosim/runtime: the
+# version-independent core, the API of the FMI version and the interpreter of tapes, the C sources
+# in the order the FMU lists them, then their headers) and the FMI standard's headers (FMPy's
+# c-code). The one table of what an FMU ships (codegen.runtime_files) and of what the build
+# compiles once per machine (RUNTIME_SOURCES, RUNTIME_HEADERS).
+RUNTIME_FILES = {
+    "2": (("cosim_runtime.c", "fmi2_api.c", "cosim_tape.c", "cosim_runtime.h", "cosim_model.h", "cosim_tape.h"),
+          ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")),
+    "3": (("cosim_runtime.c", "fmi3_api.c", "cosim_tape.c", "cosim_runtime.h", "cosim_model.h", "cosim_tape.h"),
+          ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")),
+}
+# The runtime's C sources of every FMI version. Always compiled with -O2 (also in an FMU whose
+# generated code is large enough for -O1): one object per source serves every model, and the flags
+# change no result (x86-64 without -march has no fused multiply-add for gcc to contract into).
+RUNTIME_SOURCES = tuple(dict.fromkeys(name for own, _ in RUNTIME_FILES.values() for name in own if name.endswith(".c")))
 RUNTIME_OPTIMIZATION = "-O2"
-# Headers the runtime includes (the core's interface, the generic model contract and the FMI 2 and
-# FMI 3 standard headers; an FMU has those of its version, the others count as absent).
-RUNTIME_HEADERS = ("cosim_runtime.h", "cosim_model.h", "cosim_tape.h", "fmi2Functions.h", "fmi2FunctionTypes.h",
-                   "fmi2TypesPlatform.h", "fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")
+# Headers the runtime includes, of every FMI version (an FMU has those of its version, the others
+# count as absent).
+RUNTIME_HEADERS = tuple(dict.fromkeys(name for own, standard in RUNTIME_FILES.values()
+                                      for name in (*own, *standard) if name.endswith(".h")))
 
 
 def _flags(file: Path, default: tuple[str, ...], unoptimized: tuple[str, ...], generated: tuple[str, ...]):

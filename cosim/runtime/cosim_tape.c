@@ -9,13 +9,8 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "cosim_runtime.h" /* RT_HIDDEN: an FMU exports only the FMI API */
 #include "cosim_tape.h"
-
-#if defined(__GNUC__)
-#define TAPE_HIDDEN __attribute__((visibility("hidden")))
-#else
-#define TAPE_HIDDEN
-#endif
 
 /* Work arrays up to this many doubles live on the stack (the rest on the heap). */
 #define TAPE_STACK_WORK 1024
@@ -89,7 +84,7 @@ static int run(const cosim_tape *tape, const double *const *arg, double *res, do
     return 0;
 }
 
-TAPE_HIDDEN int cosim_tape_run(const cosim_tape *tape, const double *const *arg, double *res)
+RT_HIDDEN int cosim_tape_run(const cosim_tape *tape, const double *const *arg, double *res)
 {
     double stack[TAPE_STACK_WORK], *heap;
     int status;
