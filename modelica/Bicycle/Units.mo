@@ -4,7 +4,9 @@ package Units "SI unit types used by the library (same definitions as Modelica.U
   type Angle = Real(final quantity = "Angle", final unit = "rad", displayUnit = "deg");
   type AngularVelocity = Real(final quantity = "AngularVelocity", final unit = "rad/s");
   type AngularMomentum = Real(final quantity = "AngularMomentum", final unit = "kg.m2/s");
+  type AngularAcceleration = Real(final quantity = "AngularAcceleration", final unit = "rad/s2");
   type Torque = Real(final quantity = "Torque", final unit = "N.m");
+  type Energy = Real(final quantity = "Energy", final unit = "J");
   type Mass = Real(final quantity = "Mass", final unit = "kg", min = 0);
   type Length = Real(final quantity = "Length", final unit = "m");
   type Position = Real(final quantity = "Length", final unit = "m");

@@ -1,6 +1,6 @@
 within Bicycle.Bicycles;
 model Whipple "Nonlinear Whipple bicycle (Meijaard et al. 2007): rear wheel, rear frame, steer axis, front frame, front wheel rolling on flat ground"
-  extends Bicycle.Mechanics.Ground;
+  constant Integer n = 6 "Number of generalized speeds: 1 to 3 dependent (yaw, pitch, front wheel), 4 roll, 5 steer, 6 rear wheel";
   replaceable package Data = Bicycle.Records.Benchmark constrainedby Bicycle.Records.PartialWhipple "Parameter set (defaults of the parameters below)";
   parameter Bicycle.Units.Length w(min = 1e-6) = Data.w "Wheelbase w";
   parameter Bicycle.Units.Length c = Data.c "Trail c (positive: front contact point behind the steer axis)";
@@ -29,22 +29,58 @@ model Whipple "Nonlinear Whipple bicycle (Meijaard et al. 2007): rear wheel, rea
   parameter Bicycle.Units.MomentOfInertia IFxx(min = 0) = Data.IFxx "Front wheel diametral inertia IFxx = IFzz";
   parameter Bicycle.Units.MomentOfInertia IFyy(min = 0) = Data.IFyy "Front wheel spin inertia IFyy";
   parameter Bicycle.Units.Length tR(min = 0) = 0 "Rear tyre crown radius tR (toroidal wheel; 0: knife edge)";
+  parameter Bicycle.Units.Position x0 = 0 "Initial x coordinate of the rear contact point";
+  parameter Bicycle.Units.Position y0 = 0 "Initial y coordinate of the rear contact point (right)";
+  parameter Bicycle.Units.Angle psi0 = 0 "Initial yaw angle";
+  parameter Bicycle.Units.Angle phi0 = 0 "Initial roll angle";
+  parameter Bicycle.Units.Angle delta0 = 0 "Initial steer angle";
+  parameter Bicycle.Units.Angle thetaR0 = 0 "Initial rear wheel angle";
+  parameter Bicycle.Units.Angle thetaF0 = 0 "Initial front wheel angle";
+  parameter Bicycle.Units.AngularVelocity u_phi0 = 0 "Initial roll rate";
+  parameter Bicycle.Units.AngularVelocity u_delta0 = 0 "Initial steer rate";
+  parameter Bicycle.Units.AngularVelocity u_R0 = -16.666666666666668 "Initial rear wheel rate (relative to the rear frame); forward speed v = -u_R0*rR when upright (default: 5 m/s for rR = 0.3 m)";
+  parameter Bicycle.Units.Angle theta_guess = 0 "Starting value of the Newton iteration for the initial pitch";
   parameter Bicycle.Units.Length tF(min = 0) = 0 "Front tyre crown radius tF (toroidal wheel; 0: knife edge)";
   Bicycle.Interfaces.RealInput T_delta(final quantity = "Torque", final unit = "N.m") "Steer torque T_delta between rear frame and front frame, positive tending to steer right";
-  replaceable Bicycle.Wheels.Torus rearWheel(t = tR) constrainedby Bicycle.Wheels.PartialWheel(n = n, sel = {0, 0, 1, 0, 0, 0}, r = rR, m = mR, Ixx = IRxx, Iyy = IRyy, g = g) "Rear wheel R (spin angle thetaR)";
-  Bicycle.Mechanics.Frames.RearFrame rearFrame(n = n, w = w, c = c, rR = rR, xB = xB, zB = zB, mB = mB, IBxx = IBxx, IBxz = IBxz, IByy = IByy, IBzz = IBzz, g = g) "Rear frame B with the rider";
-  Bicycle.Mechanics.Frames.SteerAxis steer(n = n, sel = {0, 1, 0, 0, 0, 0}, lam = lam) "Steer axis (steer angle delta)";
-  Bicycle.Mechanics.Frames.FrontFrame frontFrame(n = n, w = w, c = c, rF = rF, xH = xH, zH = zH, mH = mH, IHxx = IHxx, IHxz = IHxz, IHyy = IHyy, IHzz = IHzz, g = g) "Front frame H (fork and handlebar)";
-  replaceable Bicycle.Wheels.Torus frontWheel(t = tF) constrainedby Bicycle.Wheels.PartialWheel(n = n, sel = {0, 0, 0, 0, 0, 1}, r = rF, m = mF, Ixx = IFxx, Iyy = IFyy, g = g) "Front wheel F (spin angle thetaF)";
+  Bicycle.Interfaces.RealInput T_phi(final quantity = "Torque", final unit = "N.m") "Roll torque T_phi on the rear frame about the (horizontal) roll axis, positive tending to lean right (disturbance)";
+  output Bicycle.Units.Position x = ground.x "x coordinate (forward at yaw 0) of the rear contact point";
+  output Bicycle.Units.Position y = ground.y "y coordinate (right at yaw 0) of the rear contact point: lateral position";
+  output Bicycle.Units.Angle psi = ground.psi "Yaw angle psi of the rear frame, positive turning right";
+  output Bicycle.Units.Angle phi = ground.phi "Roll angle phi of the rear frame, positive leaning right";
+  output Bicycle.Units.Angle theta = ground.theta "Pitch angle theta of the rear frame, positive nose up (0: upright, zero steer)";
+  output Bicycle.Units.Angle delta = steer.angle "Steer angle delta, positive steering right";
+  output Bicycle.Units.Angle thetaR = rearWheel.angle "Rear wheel angle relative to the rear frame";
+  output Bicycle.Units.Angle thetaF = frontWheel.angle "Front wheel angle relative to the front frame";
+  output Bicycle.Units.AngularVelocity u_phi = ground.u_phi "Roll rate (independent speed)";
+  output Bicycle.Units.AngularVelocity u_delta = steer.omega "Steer rate (independent speed)";
+  output Bicycle.Units.AngularVelocity u_R = rearWheel.spin "Rear wheel rate relative to the rear frame (independent speed; negative rolling forward)";
+  output Bicycle.Units.AngularVelocity u_psi = ground.u_psi "Yaw rate (dependent speed)";
+  output Bicycle.Units.AngularVelocity u_theta = ground.u_theta "Pitch rate (dependent speed)";
+  output Bicycle.Units.AngularVelocity u_F = ground.u_F "Front wheel rate relative to the front frame (dependent speed)";
+  output Bicycle.Units.AngularAcceleration u_psi_dot = ground.u_psi_dot "Time derivative of u_psi";
+  output Bicycle.Units.AngularAcceleration u_theta_dot = ground.u_theta_dot "Time derivative of u_theta";
+  output Bicycle.Units.AngularAcceleration u_F_dot = ground.u_F_dot "Time derivative of u_F";
+  output Bicycle.Units.Velocity v = ground.v "Forward speed of the rear contact point (velocity along the heading)";
+  output Bicycle.Units.Energy E = ground.E "Total energy: kinetic + potential (gravity, zero at the ground)";
+  output Bicycle.Units.Length residual = ground.residual "Holonomic constraint residual: height of the front contact point above the ground (should be 0)";
+  Bicycle.Mechanics.Ground ground(n = n, g = g, x0 = x0, y0 = y0, psi0 = psi0, phi0 = phi0, u_phi0 = u_phi0, theta_guess = theta_guess) "Flat ground: the rear frame's attitude and position, rolling constraints, Kane's equations";
+  replaceable Bicycle.Wheels.Torus rearWheel(t = tR, n = n, k = 6, r = rR, m = mR, Ixx = IRxx, Iyy = IRyy, angle0 = thetaR0, spin0 = u_R0) constrainedby Bicycle.Wheels.PartialWheel(n = n, k = 6, r = rR, m = mR, Ixx = IRxx, Iyy = IRyy, angle0 = thetaR0, spin0 = u_R0) "Rear wheel R (spin angle thetaR, coordinate 6)";
+  Bicycle.Mechanics.Frames.RearFrame rearFrame(n = n, w = w, c = c, rR = rR, xB = xB, zB = zB, mB = mB, IBxx = IBxx, IBxz = IBxz, IByy = IByy, IBzz = IBzz) "Rear frame B with the rider";
+  Bicycle.Mechanics.Frames.SteerAxis steer(n = n, k = 5, lam = lam, angle0 = delta0, omega0 = u_delta0) "Steer axis (steer angle delta, coordinate 5)";
+  Bicycle.Mechanics.Frames.FrontFrame frontFrame(n = n, w = w, c = c, rF = rF, xH = xH, zH = zH, mH = mH, IHxx = IHxx, IHxz = IHxz, IHyy = IHyy, IHzz = IHzz) "Front frame H (fork and handlebar)";
+  replaceable Bicycle.Wheels.Torus frontWheel(t = tF, n = n, k = 3, rolling = true, r = rF, m = mF, Ixx = IFxx, Iyy = IFyy, angle0 = thetaF0) constrainedby Bicycle.Wheels.PartialWheel(n = n, k = 3, rolling = true, r = rF, m = mF, Ixx = IFxx, Iyy = IFyy, angle0 = thetaF0) "Front wheel F (spin angle thetaF; its rate is the dependent speed 3)";
 equation
-  connect(rear, rearWheel.hub);
-  connect(rear, rearFrame.frame_a);
-  connect(rearWheel.contact, rearContact);
+  // The replaceable components repeat their constraining clause's modifiers (which apply to every
+  // replacement, MLS 7.3.2) in the declaration: rumoca 0.10 applies only the latter.
+  connect(ground.frame_b, rearWheel.hub);
+  connect(ground.frame_b, rearFrame.frame_a);
+  connect(rearWheel.contact, ground.rearContact);
   connect(rearFrame.frame_b, steer.frame_a);
   connect(steer.frame_b, frontFrame.frame_a);
   connect(frontFrame.frame_b, frontWheel.hub);
-  connect(frontWheel.contact, frontContact);
+  connect(frontWheel.contact, ground.frontContact);
   connect(T_delta, steer.tau_in);
+  connect(T_phi, ground.T_phi);
   annotation(
     experiment(StartTime = 0, StopTime = 10, Tolerance = 1e-10, Interval = 0.01),
     __Cosim(export = true,
@@ -56,9 +92,11 @@ equation
 rigidly attached), steer axis, front frame H (fork and handlebar), front wheel F, with the
 parameters of Meijaard et al. (2007), Table 1 (defaults: the data set <code>Data</code>) and toroidal
 wheels with crown radii <code>tR</code>, <code>tF</code> (0: knife edge). Rolling without slip on flat
-ground; the equations of motion are Kane's, assembled by <a href=\"modelica://Bicycle.Mechanics.Ground\">Ground</a>
-(which this model extends: it owns the coordinates and the independent speeds) from the bodies'
-contributions.</p>
+ground; the equations of motion are Kane's, stated by <a href=\"modelica://Bicycle.Mechanics.Ground\">Ground</a>
+on the sum of the bodies' contributions. Each joint owns its coordinate: the ground the rear
+frame's position and attitude, the steer axis the steer angle, each wheel its spin angle; the model
+names them (<code>delta = steer.angle</code>, ...), and says the number of generalized speeds
+<code>n</code> once.</p>
 <p>States: rear contact point <code>x, y</code>; yaw <code>psi</code>, roll <code>phi</code>, pitch
 <code>theta</code>, steer <code>delta</code>, wheel angles <code>thetaR, thetaF</code>; the independent
 speeds <code>u_phi, u_delta, u_R</code>. The dependent speeds <code>u_psi, u_theta, u_F</code> and their

@@ -44,7 +44,7 @@ model WhippleLinear "Linearized Whipple bicycle, eq (24): M q'' + v C1 q' + (g K
   Bicycle.Linear.FrontFrame frontFrame(w = w, c = c, lam = lam, g = g, v = v, m = mH, x = xH, z = zH, Ixx = IHxx, Ixz = IHxz, Iyy = IHyy, Izz = IHzz) "Front frame H (fork and handlebar)";
   Bicycle.Linear.FrontWheel frontWheel(w = w, c = c, lam = lam, g = g, v = v, r = rF, m = mF, Ixx = IFxx, Iyy = IFyy) "Front wheel F";
   Bicycle.Linear.Torques torques "Roll and steer torques";
-  Bicycle.Linear.Coordinates coordinates "Roll and steer coordinates: solve the summed M q'' = Q";
+  Bicycle.Linear.Coordinates coordinates "Roll and steer coordinates: give the states to the components, return the accelerations of eq (24)";
 
   // The matrices of eq (24), the sums of the bodies' parts (for inspection; the dynamics use the connection set)
   final parameter Bicycle.Units.MomentOfInertia M11 = rearWheel.M11 + rearFrame.M11 + frontFrame.M11 + frontWheel.M11 "Mass matrix M, element (phi, phi)";
@@ -100,8 +100,10 @@ Proc. R. Soc. A 463 (2007) 1955-1982, which is eq (24) of Astrom, Klein and Lenn
 <p>The model is an assembly of the components of <a href=\"modelica://Bicycle.Linear\">Bicycle.Linear</a>:
 four bodies (rear wheel, rear frame, front frame, front wheel), each carrying its own mass
 properties and contributing its part of M, C1, K0 and K2 (Meijaard's Appendix A applied to the
-body's own moments), the applied torques, and the coordinates that solve the summed equations
-M q'' = Q; the connection set sums the bodies' generalized inertias and forces. The calculated
+body's own moments), the applied torques, and the coordinates, which hold no force of their own:
+each component delivers the generalized force that balances its part of eq (24), inertia terms
+M_i q'' included, and the flow sum of the connection set is eq (24), which the accelerations
+shared by the set satisfy. The calculated
 parameters M11 ... K2_22 are the same sums, for inspection. The top-level parameters carry the
 names of Meijaard's Table 1; their defaults come from the replaceable package <code>Data</code>
 (the benchmark bicycle, <a href=\"modelica://Bicycle.Records.Benchmark\">Bicycle.Records.Benchmark</a>,

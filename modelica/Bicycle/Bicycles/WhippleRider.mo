@@ -1,6 +1,6 @@
 within Bicycle.Bicycles;
 model WhippleRider "Nonlinear Whipple bicycle with a leaning rider: the upper body on a hip hinge of the rear frame (Meijaard et al. 2007 bicycle, Astrom et al. 2005 rider lean)"
-  extends Bicycle.Mechanics.Rider.Ground;
+  constant Integer n = 7 "Number of generalized speeds: 1 to 3 dependent (yaw, pitch, front wheel), 4 roll, 5 steer, 6 rear wheel, 7 lean";
   replaceable package Data = Bicycle.Records.BenchmarkRider constrainedby Bicycle.Records.PartialWhippleRider "Parameter set (defaults of the parameters below)";
   parameter Bicycle.Units.Length w(min = 1e-6) = Data.w "Wheelbase w";
   parameter Bicycle.Units.Length c = Data.c "Trail c (positive: front contact point behind the steer axis)";
@@ -29,6 +29,19 @@ model WhippleRider "Nonlinear Whipple bicycle with a leaning rider: the upper bo
   parameter Bicycle.Units.MomentOfInertia IFxx(min = 0) = Data.IFxx "Front wheel diametral inertia IFxx = IFzz";
   parameter Bicycle.Units.MomentOfInertia IFyy(min = 0) = Data.IFyy "Front wheel spin inertia IFyy";
   parameter Bicycle.Units.Length tR(min = 0) = 0 "Rear tyre crown radius tR (toroidal wheel; 0: knife edge)";
+  parameter Bicycle.Units.Position x0 = 0 "Initial x coordinate of the rear contact point";
+  parameter Bicycle.Units.Position y0 = 0 "Initial y coordinate of the rear contact point (right)";
+  parameter Bicycle.Units.Angle psi0 = 0 "Initial yaw angle";
+  parameter Bicycle.Units.Angle phi0 = 0 "Initial roll angle";
+  parameter Bicycle.Units.Angle delta0 = 0 "Initial steer angle";
+  parameter Bicycle.Units.Angle thetaR0 = 0 "Initial rear wheel angle";
+  parameter Bicycle.Units.Angle thetaF0 = 0 "Initial front wheel angle";
+  parameter Bicycle.Units.AngularVelocity u_phi0 = 0 "Initial roll rate";
+  parameter Bicycle.Units.AngularVelocity u_delta0 = 0 "Initial steer rate";
+  parameter Bicycle.Units.AngularVelocity u_R0 = -16.666666666666668 "Initial rear wheel rate (relative to the rear frame); forward speed v = -u_R0*rR when upright (default: 5 m/s for rR = 0.3 m)";
+  parameter Bicycle.Units.Angle theta_guess = 0 "Starting value of the Newton iteration for the initial pitch";
+  parameter Bicycle.Units.Angle beta0 = 0 "Initial lean angle of the upper body relative to the rear frame";
+  parameter Bicycle.Units.AngularVelocity u_beta0 = 0 "Initial lean rate of the upper body";
   parameter Bicycle.Units.Length tF(min = 0) = 0 "Front tyre crown radius tF (toroidal wheel; 0: knife edge)";
   parameter Bicycle.Units.Mass mU(min = 0) = Data.mU "Upper body mass mU";
   parameter Bicycle.Units.Position xU = Data.xU "Hinge (hip) axis and upper body centre of mass: x coordinate xU (forward)";
@@ -41,28 +54,54 @@ model WhippleRider "Nonlinear Whipple bicycle with a leaning rider: the upper bo
   parameter Real kU(final quantity = "RotationalSpringConstant", final unit = "N.m/rad", min = 0) = Data.kU "Passive stiffness kU of the hip hinge (lean torque per lean angle)";
   parameter Real cU(final quantity = "RotationalDampingConstant", final unit = "N.m.s/rad", min = 0) = Data.cU "Passive damping cU of the hip hinge (lean torque per lean rate)";
   Bicycle.Interfaces.RealInput T_delta(final quantity = "Torque", final unit = "N.m") "Steer torque T_delta between rear frame and front frame, positive tending to steer right";
-  // n = 7 speeds: the nested modifiers (hub(n = n), body(n = n, frame_a(n = n)), ...) are written out because
-  // pymoca 0.12 passes a modified constant only one level down (deeper, the components keep their default n = 6)
-  replaceable Bicycle.Wheels.Torus rearWheel(t = tR) constrainedby Bicycle.Wheels.PartialWheel(n = n, hub(n = n), contact(n = n), sel = {0, 0, 1, 0, 0, 0, 0}, r = rR, m = mR, Ixx = IRxx, Iyy = IRyy, g = g) "Rear wheel R (spin angle thetaR)";
-  Bicycle.Mechanics.Frames.RearFrame rearFrame(n = n, frame_a(n = n), frame_b(n = n), body(n = n, frame_a(n = n)), toSteerAxis(n = n, frame_a(n = n), frame_b(n = n)), w = w, c = c, rR = rR, xB = xB, zB = zB, mB = mB, IBxx = IBxx, IBxz = IBxz, IByy = IByy, IBzz = IBzz, g = g) "Rear frame B without the rider's upper body";
-  Bicycle.Mechanics.Frames.SteerAxis steer(n = n, frame_a(n = n), frame_b(n = n), sel = {0, 1, 0, 0, 0, 0, 0}, lam = lam) "Steer axis (steer angle delta)";
-  Bicycle.Mechanics.Frames.FrontFrame frontFrame(n = n, frame_a(n = n), frame_b(n = n), body(n = n, frame_a(n = n)), toAxle(n = n, frame_a(n = n), frame_b(n = n)), w = w, c = c, rF = rF, xH = xH, zH = zH, mH = mH, IHxx = IHxx, IHxz = IHxz, IHyy = IHyy, IHzz = IHzz, g = g) "Front frame H (fork and handlebar)";
-  replaceable Bicycle.Wheels.Torus frontWheel(t = tF) constrainedby Bicycle.Wheels.PartialWheel(n = n, hub(n = n), contact(n = n), sel = {0, 0, 0, 0, 0, 1, 0}, r = rF, m = mF, Ixx = IFxx, Iyy = IFyy, g = g) "Front wheel F (spin angle thetaF)";
-  Bicycle.Mechanics.Parts.FixedTranslation toHip(n = n, frame_a(n = n), frame_b(n = n), rx = xU, rz = rR - hU) "Rear axle to the hip hinge axis (xU, hU above the ground)";
-  replaceable Bicycle.Mechanics.Rider.HipHinge hip(k = kU, d = cU) constrainedby Bicycle.Mechanics.Rider.PartialHinge "Hip hinge (lean angle beta, coordinate 7; LockedHinge: the upper body fixed to the rear frame)";
-  Bicycle.Mechanics.Rider.UpperBody upperBody(n = n, frame_a(n = n), m = mU, l = lU, Ixx = IUxx, Ixz = IUxz, Iyy = IUyy, Izz = IUzz, g = g) "Rider's upper body U";
+  Bicycle.Interfaces.RealInput T_phi(final quantity = "Torque", final unit = "N.m") "Roll torque T_phi on the rear frame about the (horizontal) roll axis, positive tending to lean right (disturbance)";
+  Bicycle.Interfaces.RealInput T_beta(final quantity = "Torque", final unit = "N.m") "Lean torque T_beta of the rider between rear frame and upper body, positive tending to lean the upper body right";
+  output Bicycle.Units.Position x = ground.x "x coordinate (forward at yaw 0) of the rear contact point";
+  output Bicycle.Units.Position y = ground.y "y coordinate (right at yaw 0) of the rear contact point: lateral position";
+  output Bicycle.Units.Angle psi = ground.psi "Yaw angle psi of the rear frame, positive turning right";
+  output Bicycle.Units.Angle phi = ground.phi "Roll angle phi of the rear frame, positive leaning right";
+  output Bicycle.Units.Angle theta = ground.theta "Pitch angle theta of the rear frame, positive nose up (0: upright, zero steer)";
+  output Bicycle.Units.Angle delta = steer.angle "Steer angle delta, positive steering right";
+  output Bicycle.Units.Angle thetaR = rearWheel.angle "Rear wheel angle relative to the rear frame";
+  output Bicycle.Units.Angle thetaF = frontWheel.angle "Front wheel angle relative to the front frame";
+  output Bicycle.Units.Angle beta = hip.angle "Lean angle beta of the upper body relative to the rear frame, positive leaning right";
+  output Bicycle.Units.AngularVelocity u_phi = ground.u_phi "Roll rate (independent speed)";
+  output Bicycle.Units.AngularVelocity u_delta = steer.omega "Steer rate (independent speed)";
+  output Bicycle.Units.AngularVelocity u_R = rearWheel.spin "Rear wheel rate relative to the rear frame (independent speed; negative rolling forward)";
+  output Bicycle.Units.AngularVelocity u_beta = hip.omega "Lean rate of the upper body (independent speed)";
+  output Bicycle.Units.AngularVelocity u_psi = ground.u_psi "Yaw rate (dependent speed)";
+  output Bicycle.Units.AngularVelocity u_theta = ground.u_theta "Pitch rate (dependent speed)";
+  output Bicycle.Units.AngularVelocity u_F = ground.u_F "Front wheel rate relative to the front frame (dependent speed)";
+  output Bicycle.Units.AngularAcceleration u_psi_dot = ground.u_psi_dot "Time derivative of u_psi";
+  output Bicycle.Units.AngularAcceleration u_theta_dot = ground.u_theta_dot "Time derivative of u_theta";
+  output Bicycle.Units.AngularAcceleration u_F_dot = ground.u_F_dot "Time derivative of u_F";
+  output Bicycle.Units.Velocity v = ground.v "Forward speed of the rear contact point (velocity along the heading)";
+  output Bicycle.Units.Energy E = ground.E "Total energy: kinetic + potential (gravity, zero at the ground, and the hip spring)";
+  output Bicycle.Units.Length residual = ground.residual "Holonomic constraint residual: height of the front contact point above the ground (should be 0)";
+  Bicycle.Mechanics.Ground ground(n = n, g = g, x0 = x0, y0 = y0, psi0 = psi0, phi0 = phi0, u_phi0 = u_phi0, theta_guess = theta_guess) "Flat ground: the rear frame's attitude and position, rolling constraints, Kane's equations";
+  replaceable Bicycle.Wheels.Torus rearWheel(t = tR, n = n, k = 6, r = rR, m = mR, Ixx = IRxx, Iyy = IRyy, angle0 = thetaR0, spin0 = u_R0) constrainedby Bicycle.Wheels.PartialWheel(n = n, k = 6, r = rR, m = mR, Ixx = IRxx, Iyy = IRyy, angle0 = thetaR0, spin0 = u_R0) "Rear wheel R (spin angle thetaR, coordinate 6)";
+  Bicycle.Mechanics.Frames.RearFrame rearFrame(n = n, w = w, c = c, rR = rR, xB = xB, zB = zB, mB = mB, IBxx = IBxx, IBxz = IBxz, IByy = IByy, IBzz = IBzz) "Rear frame B without the rider's upper body";
+  Bicycle.Mechanics.Frames.SteerAxis steer(n = n, k = 5, lam = lam, angle0 = delta0, omega0 = u_delta0) "Steer axis (steer angle delta, coordinate 5)";
+  Bicycle.Mechanics.Frames.FrontFrame frontFrame(n = n, w = w, c = c, rF = rF, xH = xH, zH = zH, mH = mH, IHxx = IHxx, IHxz = IHxz, IHyy = IHyy, IHzz = IHzz) "Front frame H (fork and handlebar)";
+  replaceable Bicycle.Wheels.Torus frontWheel(t = tF, n = n, k = 3, rolling = true, r = rF, m = mF, Ixx = IFxx, Iyy = IFyy, angle0 = thetaF0) constrainedby Bicycle.Wheels.PartialWheel(n = n, k = 3, rolling = true, r = rF, m = mF, Ixx = IFxx, Iyy = IFyy, angle0 = thetaF0) "Front wheel F (spin angle thetaF; its rate is the dependent speed 3)";
+  Bicycle.Mechanics.Parts.FixedTranslation toHip(n = n, rx = xU, rz = rR - hU) "Rear axle to the hip hinge axis (xU, hU above the ground)";
+  replaceable Bicycle.Mechanics.Rider.HipHinge hip(c = kU, d = cU, n = n, k = 7, angle0 = beta0, omega0 = u_beta0) constrainedby Bicycle.Mechanics.Rider.PartialHinge(n = n, k = 7, angle0 = beta0, omega0 = u_beta0) "Hip hinge (lean angle beta, coordinate 7; LockedHinge: the upper body held at its initial lean)";
+  Bicycle.Mechanics.Rider.UpperBody upperBody(n = n, m = mU, l = lU, Ixx = IUxx, Ixz = IUxz, Iyy = IUyy, Izz = IUzz) "Rider's upper body U";
 equation
-  connect(rear, rearWheel.hub);
-  connect(rear, rearFrame.frame_a);
-  connect(rearWheel.contact, rearContact);
+  // The replaceable components repeat their constraining clause's modifiers (which apply to every
+  // replacement, MLS 7.3.2) in the declaration: rumoca 0.10 applies only the latter.
+  connect(ground.frame_b, rearWheel.hub);
+  connect(ground.frame_b, rearFrame.frame_a);
+  connect(rearWheel.contact, ground.rearContact);
   connect(rearFrame.frame_b, steer.frame_a);
   connect(steer.frame_b, frontFrame.frame_a);
   connect(frontFrame.frame_b, frontWheel.hub);
-  connect(frontWheel.contact, frontContact);
-  connect(rear, toHip.frame_a);
+  connect(frontWheel.contact, ground.frontContact);
+  connect(T_delta, steer.tau_in);
+  connect(T_phi, ground.T_phi);
+  connect(ground.frame_b, toHip.frame_a);
   connect(toHip.frame_b, hip.frame_a);
   connect(hip.frame_b, upperBody.frame_a);
-  connect(T_delta, steer.tau_in);
   connect(T_beta, hip.tau_in);
   annotation(
     experiment(StartTime = 0, StopTime = 10, Tolerance = 1e-10, Interval = 0.01),
@@ -82,9 +121,9 @@ split the benchmark's rear frame so that rear frame + upper body upright is the 
 frame (parallel-axis theorem).</p>
 <p>Components: rear wheel R, rear frame B, steer axis, front frame H, front wheel F (as in
 <code>Whipple</code>), the translation from the rear axle to the hip, the hinge and the upper body;
-<a href=\"modelica://Bicycle.Mechanics.Rider.Ground\">Bicycle.Mechanics.Rider.Ground</a> (extended)
-owns the coordinates, with the lean angle <code>beta</code> of the upper body relative to the rear
-frame and its rate <code>u_beta</code> as a fourth independent speed.</p>
+the hinge owns the lean angle <code>beta</code> of the upper body relative to the rear frame and
+its rate <code>u_beta</code>, a fourth independent speed (coordinate 7); nothing else differs from
+<code>Whipple</code> but <code>n = 7</code>.</p>
 <p>States: <code>x, y, psi, phi, theta, delta, thetaR, thetaF, beta</code> and <code>u_phi, u_delta,
 u_R, u_beta</code>; inputs: steer torque <code>T_delta</code>, roll torque <code>T_phi</code>, lean
 torque <code>T_beta</code>; outputs as in <code>Whipple</code>, the energy <code>E</code> including the

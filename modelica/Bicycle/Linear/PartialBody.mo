@@ -34,13 +34,11 @@ partial model PartialBody "Rigid body of the linearized bicycle: its mass proper
   parameter Bicycle.Units.FirstMomentOfMass C1_12 "Part of the velocity-proportional matrix C1, element (phi, delta)";
   parameter Bicycle.Units.FirstMomentOfMass C1_21 "Part of the velocity-proportional matrix C1, element (delta, phi)";
   parameter Bicycle.Units.FirstMomentOfMass C1_22 "Part of the velocity-proportional matrix C1, element (delta, delta)";
-  Bicycle.Linear.RollSteer frame "Roll and steer coordinates; delivers the body's generalized inertia and force";
+  Bicycle.Linear.RollSteer_a frame "Roll and steer coordinates; the body's generalized force, inertia terms included, goes out through it";
 equation
-  frame.M11 = -M11;
-  frame.M12 = -M12;
-  frame.M22 = -M22;
-  frame.Q_phi = v*C1_12*frame.delta_dot + g*K0_11*frame.phi + (g*K0_12 + v^2*K2_12)*frame.delta;
-  frame.Q_delta = v*(C1_21*frame.phi_dot + C1_22*frame.delta_dot) + g*K0_12*frame.phi + (g*K0_22 + v^2*K2_22)*frame.delta;
+  // d'Alembert: the generalized force through the connector balances the body's part of eq (24), inertia terms included
+  frame.Q_phi = M11*frame.phi_ddot + M12*frame.delta_ddot + v*C1_12*frame.delta_dot + g*K0_11*frame.phi + (g*K0_12 + v^2*K2_12)*frame.delta;
+  frame.Q_delta = M12*frame.phi_ddot + M22*frame.delta_ddot + v*(C1_21*frame.phi_dot + C1_22*frame.delta_dot) + g*K0_12*frame.phi + (g*K0_22 + v^2*K2_22)*frame.delta;
   annotation(Documentation(info = "<html>
 <p>A rigid body symmetric about the bicycle's x-z plane, in the axes of Meijaard et al. (2007):
 x forward, y right, z down, origin at the rear contact point of the upright bicycle with zero steer.
@@ -51,7 +49,13 @@ The parts are bound by <a href=\"modelica://Bicycle.Linear.PartialRearBody\">Par
 (a body that does not turn about the steer axis) and
 <a href=\"modelica://Bicycle.Linear.PartialFrontBody\">PartialFrontBody</a> (a body of the front
 assembly).</p>
-<p>Through <code>frame</code> the body delivers its generalized inertia and its generalized force
--(v C1 q' + (g K0 + v^2 K2) q), q = [phi; delta] (flows positive into the body, hence the signs).</p>
+<p>Through <code>frame</code> (<a href=\"modelica://Bicycle.Linear.RollSteer_a\">RollSteer_a</a>)
+the body receives the coordinates q = [phi; delta] and speeds q' as inputs and shares the
+accelerations q'' with the other components. It delivers the generalized force that keeps it in
+d'Alembert equilibrium, its inertia terms included (flows positive into the body):</p>
+<pre>  Q = M_i q'' + v C1_i q' + (g K0_i + v^2 K2_i) q</pre>
+<p>The mass-matrix part M_i enters the equation rather than the connector: a flow for each
+element of M would make the connector unbalanced (more flows than potentials). The parameters
+M11 ... C1_22 stay declared, so that an assembly can report the summed matrices.</p>
 </html>"));
 end PartialBody;

@@ -7,9 +7,9 @@ class Structure "The packages and how the components connect"
 (eqs (1)-(27)), the linear Whipple model (24) and the nonlinear Whipple bicycle (26) with and without
 the leaning rider</td></tr>
 <tr><td><code>Mechanics</code></td><td>multibody components in generalized coordinates (Kane's
-method as components): the <code>Frame</code> and <code>ContactRows</code> connectors, rigid bodies,
-joints, the rear frame, steer axis and front frame, the rider's upper body on a hip hinge, and the
-<code>Ground</code> root</td></tr>
+method as components): the frame and contact connectors, rigid bodies, joints that own their
+coordinates, the rear frame, steer axis and front frame, the rider's upper body on a hip hinge, and
+the <code>Ground</code></td></tr>
 <tr><td><code>Wheels</code></td><td>replaceable wheels: knife edge, torus, crowned roller</td></tr>
 <tr><td><code>Linear</code></td><td>the bodies of the linear Whipple model (24), each contributing its
 part of M, C1, K0, K2</td></tr>
@@ -23,17 +23,25 @@ delay and test signals, with <code>Interfaces.RealInput</code>/<code>RealOutput<
 <tr><td><code>Examples</code></td><td>bicycles connected to controllers, delays and sources</td></tr>
 </table>
 <h4>How the nonlinear bicycle is assembled</h4>
-<p>Each body's motion is described by its <code>Mechanics.Interfaces.Frame</code> connector as a
-function of the generalized coordinates and speeds: orientation, position, angular velocity and
-velocity with their partial derivatives with respect to the speeds (potential variables). Each body
-returns its generalized mass matrix and generalized forces (flow variables), so a
-<code>connect()</code> sums them as Kane's equations require. Joints pass the kinematics on and add
-the partial angular velocity of their own speed. A wheel adds the rolling-contact rows
-(<code>ContactRows</code>: the velocity of the contact point as a linear function of the speeds, and
-its acceleration remainder). <code>Ground</code>, which the bicycle extends, owns the coordinates
-and the independent speeds, eliminates the dependent speeds with the front contact's rows and writes
-Kane's reduced equations <code>Mr der(u_i) = f_r</code>; the pitch is solved from the holonomic
-constraint at initialization. The result is an index-1 model, linear in the accelerations, which the
-compiler turns into an explicit ODE with exact derivatives.</p>
+<p>Each body's motion is described by its frame connector
+(<code>Mechanics.Interfaces.Frame_a</code>, <code>Frame_b</code>) as a function of the generalized
+speeds: orientation, position, angular velocity and velocity with their partial derivatives with
+respect to the speeds and the acceleration remainders. These travel causally, from the ground
+outwards (<code>output</code> on the ground's side, <code>input</code> on the body's side). Three
+acausal pairs make the connector balanced: the generalized speeds with the speeds the joints own,
+the generalized accelerations with the generalized forces, and gravity with energy. Each body
+returns its generalized active and inertia forces, written with the generalized accelerations, so a
+<code>connect()</code> sums them as Kane's equations require. A joint owns its coordinate (angle and
+rate are its states), adds the partial angular velocity of its own speed and reports its speed; the
+assembly tells it its column <code>k</code> and says the number of speeds <code>n</code> once. A
+wheel adds the rolling-contact rows (<code>WheelContact</code>: the velocity of the contact point as
+a linear function of the speeds, and its acceleration remainder). <code>Ground</code>, a component
+like the others, owns the rear frame's position and attitude, eliminates the dependent speeds with
+the front contact's rows and states Kane's reduced equations <code>T'(sum of F) = 0</code>, which the
+compiler solves for the independent accelerations (a linear system of three or four unknowns); the
+pitch is solved from the holonomic constraint at initialization. The result is an index-1 model,
+linear in the accelerations, which the compiler turns into an explicit ODE with exact
+derivatives. The bicycle names its states (<code>delta = steer.angle</code>, ...); the compiler gives
+each state the top-level name of its alias, so the FMU's variables are those of the paper.</p>
 </html>"));
 end Structure;

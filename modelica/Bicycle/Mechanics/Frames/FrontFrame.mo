@@ -11,10 +11,9 @@ model FrontFrame "Front frame (fork and handlebar): body and front axle"
   parameter Bicycle.Units.MomentOfInertia IHxz "Inertia-tensor element IHxz about the centre of mass";
   parameter Bicycle.Units.MomentOfInertia IHyy "Inertia-tensor element IHyy about the centre of mass";
   parameter Bicycle.Units.MomentOfInertia IHzz "Inertia-tensor element IHzz about the centre of mass";
-  parameter Bicycle.Units.Acceleration g = 9.81 "Gravitational acceleration";
-  Bicycle.Mechanics.Interfaces.Frame frame_a(n = n) "Steer-axis point (on the ground of the nominal configuration); axes parallel to the rear frame's at zero steer";
-  Bicycle.Mechanics.Interfaces.Frame frame_b(n = n) "Front axle: origin at the front wheel centre, y along the axle";
-  Bicycle.Mechanics.Parts.RigidBody body(n = n, m = mH, rx = xH - w - c, rz = zH, Ixx = IHxx, Iyy = IHyy, Izz = IHzz, Ixz = IHxz, g = g) "Fork and handlebar";
+  Bicycle.Mechanics.Interfaces.Frame_a frame_a(n = n) "Steer-axis point (on the ground of the nominal configuration); axes parallel to the rear frame's at zero steer";
+  Bicycle.Mechanics.Interfaces.Frame_b frame_b(n = n) "Front axle: origin at the front wheel centre, y along the axle";
+  Bicycle.Mechanics.Parts.RigidBody body(n = n, m = mH, rx = xH - w - c, rz = zH, Ixx = IHxx, Iyy = IHyy, Izz = IHzz, Ixz = IHxz) "Fork and handlebar";
   Bicycle.Mechanics.Parts.FixedTranslation toAxle(n = n, rx = -c, rz = -rF) "Steer-axis point to the front axle";
 equation
   connect(frame_a, body.frame_a);

@@ -11,10 +11,9 @@ model RearFrame "Rear frame (rider rigidly attached): body, rear axle, steer-hea
   parameter Bicycle.Units.MomentOfInertia IBxz "Inertia-tensor element IBxz about the centre of mass";
   parameter Bicycle.Units.MomentOfInertia IByy "Inertia-tensor element IByy about the centre of mass";
   parameter Bicycle.Units.MomentOfInertia IBzz "Inertia-tensor element IBzz about the centre of mass";
-  parameter Bicycle.Units.Acceleration g = 9.81 "Gravitational acceleration";
-  Bicycle.Mechanics.Interfaces.Frame frame_a(n = n) "Rear axle: origin at the rear wheel centre, x forward, y along the axle (right), z down in the frame's plane";
-  Bicycle.Mechanics.Interfaces.Frame frame_b(n = n) "Steer-head location: the point of the steer axis on the ground of the nominal configuration, axes as frame_a";
-  Bicycle.Mechanics.Parts.RigidBody body(n = n, m = mB, rx = xB, rz = zB + rR, Ixx = IBxx, Iyy = IByy, Izz = IBzz, Ixz = IBxz, g = g) "Rear frame body with the rider";
+  Bicycle.Mechanics.Interfaces.Frame_a frame_a(n = n) "Rear axle: origin at the rear wheel centre, x forward, y along the axle (right), z down in the frame's plane";
+  Bicycle.Mechanics.Interfaces.Frame_b frame_b(n = n) "Steer-head location: the point of the steer axis on the ground of the nominal configuration, axes as frame_a";
+  Bicycle.Mechanics.Parts.RigidBody body(n = n, m = mB, rx = xB, rz = zB + rR, Ixx = IBxx, Iyy = IByy, Izz = IBzz, Ixz = IBxz) "Rear frame body with the rider";
   Bicycle.Mechanics.Parts.FixedTranslation toSteerAxis(n = n, rx = w + c, rz = rR) "Rear axle to the steer axis";
 equation
   connect(frame_a, body.frame_a);

@@ -1,6 +1,9 @@
 within Bicycle.Mechanics;
 package Interfaces "Connectors of the generalized-coordinate multibody components"
-  annotation(Documentation(info = "<html><p><code>Frame</code>: a body-fixed coordinate system with its
-kinematics in terms of the generalized speeds, and the generalized inertia and forces of the bodies
-beyond it as flows. <code>ContactRows</code>: the velocity-constraint rows of a rolling contact.</p></html>"));
+  annotation(Documentation(info = "<html><p><code>Frame_a</code>, <code>Frame_b</code>: a body-fixed
+coordinate system with its kinematics in terms of the generalized speeds (causal, from the ground
+outwards) and three acausal pairs: generalized speeds and the speeds the joints own, generalized
+accelerations and forces (inertia included), gravity and energy. <code>WheelContact</code>,
+<code>GroundContact</code>: the velocity-constraint rows of a rolling contact, from the wheel to the
+ground. Every connector is balanced (MLS 9.3.1).</p></html>"));
 end Interfaces;

@@ -1,9 +1,15 @@
 within Bicycle.Mechanics.Joints;
-model ActuatedRevolute "Revolute joint driven by a torque signal"
+model ActuatedRevolute "Revolute joint driven by a torque input, with an optional linear spring and damper"
   extends Bicycle.Mechanics.Joints.PartialRevolute;
+  parameter Real c(final quantity = "RotationalSpringConstant", final unit = "N.m/rad", min = 0) = 0 "Stiffness of the spring (torque per angle; neutral at zero angle)";
+  parameter Real d(final quantity = "RotationalDampingConstant", final unit = "N.m.s/rad", min = 0) = 0 "Damping (torque per rate)";
   Bicycle.Interfaces.RealInput tau_in(final quantity = "Torque", final unit = "N.m") "Torque on frame_b about the axis (reaction on frame_a)";
 equation
-  tau = tau_in;
-  annotation(Documentation(info = "<html><p>A revolute joint with the torque <code>tau_in</code> between
-its frames (see <code>PartialRevolute</code>).</p></html>"));
+  tau = tau_in - c*angle - d*omega;
+  Ej = 0.5*c*angle^2;
+  annotation(Documentation(info = "<html><p>A revolute joint (<a
+href=\"modelica://Bicycle.Mechanics.Joints.PartialRevolute\">PartialRevolute</a>) with the torque
+<code>tau_in</code> between frame_a and frame_b and a spring (stiffness <code>c</code>, neutral at
+zero angle) and damper (<code>d</code>) in parallel: <code>tau = tau_in - c*angle - d*omega</code>;
+the spring's energy <code>c*angle^2/2</code> counts in the system's energy.</p></html>"));
 end ActuatedRevolute;

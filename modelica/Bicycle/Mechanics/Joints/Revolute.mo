@@ -3,6 +3,7 @@ model Revolute "Free revolute joint (no torque)"
   extends Bicycle.Mechanics.Joints.PartialRevolute;
 equation
   tau = 0;
+  Ej = 0;
   annotation(Documentation(info = "<html><p>A revolute joint without friction or drive: see
-<code>PartialRevolute</code>.</p></html>"));
+<a href=\"modelica://Bicycle.Mechanics.Joints.PartialRevolute\">PartialRevolute</a>.</p></html>"));
 end Revolute;

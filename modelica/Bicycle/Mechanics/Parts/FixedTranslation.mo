@@ -4,8 +4,8 @@ model FixedTranslation "Rigid translation from frame_a to frame_b (same orientat
   parameter Bicycle.Units.Position rx = 0 "Vector from frame_a to frame_b: x component in frame_a axes";
   parameter Bicycle.Units.Position ry = 0 "Vector from frame_a to frame_b: y component in frame_a axes";
   parameter Bicycle.Units.Position rz = 0 "Vector from frame_a to frame_b: z component in frame_a axes";
-  Bicycle.Mechanics.Interfaces.Frame frame_a(n = n) "Frame at the start of the translation";
-  Bicycle.Mechanics.Interfaces.Frame frame_b(n = n) "Frame at the end of the translation";
+  Bicycle.Mechanics.Interfaces.Frame_a frame_a(n = n) "Frame at the start of the translation";
+  Bicycle.Mechanics.Interfaces.Frame_b frame_b(n = n) "Frame at the end of the translation";
 protected
   Real rho[3] "Vector from frame_a to frame_b (ground axes) (m)";
   Real wr[3] "w x rho (m/s)";
@@ -18,8 +18,6 @@ equation
   frame_b.w = frame_a.w;
   frame_b.Wp = frame_a.Wp;
   frame_b.al0 = frame_a.al0;
-  frame_b.q = frame_a.q;
-  frame_b.u = frame_a.u;
   // Vp_b = Vp_a + Wp x rho (column by column)
   for j in 1:n loop
     frame_b.Vp[1, j] = frame_a.Vp[1, j] + frame_a.Wp[2, j]*rho[3] - frame_a.Wp[3, j]*rho[2];
@@ -33,10 +31,13 @@ equation
   frame_b.a0[1] = frame_a.a0[1] + frame_a.al0[2]*rho[3] - frame_a.al0[3]*rho[2] + frame_a.w[2]*wr[3] - frame_a.w[3]*wr[2];
   frame_b.a0[2] = frame_a.a0[2] + frame_a.al0[3]*rho[1] - frame_a.al0[1]*rho[3] + frame_a.w[3]*wr[1] - frame_a.w[1]*wr[3];
   frame_b.a0[3] = frame_a.a0[3] + frame_a.al0[1]*rho[2] - frame_a.al0[2]*rho[1] + frame_a.w[1]*wr[2] - frame_a.w[2]*wr[1];
-  // Massless: the flows pass through
-  zeros(n, n) = frame_a.M + frame_b.M;
-  zeros(n) = frame_a.f + frame_b.f;
-  0 = frame_a.Ep + frame_b.Ep;
+  // Massless and without a coordinate: the pairs pass through
+  frame_b.u = frame_a.u;
+  zeros(n) = frame_a.us + frame_b.us;
+  frame_b.du = frame_a.du;
+  zeros(n) = frame_a.F + frame_b.F;
+  frame_b.g = frame_a.g;
+  0 = frame_a.E + frame_b.E;
   annotation(Documentation(info = "<html><p>frame_b is frame_a shifted by the body-fixed vector
 <code>{rx, ry, rz}</code> (frame_a axes). Its partial velocities are <code>Vp + Wp x rho</code> and its
 acceleration remainder <code>a0 + al0 x rho + w x (w x rho)</code>, with <code>rho</code> the vector in

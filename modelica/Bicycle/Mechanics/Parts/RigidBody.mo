@@ -11,21 +11,22 @@ model RigidBody "Rigid body fixed to frame_a: mass, centre of mass, inertia tens
   parameter Bicycle.Units.MomentOfInertia Ixy = 0 "Inertia-tensor element Ixy about the centre of mass, frame_a axes";
   parameter Bicycle.Units.MomentOfInertia Ixz = 0 "Inertia-tensor element Ixz about the centre of mass, frame_a axes";
   parameter Bicycle.Units.MomentOfInertia Iyz = 0 "Inertia-tensor element Iyz about the centre of mass, frame_a axes";
-  parameter Bicycle.Units.Acceleration g = 9.81 "Gravitational acceleration (along the ground z axis, which points down)";
-  Bicycle.Mechanics.Interfaces.Frame frame_a(n = n) "Frame the body is fixed to";
+  Bicycle.Mechanics.Interfaces.Frame_a frame_a(n = n) "Frame the body is fixed to";
   Real r_cm[3] "Position of the centre of mass (ground axes) (m)";
 protected
   Real rho[3] "Vector from frame_a to the centre of mass (ground axes) (m)";
   Real Vc[3, n] "Partial velocities of the centre of mass (m)";
   Real ac0[3] "Acceleration remainder of the centre of mass (m/s2)";
+  Real ac[3] "Acceleration of the centre of mass: Vc*du + ac0 (m/s2)";
+  Real al[3] "Angular acceleration: Wp*du + al0 (rad/s2)";
+  Real vc[3] "Velocity of the centre of mass: Vc*u (m/s)";
   Real wr[3] "w x rho (m/s)";
   Real Ib[3, 3] "Inertia tensor in frame_a axes (kg.m2)";
   Real IN[3, 3] "Inertia tensor in ground axes: R*Ib*R' (kg.m2)";
-  Real IW[3, n] "IN*Wp (kg.m2)";
   Real H[3] "Angular momentum about the centre of mass (kg.m2/s)";
-  Real Ia[3] "IN*al0 (N.m)";
-  Real F[3] "Gravity minus m*ac0 (N)";
-  Real T[3] "-IN*al0 - w x H (N.m)";
+  Real Ia[3] "IN*al (N.m)";
+  Real F[3] "Gravity minus m*ac (N)";
+  Real T[3] "-IN*al - w x H (N.m)";
 equation
   for i in 1:3 loop
     rho[i] = frame_a.R[i, 1]*rx + frame_a.R[i, 2]*ry + frame_a.R[i, 3]*rz;
@@ -52,22 +53,28 @@ equation
   Ib[3, 2] = Iyz;
   Ib[3, 3] = Izz;
   IN = frame_a.R*Ib*transpose(frame_a.R);
-  IW = IN*frame_a.Wp;
+  ac = Vc*frame_a.du + ac0;
+  al = frame_a.Wp*frame_a.du + frame_a.al0;
+  vc = Vc*frame_a.u;
   H = IN*frame_a.w;
-  Ia = IN*frame_a.al0;
-  F[1] = -m*ac0[1];
-  F[2] = -m*ac0[2];
-  F[3] = m*(g - ac0[3]);
+  Ia = IN*al;
+  F[1] = -m*ac[1];
+  F[2] = -m*ac[2];
+  F[3] = m*(frame_a.g - ac[3]);
   T[1] = -Ia[1] - (frame_a.w[2]*H[3] - frame_a.w[3]*H[2]);
   T[2] = -Ia[2] - (frame_a.w[3]*H[1] - frame_a.w[1]*H[3]);
   T[3] = -Ia[3] - (frame_a.w[1]*H[2] - frame_a.w[2]*H[1]);
-  frame_a.M = m*transpose(Vc)*Vc + transpose(frame_a.Wp)*IW;
-  frame_a.f = transpose(Vc)*F + transpose(frame_a.Wp)*T;
-  frame_a.Ep = -m*g*r_cm[3];
+  // Kane's generalized active and inertia forces of the body; a leaf of the tree owns no speed
+  frame_a.F = transpose(Vc)*F + transpose(frame_a.Wp)*T;
+  frame_a.us = zeros(n);
+  frame_a.E = 0.5*m*(vc[1]^2 + vc[2]^2 + vc[3]^2) + 0.5*(frame_a.w[1]*H[1] + frame_a.w[2]*H[2] + frame_a.w[3]*H[3]) - m*frame_a.g*r_cm[3];
   annotation(Documentation(info = "<html><p>A rigid body with mass <code>m</code>, centre of mass
-<code>{rx, ry, rz}</code> and inertia tensor about the centre of mass, both in frame_a axes. Its
-contributions to Kane's equations: generalized mass matrix <code>m Vc'Vc + Wp' I Wp</code> and
-generalized forces <code>Vc'(m g e_z - m ac0) + Wp'(-I al0 - w x I w)</code> (<code>Vc</code>,
-<code>ac0</code>: partial velocities and acceleration remainder of the centre of mass; <code>I</code>
-in ground axes). The potential energy <code>-m g z</code> is zero at the ground (z points down).</p></html>"));
+<code>(rx, ry, rz)</code> and inertia tensor about the centre of mass, all in <code>frame_a</code>
+axes. It adds to the connection set of <code>frame_a</code> its generalized active and inertia forces
+(Kane's <code>F_r + F_r*</code>) <code>Vc'(m g e_z - m ac) + Wp'(-I al - w x I w)</code>, with the
+accelerations written in the generalized accelerations <code>du</code>:
+<code>ac = Vc*du + ac0</code>, <code>al = Wp*du + al0</code> (<code>Vc</code>: partial velocities of the
+centre of mass, <code>I</code>: the inertia tensor in ground axes). Its mechanical energy is
+<code>m |vc|^2/2 + w'I w/2 - m g z</code> (zero at the ground; z points down); gravity
+<code>g</code> comes from the ground through the connector.</p></html>"));
 end RigidBody;

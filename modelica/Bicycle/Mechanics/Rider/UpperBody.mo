@@ -1,15 +1,14 @@
 within Bicycle.Mechanics.Rider;
 model UpperBody "Rider's upper body: rigid body whose centre of mass lies the distance l above the hip hinge axis"
-  constant Integer n = 7 "Number of generalized speeds";
+  constant Integer n = 7 "Number of generalized speeds of the system";
   parameter Bicycle.Units.Mass m "Mass of the upper body";
   parameter Bicycle.Units.Length l "Height of the centre of mass above the hinge axis (along -z of frame_a)";
   parameter Bicycle.Units.MomentOfInertia Ixx "Inertia-tensor element Ixx about the centre of mass";
   parameter Bicycle.Units.MomentOfInertia Ixz = 0 "Inertia-tensor element Ixz about the centre of mass";
   parameter Bicycle.Units.MomentOfInertia Iyy "Inertia-tensor element Iyy about the centre of mass";
   parameter Bicycle.Units.MomentOfInertia Izz "Inertia-tensor element Izz about the centre of mass";
-  parameter Bicycle.Units.Acceleration g = 9.81 "Gravitational acceleration";
-  Bicycle.Mechanics.Interfaces.Frame frame_a(n = n) "Hinge point on the hinge axis; axes of the upper body (parallel to the rear frame's when upright)";
-  Bicycle.Mechanics.Parts.RigidBody body(n = n, frame_a(n = n), m = m, rz = -l, Ixx = Ixx, Iyy = Iyy, Izz = Izz, Ixz = Ixz, g = g) "Upper body (trunk, arms, head)";
+  Bicycle.Mechanics.Interfaces.Frame_a frame_a(n = n) "Hinge point on the hinge axis; axes of the upper body (parallel to the rear frame's when upright)";
+  Bicycle.Mechanics.Parts.RigidBody body(n = n, m = m, rz = -l, Ixx = Ixx, Iyy = Iyy, Izz = Izz, Ixz = Ixz) "Upper body (trunk, arms, head)";
 equation
   connect(frame_a, body.frame_a);
   annotation(Documentation(info = "<html><p>The upper body U of a rider leaning at the hips: a rigid body

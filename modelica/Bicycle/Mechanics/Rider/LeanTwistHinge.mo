@@ -1,0 +1,26 @@
+within Bicycle.Mechanics.Rider;
+model LeanTwistHinge "Hip of two hinges in series: lean about the rear frame's x axis, then twist about the upper body's z axis, each with stiffness, damping and a torque input"
+  extends Bicycle.Mechanics.Rider.PartialHinge;
+  parameter Real c(final quantity = "RotationalSpringConstant", final unit = "N.m/rad", min = 0) = 0 "Passive stiffness of the lean hinge";
+  parameter Real d(final quantity = "RotationalDampingConstant", final unit = "N.m.s/rad", min = 0) = 0 "Passive damping of the lean hinge";
+  parameter Real cT(final quantity = "RotationalSpringConstant", final unit = "N.m/rad", min = 0) = 0 "Passive stiffness of the twist hinge";
+  parameter Real dT(final quantity = "RotationalDampingConstant", final unit = "N.m.s/rad", min = 0) = 0 "Passive damping of the twist hinge";
+  parameter Bicycle.Units.Angle twist0 = 0 "Initial twist angle";
+  parameter Bicycle.Units.AngularVelocity twistRate0 = 0 "Initial twist rate";
+  Bicycle.Interfaces.RealInput tau_twist(final quantity = "Torque", final unit = "N.m") "Twist torque of the rider on the upper body about its vertical axis, positive turning the upper body right";
+  Bicycle.Mechanics.Joints.ActuatedRevolute lean(n = n, k = k, final nx = 1, final ny = 0, final nz = 0, c = c, d = d, angle0 = angle0, omega0 = omega0) "Lean hinge (column k)";
+  Bicycle.Mechanics.Joints.ActuatedRevolute twist(n = n, k = k + 1, final nx = 0, final ny = 0, final nz = 1, c = cT, d = dT, angle0 = twist0, omega0 = twistRate0) "Twist hinge (column k + 1)";
+equation
+  angle = lean.angle;
+  omega = lean.omega;
+  connect(frame_a, lean.frame_a);
+  connect(lean.frame_b, twist.frame_a);
+  connect(twist.frame_b, frame_b);
+  connect(tau_in, lean.tau_in);
+  connect(tau_twist, twist.tau_in);
+  annotation(Documentation(info = "<html><p>The upper body leans about the longitudinal axis of the
+rear frame (coordinate <code>k</code>) and twists about its own vertical axis (coordinate
+<code>k + 1</code>), each hinge with a spring (neutral at zero), a damper and the rider's torque.
+Two joints that own their coordinates: the assembly that uses this hinge raises its number of
+generalized speeds by one and changes nothing else.</p></html>"));
+end LeanTwistHinge;
