@@ -382,6 +382,14 @@ ZERO_MODES = {
 STRUCTURE_TOL = 1e-12
 
 
+def further_coordinates(states) -> list[tuple[str, str]]:
+    """The coordinates a nonlinear bicycle has beyond its own, with their rates: every state ``q``
+    that is not one of the bicycle's and whose rate ``u_q`` is a state too (the rider's lean
+    ``beta, u_beta``, a twist ``twist, u_twist``, ...). They join the lateral coordinates."""
+    known = names_of_bicycle()
+    return [(q, f"u_{q}") for q in states if q not in known and not q.startswith("u_") and f"u_{q}" in states]
+
+
 def is_bicycle(lin: Linearization) -> bool:
     """Whether the FMU has the quantities of the nonlinear bicycles (:data:`IGNORABLE` etc.) as
     states or outputs, so that :func:`steady_motion` applies."""
@@ -542,8 +550,11 @@ def _steady_motions(model, states, inputs, outputs, C, D, A, B, x0, xdot0, metho
     free_hinge = all(n in states or n in outputs for n in HINGE[:2]) and HINGE[2] in inputs
     if lock_hinge and not free_hinge:
         raise NotSteadyMotion(f"{model} has no rider hinge ({HINGE[0]}, {HINGE[1]}, input {HINGE[2]}) to lock")
-    conf = list(LATERAL_COORDINATES) + ([HINGE[0]] if free_hinge else [])
-    rates = list(LATERAL_SPEEDS) + ([HINGE[1]] if free_hinge else [])
+    further = further_coordinates(states)
+    if free_hinge and (HINGE[0], HINGE[1]) not in further:  # the hinge's quantities as outputs only
+        further.insert(0, (HINGE[0], HINGE[1]))
+    conf = list(LATERAL_COORDINATES) + [q for q, _ in further]
+    rates = list(LATERAL_SPEEDS) + [u for _, u in further]
     names = [*IGNORABLE, PITCH, *conf, *rates, FORWARD_SPEED]
     T = _coordinates(model, states, outputs, C, D, names)
     A = np.swapaxes(np.linalg.solve(T.T, np.swapaxes(T @ A, 1, 2)), 1, 2)  # T A T^-1
@@ -978,7 +989,8 @@ def linearize_speeds(fmu_path: str | Path, speeds, parameters: dict | None = Non
     if names_of_bicycle() <= set(states) | set(output_names):
         # the rows of C and D of the outputs that alias the bicycle's states are the same at every
         # speed (checked, else the reduction goes one speed at a time)
-        rows = [k for k, n in enumerate(output_names) if n in {*names_of_bicycle(), *HINGE}]
+        aliases = {*names_of_bicycle(), *HINGE, *(n for pair in further_coordinates(states) for n in pair)}
+        rows = [k for k, n in enumerate(output_names) if n in aliases]
         if np.all(C[:, rows] == C[:1, rows]) and np.all(D[:, rows] == D[:1, rows]):
             sweep.steady = _steady_motions(sweep.model, states, input_names, output_names, C[0], D[0], sweep.A,
                                            sweep.B, x0, xdot0, sweep.method, lock_hinge)

@@ -1,9 +1,8 @@
 within Bicycle.Mechanics.Joints;
 model ActuatedRevolute "Revolute joint driven by a torque input, with an optional linear spring and damper"
-  extends Bicycle.Mechanics.Joints.PartialRevolute;
+  extends Bicycle.Mechanics.Joints.PartialActuatedRevolute;
   parameter Real c(final quantity = "RotationalSpringConstant", final unit = "N.m/rad", min = 0) = 0 "Stiffness of the spring (torque per angle; neutral at zero angle)";
   parameter Real d(final quantity = "RotationalDampingConstant", final unit = "N.m.s/rad", min = 0) = 0 "Damping (torque per rate)";
-  Bicycle.Interfaces.RealInput tau_in(final quantity = "Torque", final unit = "N.m") "Torque on frame_b about the axis (reaction on frame_a)";
 equation
   tau = tau_in - c*angle - d*omega;
   Ej = 0.5*c*angle^2;

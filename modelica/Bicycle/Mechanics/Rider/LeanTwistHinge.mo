@@ -8,8 +8,8 @@ model LeanTwistHinge "Hip of two hinges in series: lean about the rear frame's x
   parameter Bicycle.Units.Angle twist0 = 0 "Initial twist angle";
   parameter Bicycle.Units.AngularVelocity twistRate0 = 0 "Initial twist rate";
   Bicycle.Interfaces.RealInput tau_twist(final quantity = "Torque", final unit = "N.m") "Twist torque of the rider on the upper body about its vertical axis, positive turning the upper body right";
-  Bicycle.Mechanics.Joints.ActuatedRevolute lean(n = n, k = k, final nx = 1, final ny = 0, final nz = 0, c = c, d = d, angle0 = angle0, omega0 = omega0) "Lean hinge (column k)";
-  Bicycle.Mechanics.Joints.ActuatedRevolute twist(n = n, k = k + 1, final nx = 0, final ny = 0, final nz = 1, c = cT, d = dT, angle0 = twist0, omega0 = twistRate0) "Twist hinge (column k + 1)";
+  Bicycle.Mechanics.Joints.ActuatedRevolute lean(c = c, d = d, omega0 = omega0, n = n, k = k, nx = 1, ny = 0, nz = 0, angle0 = angle0) "Lean hinge (column k)";
+  Bicycle.Mechanics.Joints.ActuatedRevolute twist(c = cT, d = dT, omega0 = twistRate0, n = n, k = k + 1, nx = 0, ny = 0, nz = 1, angle0 = twist0) "Twist hinge (column k + 1)";
 equation
   angle = lean.angle;
   omega = lean.omega;
@@ -22,5 +22,8 @@ equation
 rear frame (coordinate <code>k</code>) and twists about its own vertical axis (coordinate
 <code>k + 1</code>), each hinge with a spring (neutral at zero), a damper and the rider's torque.
 Two joints that own their coordinates: the assembly that uses this hinge raises its number of
-generalized speeds by one and changes nothing else.</p></html>"));
+generalized speeds by one and changes nothing else. With the twist hinge held (a
+<a href=\"modelica://Bicycle.Mechanics.Joints.LockedRevolute\">LockedRevolute</a> in its place) the
+hip is <a href=\"modelica://Bicycle.Mechanics.Rider.HipHinge\">HipHinge</a>, with both held
+<a href=\"modelica://Bicycle.Mechanics.Rider.LockedHinge\">LockedHinge</a>.</p></html>"));
 end LeanTwistHinge;

@@ -9,7 +9,7 @@ Lean\"), in the generalized coordinates of <a href=\"modelica://Bicycle.Mechanic
 <li><code>PartialHinge</code> (constraining class of the replaceable hinge of
 <a href=\"modelica://Bicycle.Bicycles.WhippleRider\">WhippleRider</a>) with <code>HipHinge</code>
 (revolute about the frame's x axis with the rider's lean torque as input, a passive spring and
-damper), <code>LockedHinge</code> (the upper body held at its initial lean angle by <code>Lock</code>;
+damper), <code>LockedHinge</code> (the upper body held at its initial lean angle;
 the lean torque has no effect) and <code>LeanTwistHinge</code> (lean, then twist about the upper
 body's vertical axis: two coordinates).</li>
 </ul>
