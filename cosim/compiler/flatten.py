@@ -37,6 +37,9 @@ class Declaration:
     max: float | None = None
     fixed: bool | str | None = None  # None: not given; "expression": given, but not a literal
     owner: str | None = None  # the class that declares the variable
+    # A top-level variable's declaration equation that is a plain reference (``delta = steer.angle``):
+    # the referenced name; None otherwise (see ode.py, states named by their top-level alias).
+    binding: str | None = None
 
 
 @dataclass
@@ -67,6 +70,32 @@ class FlatModel:
 def _literal(node):
     value = getattr(node, "value", None)
     return value if isinstance(value, (int, float, str, bool)) else None
+
+
+def _binding_reference(symbol) -> str | None:
+    """The name in a declaration equation ``v = a.b`` of ``symbol`` as written in its class, if
+    it is a plain component reference (no sign, factor or subscript); None otherwise."""
+    from pymoca import ast
+
+    modification = getattr(symbol, "class_modification", None)
+    for argument in getattr(modification, "arguments", None) or []:
+        element = argument.value
+        if not isinstance(element, ast.ElementModification) or str(element.component) != "value":
+            continue
+        values = element.modifications
+        reference = values[-1] if values else None
+        if not isinstance(reference, ast.ComponentRef):
+            return None
+        parts, node = [], reference
+        while True:
+            if any(index is not None for indices in node.indices for index in indices):
+                return None
+            parts.append(node.name)
+            if not node.child:
+                break
+            node = node.child[0]
+        return ".".join(parts)
+    return None
 
 
 class _Declarations:
@@ -592,7 +621,9 @@ def _flatten(library: Library, model_name: str) -> FlatModel:
     for name, symbol in flat_class.symbols.items():
         declared, owner = lookup.find(model_name, name)
         prefixes = list(symbol.prefixes)
+        binding = None
         if declared is not None and "." not in name:
+            binding = _binding_reference(declared)
             declared_prefixes = list(declared.prefixes) + lookup.base_prefixes(declared, owner)
             for causality in ("input", "output"):
                 if causality in declared_prefixes and causality not in prefixes:
@@ -615,6 +646,7 @@ def _flatten(library: Library, model_name: str) -> FlatModel:
             max=_literal(symbol.max),
             fixed=fixed,
             owner=owner,
+            binding=binding,
         )
     unsupported = _unsupported(library, flat, model_name)
     if unsupported is not None:

@@ -57,12 +57,17 @@ class ExplicitModel:
     # state starts at ``x0``.
     init_residual: ca.SX = None
     init_unknowns: list[int] = None
+    # The algebraic loops (blocks of more than one unknown), in the order solved: (unknowns of the
+    # block, size of the linear system solved for them: the tear variables, see _tear).
+    loops: list[tuple[int, int]] = None
 
     def __post_init__(self):
         if self.init_residual is None:
             self.init_residual = ca.SX(0, 1)
         if self.init_unknowns is None:
             self.init_unknowns = []
+        if self.loops is None:
+            self.loops = []
 
 
 def _column(symbols):
@@ -167,7 +172,6 @@ def _make_explicit(flat: FlatModel) -> ExplicitModel:
     name = flat.name
     if getattr(m, "delay_states", None):
         raise ModelStructureError(f"{name}: delay() is not supported; use a Pade approximation (Bicycle.Rider)")
-    _refuse_initialization_attributes(flat)
 
     for v in m.parameters:
         if isinstance(v.value, float) and math.isnan(v.value):
@@ -212,6 +216,37 @@ def _make_explicit(flat: FlatModel) -> ExplicitModel:
         return expr
 
     residual = known(tr(m.equations))
+    initial = known(tr(m.initial_equations)) if m.initial_equations else ca.SX(0, 1)
+
+    # The scalar states: each with the flat variable it is an element of (its declaration gives
+    # the start value and ``fixed``) and its index in that variable.
+    variable_of = [(v.symbol.name(), k) for v in m.states for k in range(v.symbol.numel())]
+    algebraic_of = [(v.symbol.name(), k) for v in alg for k in range(v.symbol.numel())]
+    underived = _underived(residual, xd)
+    kept = [k for k in range(len(x)) if k not in underived]
+    # Algebraic variables: the model's, then the declared states whose der() occurs in no equation
+    # (in Modelica a state is a variable to which der() is applied).
+    z = z + [x[k] for k in sorted(underived)]
+    algebraic_of += [variable_of[k] for k in sorted(underived)]
+    _refuse_initialization_attributes(flat, {variable_of[k][0] for k in kept})
+
+    state_x = {k: x[k] for k in kept}
+    state_xd = {k: xd[k] for k in kept}
+    renamed = _top_level_aliases(flat, residual, state_x, variable_of, z, algebraic_of)
+    for k, j in renamed.items():
+        # The state takes the top-level name; the component's name stays an algebraic variable
+        # (equal to the state through the alias equations). Its derivative is named anew.
+        state_x[k], z[j] = z[j], x[k]
+        state_xd[k] = ca.SX.sym(f"der({state_x[k].name()})")
+    if renamed:
+        old = _column([xd[k] for k in renamed])
+        new = _column([state_xd[k] for k in renamed])
+        residual = ca.substitute(residual, old, new)
+        initial = ca.substitute(initial, old, new) if initial.numel() else initial
+    order = _state_order(flat, kept, variable_of, {k: algebraic_of[j] for k, j in renamed.items()})
+    x = [state_x[k] for k in order]
+    xd = [state_xd[k] for k in order]
+
     w = xd + z
     neq, nw = residual.numel(), len(w)
     if neq != nw:
@@ -228,9 +263,9 @@ def _make_explicit(flat: FlatModel) -> ExplicitModel:
         rows[r].append(c)
     row_match, col_match = _maximum_matching(rows, nw)
     if -1 in row_match:
-        _structural_error(name, residual, rows, row_match, col_match, w, x, m)
+        _structural_error(name, residual, rows, row_match, col_match, w, x)
 
-    solution = _solve_blocks(name, residual, W, w, sp)
+    solution, loops = _solve_blocks(name, residual, W, w, sp)
     xdot = solution[: len(xd)]
     zsol = solution[len(xd):]
 
@@ -247,6 +282,8 @@ def _make_explicit(flat: FlatModel) -> ExplicitModel:
     if expressions:  # translated at once: each translation is a function of all the symbols
         values = iter(ca.vertsplit(known(tr(expressions))))
         x0 = [e if e is not None else next(values) for e in x0]
+    x0 = [x0[k] for k in order]
+    state_starts = [state_starts[k] for k in order]
     P = _column(p)
     x0 = ca.vertcat(*x0) if x0 else ca.SX(0, 1)
     parameter_ids = {q.element_hash() for q in p}  # a set: comparing with each of p is quadratic
@@ -256,9 +293,16 @@ def _make_explicit(flat: FlatModel) -> ExplicitModel:
         if bad:
             raise ModelStructureError(f"{name}: {label} depend on non-parameters: {', '.join(bad)}")
 
+    # The states declared fixed = false (the declaration of the flat variable: a renamed state
+    # keeps the component's fixed) are the unknowns of the initial equations.
+    solved_names = list(dict.fromkeys(variable_of[k][0] for k in order if _fixed(flat, variable_of[k][0]) is False))
     init_residual, init_unknowns = _initial_problem(
-        flat, known(tr(m.initial_equations)) if m.initial_equations else ca.SX(0, 1),
-        tr, _column(xd + z), ca.vertcat(*solution) if solution else ca.SX(0, 1), x, t, u, p)
+        flat, initial, [i for i, k in enumerate(order) if variable_of[k][0] in solved_names], solved_names,
+        _column(xd + z), ca.vertcat(*solution) if solution else ca.SX(0, 1), x, t, u, p)
+
+    def output(element_name: str) -> bool:
+        declaration = flat.declarations.get(element_name)
+        return declaration is not None and "output" in declaration.prefixes
 
     def symbols(variables, starts=None):
         found = []
@@ -266,9 +310,7 @@ def _make_explicit(flat: FlatModel) -> ExplicitModel:
             python_type = getattr(v, "python_type", float)
             for k, element in enumerate(tr.elements[v.symbol.name()]):
                 start = starts(v, k) if starts else None
-                declaration = flat.declarations.get(element.name())
-                output = declaration is not None and "output" in declaration.prefixes
-                found.append(Symbolic(element.name(), start, python_type, output))
+                found.append(Symbolic(element.name(), start, python_type, output(element.name())))
         return found
 
     def literal(attr, default=None):
@@ -277,28 +319,120 @@ def _make_explicit(flat: FlatModel) -> ExplicitModel:
             return numbers[k] if numbers is not None else default
         return element
 
+    alg_types = {v.symbol.name(): getattr(v, "python_type", float) for v in list(alg) + list(m.states)}
     return ExplicitModel(
         name=name, t=t, x=_column(x), u=_column(u), p=P,
         xdot=ca.vertcat(*xdot) if xdot else ca.SX(0, 1),
         z=ca.vertcat(*zsol) if zsol else ca.SX(0, 1),
         c=cexpr, x0=x0,
-        states=symbols(m.states, lambda v, k, it=iter(state_starts): next(it)),
+        states=[Symbolic(s.name(), start, float, output(s.name())) for s, start in zip(x, state_starts)],
         inputs=symbols(m.inputs, literal("start", 0.0)),
         parameters=symbols(tunable, literal("value")),
         calculated=symbols(calculated),
-        algebraics=symbols(alg),
+        algebraics=[Symbolic(s.name(), None, alg_types[variable], output(s.name()))
+                    for s, (variable, _) in zip(z, algebraic_of)],
         init_residual=init_residual,
         init_unknowns=init_unknowns,
+        loops=loops,
     )
 
 
-def _initial_problem(flat: FlatModel, residual, tr, w, solution, x, t, u, p):
+def _fixed(flat: FlatModel, variable: str):
+    """The ``fixed`` attribute given in the declaration of a flat variable (None: not given)."""
+    declaration = flat.declarations.get(variable)
+    return declaration.fixed if declaration is not None else None
+
+
+def _underived(residual, xd) -> set[int]:
+    """Indices of the state derivatives that occur in no equation.
+
+    pymoca lists a variable as a state when ``der()`` is applied to it anywhere, also in the branch
+    of an if-equation that a constant condition drops (``if dep then s = ud; else der(s) = -a;``):
+    once the constants are substituted the branch is gone and so is ``der(s)``."""
+    if not xd:
+        return set()
+    if residual.numel() == 0:
+        return set(range(len(xd)))
+    _, columns = ca.jacobian_sparsity(residual, _column(xd)).get_triplet()
+    return set(range(len(xd))) - set(columns)
+
+
+def _top_level_aliases(flat: FlatModel, residual, state_x: dict, variable_of: list, z: list,
+                       algebraic_of: list) -> dict[int, int]:
+    """The states of components that take a top-level name: scalar state index -> index in ``z``.
+
+    A joint owns its coordinate (``steer.angle``, ``der(steer.angle) = steer.omega``) and the
+    assembly names it for the FMU with a declaration equation ``output Angle delta = steer.angle``.
+    A state whose flat variable is dotted takes the name of a top-level algebraic variable whose
+    declaration equation is a plain reference (flatten.Declaration.binding) and which equals the
+    state through plain alias equations ``a = b`` (either side, no sign or factor; a chain of them
+    as connections give). The first declared of several such names is taken. A top-level variable
+    equated to a state in the equation section keeps its role (the component bicycles'
+    ``phi = frame.phi``: their FMUs keep the state ``frame.phi``)."""
+    declarations = flat.declarations
+    named = {j for j, (variable, _) in enumerate(algebraic_of)
+             if "." not in variable and declarations.get(variable) is not None
+             and declarations[variable].binding is not None}
+    dotted = [k for k in state_x if "." in variable_of[k][0]]
+    if not named or not dotted:
+        return {}
+    # union-find over the states and algebraic variables joined by alias equations
+    members = [state_x[k] for k in dotted] + list(z)
+    index = {s.element_hash(): i for i, s in enumerate(members)}
+    parent = list(range(len(members)))
+
+    def root(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    for equation in ca.vertsplit(residual):
+        if equation.is_op(ca.OP_SUB):
+            a, b = equation.dep(0), equation.dep(1)
+            if a.is_symbolic() and b.is_symbolic():
+                i, j = index.get(a.element_hash()), index.get(b.element_hash())
+                if i is not None and j is not None:
+                    parent[root(i)] = root(j)
+    states_of, names_of = {}, {}
+    for i, k in enumerate(dotted):
+        states_of.setdefault(root(i), []).append(k)
+    order = {variable: n for n, variable in enumerate(declarations)}
+    for j in named:
+        names_of.setdefault(root(len(dotted) + j), []).append(j)
+    renamed = {}
+    for group, states in states_of.items():
+        if len(states) == 1 and group in names_of:  # two states equal: index > 1, reported later
+            renamed[states[0]] = min(names_of[group], key=lambda j: (order[algebraic_of[j][0]], algebraic_of[j][1]))
+    return renamed
+
+
+def _state_order(flat: FlatModel, kept: list[int], variable_of: list, renamed: dict) -> list[int]:
+    """The order of the states: those with a top-level name (declared at top level, or renamed
+    after their top-level alias) in the order of the top-level declarations, then the states that
+    keep a dotted name in pymoca's order. Models that declare their states at top level keep
+    pymoca's order (that of their declarations)."""
+    order = {variable: n for n, variable in enumerate(flat.declarations)}
+
+    def key(position):
+        k = kept[position]
+        variable, element = renamed.get(k, variable_of[k])
+        if "." in variable or variable not in order:
+            return (1, position, 0)
+        return (0, order[variable], element)
+
+    return [kept[i] for i in sorted(range(len(kept)), key=key)]
+
+
+def _initial_problem(flat: FlatModel, residual, unknowns: list[int], unknown_names: list[str], w, solution,
+                     x, t, u, p):
     """The initial equations as residuals of ``(t, x, u, p)`` and the indices of their unknowns.
 
-    The unknowns are the states declared ``fixed = false`` (all elements of an array state);
-    every other state starts at its start value. State derivatives and algebraic variables in
-    the initial equations are replaced by their solution, so ``der(v) = 0`` (steady state) and
-    an equation on an output such as ``frontContactHeight = 0`` are residuals of the states.
+    The unknowns (``unknowns``, indices into ``x``) are the states declared ``fixed = false`` (all
+    elements of an array state; ``unknown_names`` are their flat variables); every other state
+    starts at its start value. State derivatives and algebraic variables in the initial equations
+    are replaced by their solution, so ``der(v) = 0`` (steady state) and an equation on an output
+    such as ``frontContactHeight = 0`` are residuals of the states.
 
     Raises
     ------
@@ -306,13 +440,6 @@ def _initial_problem(flat: FlatModel, residual, tr, w, solution, x, t, u, p):
         Unbalanced (unknowns != initial equations) or structurally singular (an equation that
         involves none of the unknowns it could determine), naming file:line and the variables.
     """
-    m = flat.casadi
-    unknown_names, unknowns = [], []
-    for v in m.states:
-        decl = flat.declarations.get(v.symbol.name())
-        if decl is not None and decl.fixed is False:
-            unknown_names.append(v.symbol.name())
-            unknowns += [k for k, e in enumerate(x) if any(ca.is_equal(e, s) for s in tr.elements[v.symbol.name()])]
     if residual.numel() == 0 and not unknowns:
         return ca.SX(0, 1), []
     if w.numel():
@@ -369,7 +496,7 @@ def _shortened(text: str, limit: int = 300) -> str:
     return text if len(text) <= limit else text[: limit - 5] + " ..."
 
 
-def _refuse_initialization_attributes(flat: FlatModel) -> None:
+def _refuse_initialization_attributes(flat: FlatModel, states: set[str]) -> None:
     """Refuse ``fixed`` attributes that ask for an initialization problem cosim does not solve.
 
     A state declared ``fixed = false`` is an unknown of the initial equations (its start value
@@ -380,13 +507,14 @@ def _refuse_initialization_attributes(flat: FlatModel) -> None:
     parameter (a parameter computed during initialization) and ``fixed = true`` on a variable
     that is not a state (the initial equation ``v = start`` of an algebraic variable).
 
+    ``states`` are the flat variables that are states (a declared state without ``der()`` is not).
+
     Raises
     ------
     ModelStructureError
         Naming the variable and the file (and line) where its ``fixed`` is given.
     """
     m = flat.casadi
-    states = {v.symbol.name() for v in m.states}
     parameters = {v.symbol.name() for v in list(m.parameters) + list(m.constants)}
     inputs = {v.symbol.name() for v in m.inputs}
     for name, decl in flat.declarations.items():
@@ -413,7 +541,7 @@ def _refuse_initialization_attributes(flat: FlatModel) -> None:
             f"states declared fixed = false: {remedy}")
 
 
-def _structural_error(name, residual, rows, row_match, col_match, w, x, m):
+def _structural_error(name, residual, rows, row_match, col_match, w, x):
     """Explain a structurally singular system: which equations determine nothing, which
     unknowns are left over, and which states the surplus equations constrain (index > 1)."""
     unmatched_rows = [r for r, c in enumerate(row_match) if c < 0]
@@ -457,11 +585,22 @@ def _isolated(residual, unknown):
     return None
 
 
+# Loops of fewer unknowns are solved as one linear system without tearing, as before tearing was
+# introduced (the Whipple bicycle's three generalized accelerations): tearing so few unknowns gains
+# nothing. A larger loop is solved as one system as well when tearing leaves no unknown to assign
+# (WhippleRider's four accelerations, coupled through the full mass matrix).
+TEARING_MIN_UNKNOWNS = 4
+
+
 def _solve_blocks(name, residual, W, w, sp):
-    """Solve the residual for all unknowns, block by block in block-triangular order."""
+    """Solve the residual for all unknowns, block by block in block-triangular order.
+
+    Returns the solution (an expression of the knowns for each unknown) and the algebraic loops
+    (see ``ExplicitModel.loops``)."""
     nb, rowperm, colperm, rowblock, colblock, _, _ = sp.btf()
     blocks = [(rowperm[rowblock[b]:rowblock[b + 1]], colperm[colblock[b]:colblock[b + 1]]) for b in range(nb)]
     solved = {}  # column -> SX expression in terms of knowns only
+    loops = []
     rows_of = {}
     for r, c in zip(*sp.get_triplet()):
         rows_of.setdefault(r, set()).add(c)
@@ -495,11 +634,191 @@ def _solve_blocks(name, residual, W, w, sp):
                 raise ModelStructureError(
                     f"{name}: nonlinear algebraic loop in {', '.join(w[c].name() for c in bcols)}; "
                     f"solving it is not supported yet. Equations:\n  {eqs}")
+            if len(bcols) >= TEARING_MIN_UNKNOWNS:
+                torn = _solve_torn(expr, [w[c] for c in bcols], jb)
+                if torn is not None:
+                    values, tears = torn
+                    solved.update(zip(bcols, values))
+                    loops.append((len(bcols), tears))
+                    continue
             r0 = ca.substitute(expr, wb, ca.SX.zeros(wb.shape))
             sol = -r0 / jb if len(bcols) == 1 else -ca.solve(jb, r0)
             for k, c in enumerate(bcols):
                 solved[c] = ca.simplify(sol[k]) if len(bcols) == 1 else sol[k]
+            if len(bcols) > 1:
+                loops.append((len(bcols), len(bcols)))
         if len(waiting) == len(remaining):  # cannot happen for a block-triangular form; no endless loop
             raise ModelStructureError(f"{name}: could not order the equations into solvable blocks")
         remaining = waiting
-    return [solved[c] for c in range(len(w))]
+    return [solved[c] for c in range(len(w))], loops
+
+
+def _numeric(coefficient) -> float | None:
+    """The value of a Jacobian entry that is a nonzero finite number; None for an expression
+    (which may be zero at some point: an unknown is never assigned by dividing by it)."""
+    if not coefficient.is_constant():
+        return None
+    value = float(coefficient)
+    return value if value != 0 and math.isfinite(value) else None
+
+
+def _solve_torn(expr, unknowns: list, jacobian):
+    """Solve the linear loop ``expr(unknowns) = 0`` by tearing (see :func:`_tear`).
+
+    Every unknown but the tear variables is assigned from one equation, in which its coefficient
+    is a number, as an expression of the tear variables; the remaining equations (residual
+    equations, linear in the tear variables) give the tear variables: ``J t = -r0``. Returns the
+    solution of each unknown and the number of tear variables, or None when tearing leaves as
+    many tear variables as unknowns (then the loop is solved as one linear system)."""
+    n = len(unknowns)
+    coefficients = [{} for _ in range(n)]
+    for r, c, a in zip(*jacobian.sparsity().get_triplet(), jacobian.nonzeros()):
+        coefficients[r][c] = _numeric(a)
+    assignments, tears, residual_rows = _tear([{c: a is not None for c, a in row.items()} for row in coefficients], n)
+    if len(tears) >= n:
+        return None
+    equations = ca.vertsplit(expr)
+    value = {}  # unknown -> expression of the tear variables and the knowns
+    for v, e in assignments:
+        # the other unknowns of the equation are tear variables or assigned before
+        others = [c for c in coefficients[e] if c != v and c in value]
+        rest = ca.substitute([equations[e]], [unknowns[v]] + [unknowns[c] for c in others],
+                             [ca.SX(0)] + [value[c] for c in others])[0]
+        value[v] = -rest / coefficients[e][v]
+    torn = _column([unknowns[t] for t in tears])
+    if tears:
+        assigned = [v for v, _ in assignments]
+        residual = ca.substitute([_column([equations[e] for e in residual_rows])],
+                                 [unknowns[v] for v in assigned], [value[v] for v in assigned])[0]
+        jt = ca.jacobian(residual, torn)
+        r0 = ca.substitute(residual, torn, ca.SX.zeros(torn.shape))
+        tear_values = _solve_linear(jt, r0)
+        values = ca.vertsplit(ca.substitute(_column([value[v] for v in assigned]), torn, _column(tear_values)))
+        value.update(zip(assigned, values))
+        value.update(zip(tears, tear_values))
+    return [value[v] for v in range(n)], len(tears)
+
+
+def _solve_linear(a, b) -> list:
+    """``x`` with ``a x + b = 0`` (``a`` square, symbolic), block by block in the block-triangular
+    order of ``a``'s structure: a decoupled part is solved on its own, so that a row
+    ``J*du_k = 0`` (a held joint) gives ``du_k = 0`` exactly instead of the rounding of a dense
+    solve that mixes it with the others."""
+    n = a.size1()
+    if n == 1:
+        return [-b[0] / a[0, 0]]
+    nb, rowperm, colperm, rowblock, colblock, _, _ = a.sparsity().btf()
+    if nb == 1:
+        return ca.vertsplit(-ca.solve(a, b))
+    rows_of = {}
+    for r, c in zip(*a.sparsity().get_triplet()):
+        rows_of.setdefault(r, set()).add(c)
+    blocks = [(rowperm[rowblock[k]:rowblock[k + 1]], colperm[colblock[k]:colblock[k + 1]]) for k in range(nb)]
+    x = {}
+    while blocks:
+        waiting = []
+        for rows, cols in blocks:
+            needed = sorted(set().union(*(rows_of.get(r, set()) for r in rows)) - set(cols))
+            if not all(c in x for c in needed):
+                waiting.append((rows, cols))
+                continue
+            rhs = b[rows]
+            for c in needed:
+                rhs = rhs + a[rows, c] * x[c]
+            block = a[rows, cols]
+            values = [-rhs[0] / block[0, 0]] if len(cols) == 1 else ca.vertsplit(-ca.solve(block, rhs))
+            x.update(zip(cols, values))
+        if len(waiting) == len(blocks):  # cannot happen for a block-triangular form
+            raise ModelStructureError("could not order a linear system into solvable blocks")
+        blocks = waiting
+    return [x[c] for c in range(n)]
+
+
+def _tear(equations: list[dict[int, bool]], n: int) -> tuple[list[tuple[int, int]], list[int], list[int]]:
+    """Tear variables and residual equations of a square linear loop (structure only).
+
+    ``equations[e]`` maps each unknown of equation ``e`` (0 .. n-1) to whether it can be assigned
+    from ``e`` (its coefficient is a nonzero number). Unknowns are assigned one by one, each from an
+    equation in which it is the only one not yet known; when none can be, a tear variable is taken
+    as known: an unknown that no remaining equation can assign (it must be one), else the unknown
+    whose tearing lets the most unknowns be assigned at once; of equals the one in the most
+    remaining equations, then the first. (Counting equations alone would tear the accelerations
+    of a body, which occur in all of its equations ``F = f - M*du``, one after the other.)
+
+    In a Kane-style assembly (a root ``du = S*dui + D*ad0`` and ``transpose(T)*F = 0``, bodies
+    ``F = f - M*du``, connections aliasing ``du`` and summing ``F``) the tear variables are the
+    independent accelerations ``dui`` (or aliases of them among the ``du``).
+
+    Returns the assignments (unknown, equation) in the order to compute them, the tear variables
+    and the residual equations (the equations not used by an assignment).
+    """
+    occurs = [[] for _ in range(n)]
+    for e, row in enumerate(equations):
+        for v in row:
+            occurs[v].append(e)
+    left = [len(row) for row in equations]  # unknowns of each equation neither assigned nor torn
+    total = [sum(row) for row in equations]  # the sum of their indices: the last one when left == 1
+    known = [False] * n
+    used = [False] * len(equations)
+    assignments, tears = [], []
+
+    def settle(v, queue):
+        known[v] = True
+        for e in occurs[v]:
+            left[e] -= 1
+            total[e] -= v
+            if left[e] == 1 and not used[e]:
+                queue.append(e)
+
+    def propagate(queue):
+        while queue:
+            e = queue.pop()
+            v = total[e]
+            if used[e] or left[e] != 1 or not equations[e][v]:
+                continue
+            used[e] = True
+            assignments.append((v, e))
+            settle(v, queue)
+
+    def reach(v) -> int:
+        """How many unknowns tearing ``v`` would let be assigned (the state is not changed)."""
+        count, now_known, now_used, lefts, totals = 0, {v}, set(), {}, {}
+        stack = [v]
+        while stack:
+            y = stack.pop()
+            for e in occurs[y]:
+                if used[e] or e in now_used:
+                    continue
+                lefts[e] = lefts.get(e, left[e]) - 1
+                totals[e] = totals.get(e, total[e]) - y
+                last = totals[e]
+                if lefts[e] == 1 and last not in now_known and not known[last] and equations[e][last]:
+                    now_used.add(e)
+                    now_known.add(last)
+                    stack.append(last)
+                    count += 1
+        return count
+
+    def occurrences(v) -> int:
+        return sum(1 for e in occurs[v] if not used[e])
+
+    propagate([e for e in range(len(equations)) if left[e] == 1])
+    while not all(known):
+        unknown = [v for v in range(n) if not known[v]]
+        forced = [v for v in unknown if not any(equations[e][v] for e in occurs[v] if not used[e])]
+        if forced:
+            tear = forced[0]
+        else:
+            candidates = sorted(unknown, key=lambda v: -occurrences(v))  # stable: the first of equals first
+            tear, best = candidates[0], -1
+            for v in candidates:
+                found = reach(v)
+                if found > best:
+                    tear, best = v, found
+                if best == len(unknown) - 1:  # tearing it determines all the others
+                    break
+        tears.append(tear)
+        queue = []
+        settle(tear, queue)
+        propagate(queue)
+    return assignments, tears, [e for e in range(len(equations)) if not used[e]]

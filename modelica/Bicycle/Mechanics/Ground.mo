@@ -29,8 +29,6 @@ model Ground "Flat ground carrying a bicycle: the rear frame's attitude and posi
   output Bicycle.Units.Length residual "Holonomic constraint residual: height of the front contact point above the ground (should be 0)";
 protected
   constant Integer ni = n - 3 "Number of independent speeds: the roll rate and the speeds of the joints";
-  constant Real S[n, ni] = [zeros(3, ni); identity(ni)] "Columns of the independent speeds in u (u = S*ui + D*ud)";
-  constant Real D[n, 3] = [identity(3); zeros(ni, 3)] "Columns of the dependent speeds";
   Real Ax[3] "Yaw frame x axis (heading)";
   Real Ay[3] "Yaw frame y axis";
   Real Ly[3] "Roll frame y axis (rear axle)";
@@ -42,7 +40,6 @@ protected
   Real Bd[3, 3] "Front contact rows: columns of the dependent speeds (m)";
   Real Ad[3, ni] "Dependent speeds ud = Ad*ui: Bd*Ad = -Bi";
   Real ad0[3] "Acceleration remainder of the dependent speeds (rad/s2): der(ud) = Ad*der(ui) + ad0";
-  Real T[n, ni] "u = T*ui: S + D*Ad";
   Real Q[ni] "Applied generalized forces of the independent speeds that act at the ground: the roll torque (N.m)";
 initial equation
   residual = 0;
@@ -58,25 +55,44 @@ equation
   for i in 2:ni loop
     ui[i] = -frame_b.us[i + 3];
   end for;
-  // The front wheel's rolling rows Bi*ui + Bd*ud = 0 fix the dependent speeds
-  Bi = frontContact.B*S;
-  Bd = frontContact.B*D;
+  // The front wheel's rolling rows Bi*ui + Bd*ud = 0 fix the dependent speeds (columns 1 to 3)
+  for j in 1:3 loop
+    Bd[1, j] = frontContact.B[1, j];
+    Bd[2, j] = frontContact.B[2, j];
+    Bd[3, j] = frontContact.B[3, j];
+  end for;
+  for i in 1:ni loop
+    Bi[1, i] = frontContact.B[1, i + 3];
+    Bi[2, i] = frontContact.B[2, i + 3];
+    Bi[3, i] = frontContact.B[3, i + 3];
+  end for;
   Bd*Ad = -Bi;
   Bd*ad0 = -frontContact.b0;
   ud = Ad*ui;
   u_psi = ud[1];
   u_theta = ud[2];
   u_F = ud[3];
-  T = S + D*Ad;
-  frame_b.u = S*ui + D*ud;
-  // Kane's equations for the independent speeds: T'(sum of the generalized forces + applied) = 0;
-  // the connection set gives frame_b.F = -(sum over the bodies and joints)
-  frame_b.du = S*dui + D*(Ad*dui + ad0);
+  frame_b.u[1] = ud[1];
+  frame_b.u[2] = ud[2];
+  frame_b.u[3] = ud[3];
+  for i in 1:ni loop
+    frame_b.u[i + 3] = ui[i];
+  end for;
+  // Kane's equations for the independent speeds, T'*(sum of the generalized forces + Q) = 0 with
+  // u = T*ui, T = [Ad; identity]; the connection set gives frame_b.F = -(sum over the bodies and joints)
+  frame_b.du[1] = Ad[1, :]*dui + ad0[1];
+  frame_b.du[2] = Ad[2, :]*dui + ad0[2];
+  frame_b.du[3] = Ad[3, :]*dui + ad0[3];
+  for i in 1:ni loop
+    frame_b.du[i + 3] = dui[i];
+  end for;
   Q[1] = T_phi;
   for i in 2:ni loop
     Q[i] = 0;
   end for;
-  transpose(T)*frame_b.F = Q;
+  for i in 1:ni loop
+    frame_b.F[i + 3] + Ad[1, i]*frame_b.F[1] + Ad[2, i]*frame_b.F[2] + Ad[3, i]*frame_b.F[3] = Q[i];
+  end for;
   u_psi_dot = Ad[1, :]*dui + ad0[1];
   u_theta_dot = Ad[2, :]*dui + ad0[2];
   u_F_dot = Ad[3, :]*dui + ad0[3];
@@ -133,7 +149,7 @@ wheels own (each joint is told its column <code>k</code>; the assembly says <cod
 joints' speeds reach the ground through the flow <code>us</code>; the front wheel's rolling rows
 <code>Bi*ui + Bd*ud = 0</code> give the dependent speeds <code>ud = Ad*ui</code>
 (<code>Bd*Ad = -Bi</code>) and their acceleration remainder (<code>Bd*ad0 = -b0</code>). With
-<code>u = T*ui</code>, <code>T = S + D*Ad</code>, Kane's equations of the constrained system are
+<code>u = T*ui</code>, <code>T = [Ad; identity]</code>, Kane's equations of the constrained system are
 <code>T'*(sum of F + Q) = 0</code>, where the connection set of <code>frame_b</code> delivers the sum
 of the generalized active and inertia forces of all bodies and joints (written with the
 generalized accelerations <code>du = T*der(ui) + D*ad0</code>), and <code>Q</code> holds the roll

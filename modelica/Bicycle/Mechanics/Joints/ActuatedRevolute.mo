@@ -6,6 +6,7 @@ model ActuatedRevolute "Revolute joint driven by a torque input, with an optiona
 equation
   tau = tau_in - c*angle - d*omega;
   Ej = 0.5*c*angle^2;
+  Fa = tau - frame_b.F[k];
   annotation(Documentation(info = "<html><p>A revolute joint (<a
 href=\"modelica://Bicycle.Mechanics.Joints.PartialRevolute\">PartialRevolute</a>) with the torque
 <code>tau_in</code> between frame_a and frame_b and a spring (stiffness <code>c</code>, neutral at

@@ -3,9 +3,10 @@ model LockedRevolute "Revolute joint held at its angle: its equation of motion i
   extends Bicycle.Mechanics.Joints.PartialActuatedRevolute(final omega0 = 0);
   parameter Bicycle.Units.MomentOfInertia J = 1 "Coefficient of the lock's equation J*der(omega) = 0 (any positive value gives the same motion)";
 equation
-  // The lock's torque is whatever holds the bodies beyond: their generalized force of coordinate k
-  // (the joint's equation of motion) drops out of the system, and -J*du[k] takes its place
-  tau = frame_b.F[k] - J*frame_a.du[k];
+  // The generalized force of coordinate k of the bodies beyond (the joint's equation of motion)
+  // drops out of the system and -J*du[k] takes its place; the lock's torque is whatever that takes
+  Fa = -J*frame_a.du[k];
+  tau = Fa + frame_b.F[k];
   Ej = 0;
   annotation(Documentation(info = "<html><p>The joint of <a
 href=\"modelica://Bicycle.Mechanics.Joints.PartialRevolute\">PartialRevolute</a>, locked: frame_b is

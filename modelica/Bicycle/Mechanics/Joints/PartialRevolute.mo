@@ -13,6 +13,7 @@ partial model PartialRevolute "Revolute joint that owns its coordinate: frame_b 
   Bicycle.Units.AngularVelocity omega(start = omega0, fixed = true) "Rotation rate der(angle): the generalized speed k";
   Bicycle.Units.Torque tau "Torque on frame_b about the axis (and -tau on frame_a): the generalized force of the coordinate";
   Bicycle.Units.Energy Ej "Energy stored in the joint (a spring's)";
+  Bicycle.Units.Torque Fa "Generalized force of the joint's coordinate at frame_a: tau plus that of the bodies beyond (a held joint: its own equation of motion)";
 protected
   Real e[3] "Axis in ground axes";
   Real Rrel[3, 3] "Orientation of frame_b relative to frame_a (Rodrigues' formula)";
@@ -46,12 +47,12 @@ equation
   we[2] = frame_a.w[3]*e[1] - frame_a.w[1]*e[3];
   we[3] = frame_a.w[1]*e[2] - frame_a.w[2]*e[1];
   frame_b.al0 = frame_a.al0 + we*omega;
-  // Massless: the pairs pass through; the joint adds its own speed (column k) and its torque,
-  // the generalized force of its coordinate
+  // Massless: the pairs pass through; the joint adds its own speed (column k), and the extending
+  // class says what the generalized force of its coordinate is (Fa)
   frame_b.u = frame_a.u;
   for j in 1:n loop
     frame_a.us[j] + frame_b.us[j] = if j == k then omega else 0;
-    frame_a.F[j] + frame_b.F[j] = if j == k then tau else 0;
+    frame_a.F[j] = if j == k then Fa else -frame_b.F[j];
   end for;
   frame_b.du = frame_a.du;
   frame_b.g = frame_a.g;

@@ -4,6 +4,7 @@ model Revolute "Free revolute joint (no torque)"
 equation
   tau = 0;
   Ej = 0;
+  Fa = tau - frame_b.F[k];
   annotation(Documentation(info = "<html><p>A revolute joint without friction or drive: see
 <a href=\"modelica://Bicycle.Mechanics.Joints.PartialRevolute\">PartialRevolute</a>.</p></html>"));
 end Revolute;
