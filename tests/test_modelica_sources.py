@@ -22,21 +22,26 @@ def test_file_has_no_diagnostics(path: Path):
     assert diagnostics == [], "\n".join(str(d) for d in diagnostics)
 
 
-#: Models built on the generalized-coordinate Frame connector (the nonlinear Whipple family).
-#: Known gap (issue 12): rumoca counts Mechanics.Interfaces.Frame as unbalanced (MLS 9.3.1: its flows
-#: M[n,n], f[n], Ep cannot match the kinematic potentials for every n). strict: the day rumoca accepts
-#: these models, the test reports it.
-FRAME_CONNECTOR_MODELS = {"Bicycle.Bicycles.Whipple", "Bicycle.Bicycles.WhippleRider"}
-_FRAME_GAP = pytest.mark.xfail(strict=True, reason="rumoca: connector 'Frame' is unbalanced (MLS 9.3.1)")
+@pytest.mark.parametrize("entry", LIBRARY.models(), ids=[e.name for e in LIBRARY.models()])
+def test_model_compiles_balanced_in_rumoca(entry):
+    """rumoca compiles every non-partial model of the library (bicycles, examples, controllers and
+    every component on its own) with the one-member flow sets of MLS 9.2 and finds as many
+    equations as unknowns: the connectors are balanced, every component is locally balanced, and
+    no model reads the flows of its own top-level connectors."""
+    model = rumoca.Session().load(str(entry.file), model=entry.name)
+    assert model.name == entry.name
 
 
-@pytest.mark.parametrize("entry", [pytest.param(e, marks=_FRAME_GAP) if e.name in FRAME_CONNECTOR_MODELS else e
-                                   for e in LIBRARY.models()], ids=[e.name for e in LIBRARY.models()])
+#: Components: compiled on their own by rumoca above; this project's compiler builds them inside
+#: the models that connect them (the ground alone, say, has no bodies to give it equations of motion).
+COMPONENT_PACKAGES = ("Bicycle.Components.", "Bicycle.Linear.", "Bicycle.Mechanics.", "Bicycle.Wheels.")
+ASSEMBLED = [e for e in LIBRARY.models() if not e.name.startswith(COMPONENT_PACKAGES)]
+
+
+@pytest.mark.parametrize("entry", ASSEMBLED, ids=[e.name for e in ASSEMBLED])
 def test_model_compiles_in_rumoca_with_our_inputs_and_states(entry):
-    """rumoca compiles the model and finds the inputs and the number of continuous states our
-    compiler (pymoca front end) finds: two front ends, one reading of the model."""
-    if entry.name.startswith(("Bicycle.Components.", "Bicycle.Linear.", "Bicycle.Mechanics.", "Bicycle.Wheels.")):
-        pytest.skip("components are not balanced on their own; they are compiled inside the bicycles")
+    """rumoca finds the inputs and the number of continuous states our compiler (pymoca front end)
+    finds: two front ends, one reading of the model."""
     model = rumoca.Session().load(str(entry.file), model=entry.name)
     flat = flatten(LIBRARY, entry.name)
     ours = sorted(name for name, d in flat.declarations.items() if "input" in d.prefixes)
@@ -71,18 +76,13 @@ def test_every_parameter_has_unit_and_description():
             assert p.description, f"{entry.name}.{p.name} has no description"
 
 
-#: Packages whose connectors are balanced (MLS 9.3.1: the kinematics passed as matching inputs and
-#: outputs, only potential/flow pairs acausal), so that every component is locally balanced (MLS 4.7)
-#: and compiles on its own.
-LOCALLY_BALANCED = ("Bicycle.Linear.",)
+LINEAR = [e for e in LIBRARY.models() if e.name.startswith("Bicycle.Linear.")]
 
 
-@pytest.mark.parametrize("entry", [e for e in LIBRARY.models() if e.name.startswith(LOCALLY_BALANCED)],
-                         ids=lambda e: e.name)
-def test_component_is_locally_balanced(entry):
-    """rumoca compiles the component standalone, which needs as many equations as unknowns with its
-    connector inputs known and its unconnected flows set to zero; the bodies and the torques take
-    the coordinates and speeds as inputs of their RollSteer_a connector."""
+@pytest.mark.parametrize("entry", LINEAR, ids=[e.name for e in LINEAR])
+def test_linear_bodies_take_the_coordinates_as_inputs(entry):
+    """Compiled on their own, the bodies and the torques of the linear model take the coordinates
+    and speeds as inputs of their RollSteer_a connector (the causal half of the connector)."""
     model = rumoca.Session().load(str(entry.file), model=entry.name)
     inputs = {v.name for v in model.inputs}
     if entry.name != "Bicycle.Linear.Coordinates":

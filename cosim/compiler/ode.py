@@ -410,16 +410,21 @@ def _top_level_aliases(flat: FlatModel, residual, state_x: dict, variable_of: li
 def _state_order(flat: FlatModel, kept: list[int], variable_of: list, renamed: dict) -> list[int]:
     """The order of the states: those with a top-level name (declared at top level, or renamed
     after their top-level alias) in the order of the top-level declarations, then the states that
-    keep a dotted name in pymoca's order. Models that declare their states at top level keep
-    pymoca's order (that of their declarations)."""
+    keep a dotted name in pymoca's order. Renamed states that the model declares itself come after
+    those it inherits. Models that declare their states at top level keep pymoca's order (that of
+    their declarations)."""
     order = {variable: n for n, variable in enumerate(flat.declarations)}
 
     def key(position):
         k = kept[position]
         variable, element = renamed.get(k, variable_of[k])
         if "." in variable or variable not in order:
-            return (1, position, 0)
-        return (0, order[variable], element)
+            return (1, 0, position, 0)
+        # pymoca lists a class's own elements before the inherited ones; the names of component
+        # states follow the class they extend (a variant's new joint after the bicycle's states)
+        declaration = flat.declarations[variable]
+        own = k in renamed and declaration.owner == flat.name
+        return (0, int(own), order[variable], element)
 
     return [kept[i] for i in sorted(range(len(kept)), key=key)]
 

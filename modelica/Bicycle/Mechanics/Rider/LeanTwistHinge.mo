@@ -1,6 +1,6 @@
 within Bicycle.Mechanics.Rider;
 model LeanTwistHinge "Hip of two hinges in series: lean about the rear frame's x axis, then twist about the upper body's z axis, each with stiffness, damping and a torque input"
-  extends Bicycle.Mechanics.Rider.PartialHinge;
+  extends Bicycle.Mechanics.Rider.PartialHinge(n = 8);
   parameter Real c(final quantity = "RotationalSpringConstant", final unit = "N.m/rad", min = 0) = 0 "Passive stiffness of the lean hinge";
   parameter Real d(final quantity = "RotationalDampingConstant", final unit = "N.m.s/rad", min = 0) = 0 "Passive damping of the lean hinge";
   parameter Real cT(final quantity = "RotationalSpringConstant", final unit = "N.m/rad", min = 0) = 0 "Passive stiffness of the twist hinge";
