@@ -563,3 +563,177 @@ def test_array_parameter_bound_to_expression_of_parameters(tmp_path, declaration
     assert sorted(v.name for v in info.variables if v.causality == "calculatedParameter") == sorted(calculated)
     f = ca.Function("f", [explicit.x, explicit.p], [explicit.xdot])
     assert f(ca.DM(X), ca.DM([5.0])).full().ravel() == pytest.approx(expected, rel=1e-12)
+
+
+# -- 7. Modified constants through several levels (MLS 7.2) -----------------------------------------
+
+NESTED = {
+    "Nest/package.mo": """
+        package Nest "Constants modified through several levels of components, each with a default"
+          connector C "A connector sized by n"
+            constant Integer n = 2 "Size";
+            Real du[n] "Potential";
+            flow Real F[n] "Flow";
+          end C;
+          model J "Sized by n: states, a connector, the unit vector of column k, ni = n - 1 elements"
+            constant Integer n = 2 "Size";
+            constant Integer ni = n - 1 "Depends on n";
+            constant Integer k = 1 "Column";
+            C c(n = n) "Connector";
+            Real x[n](each start = 1, each fixed = true) "States";
+            Real e[n] "Unit vector of column k";
+            Real s[ni] "ni elements";
+          equation
+            der(x) = -x;
+            c.du = x;
+            for j in 1:n loop
+              e[j] = if j == k then 1 else 0;
+            end for;
+            for j in 1:ni loop
+              s[j] = j*n + k;
+            end for;
+          end J;
+          model B "J one level down"
+            constant Integer n = 2 "Size";
+            constant Integer k = 1 "Column";
+            J j(n = n, k = k) "Component";
+          end B;
+          model Sys "b at depth 1, b.j at depth 2, b.j.c at depth 3"
+            constant Integer n = 3 "Size";
+            B b(n = n, k = 3) "Component";
+          end Sys;
+          model D "B one level down"
+            constant Integer n = 2 "Size";
+            constant Integer k = 1 "Column";
+            B b(n = n, k = k) "Component";
+          end D;
+          model Sys4 "Four levels: d, d.b, d.b.j, d.b.j.c"
+            D d(n = 5, k = 2) "Component";
+          end Sys4;
+          model Explicit "The nested modifiers written out"
+            constant Integer n = 3 "Size";
+            B b(n = n, k = 2, j(n = n, k = 2, c(n = n))) "Component";
+          end Explicit;
+          model Inherited "J as a base class"
+            extends J;
+          end Inherited;
+          model SysInherited "Inherited constants modified from outside"
+            Inherited a(n = 4, k = 2) "Component";
+          end SysInherited;
+          model Ext "B as a base class, its constants given by the modifiers of extends"
+            constant Integer m = 2 "Size";
+            extends B(n = m, k = 2);
+          end Ext;
+          model SysExt "The constant of the modifier of extends modified from outside"
+            Ext a(m = 3) "Component";
+          end SysExt;
+          partial model PartialWheel "A wheel: J's contents"
+            extends J;
+          end PartialWheel;
+          model Knife "A wheel"
+            extends PartialWheel;
+            Real r "Radius";
+          equation
+            r = 1;
+          end Knife;
+          model Torus "Another wheel, with ni more variables"
+            extends PartialWheel;
+            Real r "Radius";
+            Real t[ni] "Sized by ni";
+          equation
+            r = 2;
+            t = 2*s;
+          end Torus;
+          model Bike "A replaceable wheel, the constants given in its constraining clause"
+            constant Integer n = 2 "Size";
+            replaceable Torus w constrainedby PartialWheel(n = n, k = 2) "Wheel";
+          end Bike;
+          model SysBike "The bike's n modified: w at depth 2, w.c at depth 3"
+            Bike bike(n = 4) "Bike";
+          end SysBike;
+          model SysKnife "The wheel redeclared"
+            Bike bike(n = 5, redeclare Knife w) "Bike";
+          end SysKnife;
+        end Nest;
+    """,
+}
+
+
+def _without_defaults() -> dict[str, str]:
+    """NESTED with the modified constants declared without a value (``constant Integer n;``)."""
+    text = NESTED["Nest/package.mo"]
+    for default in ("n = 2", "k = 1", "m = 2"):
+        text = text.replace(f"constant Integer {default} ", f"constant Integer {default[0]} ")
+    assert "constant Integer n = 3 " in text and "constant Integer n = 2" not in text
+    return {"Nest/package.mo": text}
+
+
+def _constants(flat) -> dict:
+    """The flat model's constants: a value, or the text of what stands for it (a reference, nan)."""
+    return {str(c.symbol.name()): c.value if isinstance(c.value, int) else str(c.value) for c in flat.casadi.constants}
+
+
+def _assert_sized_by(flat, explicit, j: str, n: int, k: int, extra: dict[str, int] | None = None):
+    """The instance ``j`` of Nest.J (prefix of its flat names) has the constants n, ni = n - 1, k;
+    its arrays, its connector's and the for loops have n and ni elements; e is the unit vector of
+    column k and s[i] = i*n + k."""
+    constants = _constants(flat)
+    assert {name: constants[f"{j}.{name}"] for name in ("n", "ni", "k", "c.n")} == {"n": n, "ni": n - 1, "k": k,
+                                                                                    "c.n": n}
+    # every constant of the flat model has a value (no stray name of a lost prefix, no reference left)
+    assert all(isinstance(v, int) for v in constants.values()), constants
+    sizes = {str(v.symbol.name()): v.symbol.numel() for v in flat.casadi.states + flat.casadi.alg_states}
+    expected = {f"{j}.x": n, f"{j}.c.du": n, f"{j}.c.F": n, f"{j}.e": n, f"{j}.s": n - 1}
+    expected.update(extra or {})
+    assert sizes == expected
+    assert [s.name for s in explicit.states] == [f"{j}.x[{i}]" for i in range(1, n + 1)]
+    values = _evaluate(explicit, {})
+    assert [values[f"{j}.e[{i}]"] for i in range(1, n + 1)] == [1.0 if i == k else 0.0 for i in range(1, n + 1)]
+    assert [values[f"{j}.s[{i}]"] for i in range(1, n)] == [float(i * n + k) for i in range(1, n)]
+    assert [values[f"{j}.c.F[{i}]"] for i in range(1, n + 1)] == [0.0] * n  # unconnected flows
+    return values
+
+
+@pytest.mark.parametrize("defaults", [True, False], ids=["with-defaults", "without-defaults"])
+@pytest.mark.parametrize("model, j, n, k", [
+    ("Nest.Sys", "b.j", 3, 3),
+    ("Nest.Sys4", "d.b.j", 5, 2),
+    ("Nest.Explicit", "b.j", 3, 2),
+], ids=["three-levels", "four-levels", "nested-modifiers-written-out"])
+def test_modified_constants_reach_every_level(tmp_path, model, j, n, k, defaults):
+    """MLS 7.2: in ``j(n = n)`` the right-hand ``n`` is the one of the enclosing instance, whose
+    value is its own modifier's (``b(n = 3)``), not the default of its class: pymoca took the first
+    value of the chain (the default 2) from the second level down."""
+    library = _library(tmp_path, NESTED if defaults else _without_defaults())
+    flat, explicit, _ = _explicit(library, model)
+    _assert_sized_by(flat, explicit, j, n, k)
+
+
+@pytest.mark.parametrize("model, j, n", [("Nest.SysInherited", "a", 4), ("Nest.SysExt", "a.j", 3)],
+                         ids=["inherited-constants-modified", "constants-in-modifiers-of-extends"])
+def test_modified_constants_through_extends(tmp_path, model, j, n):
+    """Names in an inherited class (``c(n = n)`` of J in ``Inherited a(n = 4)``, ``j(n = n)`` of B in
+    ``extends B(n = m)``) are those of the instance, modifiers of extends and of the component
+    included: pymoca looked them up in a copy of the base class made anew with its defaults."""
+    library = _library(tmp_path, NESTED)
+    flat, explicit, _ = _explicit(library, model)
+    _assert_sized_by(flat, explicit, j, n, 2)
+    if model == "Nest.SysExt":
+        constants = _constants(flat)
+        assert (constants["a.m"], constants["a.n"]) == (3, 3)
+
+
+@pytest.mark.parametrize("model, n, extra, r", [
+    ("Nest.SysBike", 4, {"t": 3, "r": 1}, 2.0),
+    ("Nest.SysKnife", 5, {"r": 1}, 1.0),
+], ids=["default-wheel", "redeclared-wheel"])
+def test_modified_constants_in_a_constraining_clause(tmp_path, model, n, extra, r):
+    """``replaceable Torus w constrainedby PartialWheel(n = n, k = 2)`` with ``bike(n = 4)``: the
+    wheel and its connector have n = 4, also when the wheel is redeclared (pymoca's instance of the
+    redeclared class lost the component's name: its connector's constant became ``bike.c.n``)."""
+    library = _library(tmp_path, NESTED)
+    flat, explicit, _ = _explicit(library, model)
+    values = _assert_sized_by(flat, explicit, "bike.w", n, 2, {f"bike.w.{v}": size for v, size in extra.items()})
+    assert values["bike.w.r"] == r
+    if "t" in extra:
+        assert [values[f"bike.w.t[{i}]"] for i in range(1, n)] == [2.0 * (i * n + 2) for i in range(1, n)]

@@ -35,6 +35,23 @@ A name that is not a flat variable is looked up from the class of the equation; 
 a literal value is replaced by that value (MLS 5.6.2: constants are evaluated), anything else is
 left for the error message that names it.
 
+Modified constants (MLS 7.2): in ``B b(n = 3)`` with ``J j(n = n)`` in B and ``C c(n = n)`` in J,
+the right-hand ``n`` of a modifier is that of the enclosing instance (``b.n``, then ``b.j.n``),
+whose value is that instance's modifier: ``b.j.n = b.j.c.n = 3``. pymoca found the right symbol but
+took its value from the first value modification of its chain, the default of the declaration
+(``constant Integer n = 2``): from the second level down a modified constant had its class's
+default, in array dimensions, ``for`` ranges, bindings of other constants (``ni = n - 1``) and
+expressions (``if j == k then 1 else 0``) alike. (Without a default the value stayed a reference
+that the flat model resolved; with defaults the library had to write its nested modifiers out,
+``rearFrame(n = n, frame_a(n = n))``.) The value of a constant is now its last value modification,
+the outermost one, evaluated in that modification's scope: a literal is taken, a name or an
+expression is evaluated through the chain (each link once per flattening; a cycle gives no value),
+and what pymoca cannot evaluate stays a reference as before. Names used in an inherited class
+(``c(n = n)`` written in the base class of ``extends J`` or of ``extends B(n = m)``) were looked up
+in a full instance of the base class made anew from its declarations (the partial instance had
+consumed the modifiers of the extends clause and of the component), so they had the defaults as
+well: the instance's own components are put into that full instance (:func:`_graft_components`).
+
 Inherited constants: for ``Data.w`` with ``package A extends PartialSet(w = 1.02)``, pymoca's
 name lookup finds ``w`` in the class ``PartialSet`` and instantiates that class alone, without the
 modifier of ``extends``: the constant had no value. When a constant found so has none, the package
@@ -54,7 +71,9 @@ model). The component's type is made the redeclared class alone, as MLS 7.3 pres
 also registered that private class instance in the component's parent under the class name, where
 the next component of the same class found it (``extends Two(redeclare Torus a, redeclare Torus
 b)``: ``b`` got the bases of both redeclarations); it is unregistered once the component is
-instantiated.
+instantiated, and made the component's: the names in it lacked the component's name (with
+``redeclare Knife w`` the constant ``w.c.n`` of Knife's connector was also looked up as ``c.n``, a
+constant without a value).
 
 Constraining clauses: pymoca's parser drops ``constrainedby C(m2)``. For a component
 ``replaceable K w(m1) constrainedby C(m2)`` the modifiers ``m2`` are kept here in front of ``m1``
@@ -229,32 +248,94 @@ def _literal_value(node, ast):
     return None
 
 
-def _derived_constant_values(get_constant_value, builtin_types):
+def _value_argument(type_instance, builtin_types, depth=0):
+    """The value modification (the argument, with its scope) of the built-in type behind a
+    (derived) type instance that applies: the last one, as in pymoca's merging of modifications
+    (the defaults of the declarations come first, the modifiers of enclosing instances after)."""
     from pymoca import ast
     from pymoca.tree.instance import InstanceClass, InstanceSymbol
 
-    def value_in_type(type_instance, depth=0):
-        """The value modification of the built-in type behind a (derived) type instance; the
-        last one wins, as in pymoca's merging of modifications."""
-        if not isinstance(type_instance, InstanceClass) or depth > 20:
+    if not isinstance(type_instance, InstanceClass) or depth > 20:
+        return None
+    found = None
+    for name, symbol in type_instance.symbols.items():
+        if name in builtin_types and isinstance(symbol, InstanceSymbol):
+            for arg in symbol.modification_environment.arguments:
+                value = arg.value
+                if isinstance(value, ast.ElementModification) and value.component.name == "value" \
+                        and value.modifications:
+                    found = arg
+    for base in getattr(type_instance, "extends", []):
+        found = _value_argument(base, builtin_types, depth + 1) or found
+    return found
+
+
+def _constant_values(get_constant_value, flattening, builtin_types):
+    """pymoca's _get_constant_value with the value that applies (see the module docstring:
+    constants of a derived type, modified constants)."""
+    from pymoca import ast
+    from pymoca.tree import LookupOptions, RecursionGuard
+    from pymoca.tree.instance import InstanceClass, InstanceSymbol
+
+    # id(argument) -> (argument, value): the values found during one flattening (scopes_kept),
+    # else during the outermost call. A chain b.j.n -> b.n -> n is evaluated once per link (pymoca's
+    # _resolve_name, as patched by _inherited_constants, asks for the value of what it found, and so
+    # would every link again); an argument found while it is being evaluated is a cycle.
+    evaluated: dict[int, tuple] = {}
+    active = [0]
+
+    def evaluate(arg):
+        """The value of a value modification in its scope (the instance whose declaration or
+        modifier it is), or None if it is not a constant expression pymoca can evaluate."""
+        expression = arg.value.modifications[0]
+        literal = _literal_value(expression, ast)
+        if literal is not None:
+            return literal
+        scope = arg.scope
+        if not isinstance(expression, (ast.ComponentRef, ast.Expression)) or not isinstance(scope, InstanceClass):
             return None
-        found = None
-        for name, symbol in type_instance.symbols.items():
-            if name in builtin_types and isinstance(symbol, InstanceSymbol):
-                for arg in symbol.modification_environment.arguments:
-                    value = arg.value
-                    if isinstance(value, ast.ElementModification) and value.component.name == "value" \
-                            and value.modifications:
-                        found = _literal_value(value.modifications[0], ast)
-        for base in getattr(type_instance, "extends", []):
-            found = value_in_type(base, depth + 1) or found
-        return found
+        if isinstance(expression, ast.ComponentRef) and expression.name == "time" and not expression.child:
+            return None
+        guard, opts = RecursionGuard(), LookupOptions()
+        try:
+            if isinstance(expression, ast.ComponentRef):
+                found = flattening._resolve_name(expression, scope, scope, guard=guard, opts=opts,
+                                                 name_flat_class=scope)
+                value = flattening._get_constant_value(found) if isinstance(found, InstanceSymbol) else None
+            else:
+                result = flattening._resolve_expression(expression, scope, scope, guard=guard, opts=opts,
+                                                        name_flat_class=scope)
+                value = ast.Primary(value=result) if isinstance(result, (bool, int, float, str)) else None
+        except Exception:  # not a constant expression pymoca evaluates: the value stays symbolic
+            return None
+        return value if isinstance(value, ast.Primary) and value.value is not None else None
+
+    def value_of(arg):
+        known = _kept_values[-1] if _kept_values else evaluated
+        key = id(arg)
+        if key in known:
+            return known[key][1]
+        known[key] = (arg, None)  # a cycle ends in None
+        value = evaluate(arg)
+        known[key] = (arg, value)
+        return value
 
     def patched_get_constant_value(isym):
-        value = get_constant_value(isym)
-        if value is None and "constant" in isym.prefixes:
-            value = value_in_type(isym.type)
-        return value
+        if "constant" not in isym.prefixes:
+            return None
+        given = isym.value
+        if given is not None and not (isinstance(given, ast.Primary) and given.value is None):
+            return get_constant_value(isym)  # a value pymoca resolved already
+        arg = _value_argument(isym.type, builtin_types)
+        if arg is None:
+            return get_constant_value(isym)
+        active[0] += 1
+        try:
+            return value_of(arg)
+        finally:
+            active[0] -= 1
+            if not active[0]:
+                evaluated.clear()
 
     return patched_get_constant_value
 
@@ -376,7 +457,7 @@ def _inherited_constants(resolve_name, flattening):
     return patched_resolve_name
 
 
-def _full_scope_once(resolve_name, resolve_modifications, flattening):
+def _full_scope_once(resolve_name, resolve_modifications, resolve_dimensions, flattening):
     """pymoca's _resolve_name instantiates its scope fully before the look-up, but does not keep
     an unnamed scope's full instance (its parent's cache is by name, which unnamed extends would
     share), so every name referenced in such a scope instantiated it again: the linear bicycle's
@@ -389,50 +470,95 @@ def _full_scope_once(resolve_name, resolve_modifications, flattening):
     the identity of every class, symbol and extends it holds) is part of the key, so a partial
     instance that pymoca completes or redeclares into between two symbols (a redeclared package,
     tests/test_pymoca_patches.py) is instantiated afresh. Outside :func:`scopes_kept` the full
-    instance lives for one _resolve_modifications (the modifications of one symbol), as before.
-    Keeping it for the whole flattening took a third off flattening the nonlinear bicycles
-    (WhippleRider 1.05 s -> 0.65 s) and changed no generated byte of any exported model."""
+    instance lives for one _resolve_modifications or _resolve_dimensions (the modifications or the
+    dimensions of one symbol), as before. Keeping it for the whole flattening took a third off
+    flattening the nonlinear bicycles (WhippleRider 1.05 s -> 0.65 s) and changed no generated byte
+    of any exported model.
+
+    The dimensions of a symbol (``Real Wp[3, n]`` in an inherited class) use the same full
+    instances: they made 35 of WhippleRider's 42 full instances of unnamed scopes, a quarter of its
+    flattening (0.66 s -> 0.49 s; the same flat model of every model of the library). Look-ups
+    elsewhere (equations, with a RecursionGuard of their own) make their full instance anew, as
+    pymoca does: a full instance kept for them gave the package of the replaced class
+    (``redeclare package Data = B``: ``Data.z`` of A) once a look-up had completed ``Data`` in it.
+    Every full instance gets the scope's own components (:func:`_graft_components`)."""
     from pymoca import ast
     from pymoca.tree.instance import InstanceClass, InstantiationState
 
-    windows: list[dict] = []  # one per active _resolve_modifications: key -> (scope, full)
+    windows: list[dict] = []  # one per active _resolve_modifications/_dimensions: key -> (scope, full)
 
-    def patched_resolve_modifications(*args, **kwargs):
-        windows.append(_kept_scopes[-1] if _kept_scopes else {})
-        try:
-            return resolve_modifications(*args, **kwargs)
-        finally:
-            windows.pop()
+    def windowed(resolve):
+        def patched(*args, **kwargs):
+            windows.append(_kept_scopes[-1] if _kept_scopes else {})
+            try:
+                return resolve(*args, **kwargs)
+            finally:
+                windows.pop()
+
+        return patched
+
+    patched_resolve_modifications = windowed(resolve_modifications)
+    patched_resolve_dimensions = windowed(resolve_dimensions)
+
+    def full_instance(scope, guard, opts):
+        return flattening._instantiate_class(scope, ast.ClassModification(), scope.parent_instance,
+                                             guard=guard, opts=opts, update_parent_instance=False)
 
     def patched_resolve_name(name, scope, flat_class, **kwargs):
-        if windows and isinstance(scope, InstanceClass) and not scope.name \
+        if isinstance(scope, InstanceClass) and not scope.name \
                 and scope.instantiation_state < InstantiationState.FULL and "guard" in kwargs and "opts" in kwargs:
-            opts = kwargs["opts"]
-            # the window holds ``scope`` itself, so its id is not reused while the entry lives
-            key = (id(scope), repr(opts), _scope_signature(scope))
-            kept = windows[-1].get(key)
-            if kept is None:
-                full = flattening._instantiate_class(scope, ast.ClassModification(), scope.parent_instance,
-                                                     guard=kwargs["guard"], opts=opts, update_parent_instance=False)
-                kept = windows[-1][key] = (scope, full)
-            scope = kept[1]
+            guard, opts = kwargs["guard"], kwargs["opts"]
+            window = windows[-1] if windows else None
+            if window is not None:
+                # the window holds ``scope`` itself, so its id is not reused while the entry lives
+                key = (id(scope), repr(opts), _scope_signature(scope))
+                kept = window.get(key)
+                if kept is None:
+                    kept = window[key] = (scope, full_instance(scope, guard, opts))
+                full = kept[1]
+            else:
+                full = full_instance(scope, guard, opts)  # what pymoca's _resolve_name would make
+            _graft_components(full, scope)
+            scope = full
         return resolve_name(name, scope, flat_class, **kwargs)
 
-    return patched_resolve_name, patched_resolve_modifications
+    return patched_resolve_name, patched_resolve_modifications, patched_resolve_dimensions
 
 
-# The full instances of partial scopes kept by the flattening in progress (see _full_scope_once).
+# The full instances of partial scopes (see _full_scope_once) and the values of modified
+# constants (see _constant_values) kept by the flattening in progress.
 _kept_scopes: list[dict] = []
+_kept_values: list[dict] = []
 
 
 @contextlib.contextmanager
 def scopes_kept():
-    """Keep the full instances of unnamed partial scopes for the block (one flattening)."""
+    """Keep the full instances of unnamed partial scopes and the values of modified constants
+    for the block (one flattening)."""
     _kept_scopes.append({})
+    _kept_values.append({})
     try:
         yield
     finally:
         _kept_scopes.pop()
+        _kept_values.pop()
+
+
+def _graft_components(full, partial, depth=0) -> None:
+    """Put the components of the extends instance ``partial`` (instantiated in full, with the
+    modifiers of the extends clause and of the enclosing instances) into its full instance
+    ``full`` in place of the ones made anew from the class (with the declarations' defaults
+    only), in its bases too (matched by position: both come from the same extends clauses)."""
+    from pymoca.tree.instance import InstanceClass, InstantiationState
+
+    if depth > 50 or not isinstance(full, InstanceClass) or not isinstance(partial, InstanceClass):
+        return
+    for name, symbol in partial.symbols.items():
+        if name in full.symbols and symbol.instantiation_state >= InstantiationState.FULL:
+            full.symbols[name] = symbol
+    if len(full.extends) == len(partial.extends):
+        for full_base, partial_base in zip(full.extends, partial.extends):
+            _graft_components(full_base, partial_base, depth + 1)
 
 
 def _scope_signature(scope) -> tuple:
@@ -452,12 +578,31 @@ def _added_keys(symbols: dict, before: int) -> set:
     return set(itertools.islice(reversed(symbols), added)) if added > 0 else set()
 
 
+def _leaf_dimensions(symbol, outer_dims) -> None:
+    """The dimensions of the built-in leaf of a component of a derived type (``Units.Length r[3]``,
+    whose flat symbol is the type's ``Real`` under the component's name): the component's own,
+    followed by the type's (``type V = Real[2]``)."""
+    def sizes(dims):
+        return [d for dl in dims or [] for d in dl if d is not None and getattr(d, "value", 0) is not None]
+
+    outer = sizes(outer_dims)
+    if outer:
+        symbol.dimensions = [outer + sizes(symbol.dimensions)]
+
+
 def _linear_new_symbols(flattening) -> None:
     """pymoca's _flatten_instance finds the symbols a component added to the flat class by the set
     difference of all its symbols before and after: quadratic in the size of the model (a
     3000-state chain spent 60 % of its flattening there). The same set is the entries added last.
-    The two lines are replaced in pymoca's own source (compiled into its module, so that every
-    other patch still applies); if they are not there (another pymoca), its code stays."""
+
+    The same loop gives the symbols of a component the component's array dimensions, but only those
+    named ``component.element``: the flat symbol of an array component of a derived type
+    (``input Units.Length Vp[3, n]`` in a connector) is the type's ``Real`` under the component's
+    own name, which kept the type's scalar dimensions (``b.c.Vp[1, 2]``: "given an index ... but
+    this symbol is not an array"). That leaf gets the component's dimensions here.
+
+    The lines are replaced in pymoca's own source (compiled into its module, so that every other
+    patch still applies); if they are not there (another pymoca), its code stays."""
     import inspect
     import textwrap
 
@@ -466,9 +611,17 @@ def _linear_new_symbols(flattening) -> None:
     after = "new_sym_names = set(flat_class.symbols.keys()) - symbols_before_recursive"
     if not source.startswith("def _flatten_instance(") or source.count(before) != 1 or source.count(after) != 1:
         return
+    loop = "            for sym_name in new_sym_names:\n                if sym_name.startswith(flat_name_prefix):\n"
+    if source.count(loop) != 1:
+        return
     source = source.replace(before, "symbols_before_recursive = len(flat_class.symbols)")
     source = source.replace(after, "new_sym_names = _cosim_added_keys(flat_class.symbols, symbols_before_recursive)")
+    source = source.replace(loop, "            for sym_name in new_sym_names:\n"
+                                  "                if sym_name == flat_name:\n"
+                                  "                    _cosim_leaf_dimensions(flat_class.symbols[sym_name], outer_dims)\n"
+                                  "                if sym_name.startswith(flat_name_prefix):\n")
     flattening._cosim_added_keys = _added_keys
+    flattening._cosim_leaf_dimensions = _leaf_dimensions
     exec(compile(source, flattening.__file__, "exec"), flattening.__dict__)
 
 
@@ -623,6 +776,10 @@ def _replacing_redeclares(apply_redeclares, instantiate_symbol, builtin_types):
                 and symbol.type.extends:
             old = symbol.type  # the replaced class: drop its own contents and other bases
             old.extends = old.extends[:1]
+            if isinstance(old.extends[0], InstanceClass):
+                # the instance of the new class belongs to the component (it was made in the parent):
+                # names in it are the component's (w.hub.n, not hub.n)
+                old.extends[0].parent_instance = old
             old.symbols.clear()
             for part in ("equations", "initial_equations", "statements", "initial_statements"):
                 setattr(old, part, [])
@@ -716,12 +873,12 @@ def apply() -> None:
     parser.ASTListener.exitElement_replaceable = _keep_constraining_clause(parser.ASTListener.exitElement_replaceable)
     flattening._add_connector_symbols = _scalar_connectors(flattening._add_connector_symbols,
                                                            set(InstanceTree.BUILTIN_TYPES))
-    flattening._get_constant_value = _derived_constant_values(flattening._get_constant_value,
-                                                              set(InstanceTree.BUILTIN_TYPES))
+    flattening._get_constant_value = _constant_values(flattening._get_constant_value, flattening,
+                                                      set(InstanceTree.BUILTIN_TYPES))
     flattening._collect_and_resolve_equations = _package_constants_in_equations(
         flattening._collect_and_resolve_equations, flattening)
-    resolve_name, flattening._resolve_modifications = _full_scope_once(
-        flattening._resolve_name, flattening._resolve_modifications, flattening)
+    resolve_name, flattening._resolve_modifications, flattening._resolve_dimensions = _full_scope_once(
+        flattening._resolve_name, flattening._resolve_modifications, flattening._resolve_dimensions, flattening)
     flattening._resolve_name = _inherited_constants(resolve_name, flattening)
     _linear_new_symbols(flattening)
     flattening._flatten_instance = _record_bindings(flattening._flatten_instance, flattening)
