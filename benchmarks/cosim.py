@@ -8,6 +8,12 @@ rate is steps per second of that whole run. Each measurement is the median of --
 the engines taking turns so that a busy machine slows all of them alike.
 
 Targets (issue 14): our master >= 30x libcosim and >= 2x Ecos on every system.
+
+``--baseline REF``: instead, the step cost of the nonlinear bicycles' FMUs built by this tree and by
+the committed tree REF, side by side in one process (alternating, medians): Co-Simulation steps of
+the FMU's own integrator (10 ms communication steps from a leaning start at 5 m/s) and Model
+Exchange derivative evaluations at that state. Target (the standard-Modelica library): the
+current tree costs at most 1.2x the baseline's.
 """
 from __future__ import annotations
 
@@ -55,11 +61,111 @@ def engines(spec, steps: int, folder: Path, tmp: str) -> dict:
     return {"ours": ours, "libcosim": libcosim, "Ecos": ecos}
 
 
+STEP_MODELS = ["Bicycle.Bicycles.Whipple", "Bicycle.Bicycles.WhippleRider"]
+STEP_TARGET = 1.2
+
+
+def build_tree(ref: str, folder: Path, models: list[str]) -> dict[str, Path]:
+    """The FMUs of ``models`` built by the committed ``cosim/`` and ``modelica/`` of ``ref`` (``None``:
+    this tree), in a fresh process."""
+    import subprocess
+    import tarfile
+    from io import BytesIO
+
+    root = ROOT
+    if ref is not None:
+        root = folder / "tree"
+        archive = subprocess.run(["git", "-C", str(ROOT), "archive", ref, "cosim", "modelica"],
+                                 capture_output=True, check=True).stdout
+        with tarfile.open(fileobj=BytesIO(archive)) as tar:
+            tar.extractall(root, filter="data")
+    out = folder / "fmus"
+    code = (f"import sys; sys.path.insert(0, {str(root)!r}); from cosim.compiler.build import build_model; "
+            f"from cosim.compiler.library import Library; "
+            + "; ".join(f"build_model({m!r}, {str(out)!r}, Library({str(root / 'modelica')!r}))" for m in models))
+    env = {k: v for k, v in os.environ.items() if k not in ("COSIM_FMU_DIR", "COSIM_MODELICA_PATH")}
+    subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, cwd=folder, env=env)
+    return {m: out / f"{m.replace('.', '_')}.fmu" for m in models}
+
+
+class StepCost:
+    """One instance of an FMU for Co-Simulation and one for Model Exchange, started leaning at 5 m/s."""
+
+    def __init__(self, fmu: Path, tmp: str):
+        from fmpy import extract, read_model_description
+        from fmpy.fmi2 import FMU2Model, FMU2Slave
+
+        md = read_model_description(str(fmu))
+        folder = extract(str(fmu), unzipdir=tempfile.mkdtemp(dir=tmp))
+        vr = {v.name: v.valueReference for v in md.modelVariables}
+        kw = dict(guid=md.guid, unzipDirectory=folder, modelIdentifier=md.coSimulation.modelIdentifier)
+        self.cs = FMU2Slave(instanceName="cs", **kw)
+        self.me = FMU2Model(instanceName="me", **{**kw, "modelIdentifier": md.modelExchange.modelIdentifier})
+        self.nx = md.numberOfContinuousStates
+        for unit in (self.cs, self.me):
+            unit.instantiate()
+            unit.setupExperiment(startTime=0.0)
+            unit.setReal([vr["phi0"]], [0.1])
+            unit.enterInitializationMode()
+            unit.exitInitializationMode()
+        self.me.enterContinuousTimeMode()
+        self.time = 0.0
+
+    def steps(self, count: int, h: float = 0.01) -> None:
+        for _ in range(count):
+            self.cs.doStep(self.time, h)
+            self.time += h
+
+    def derivatives(self, count: int) -> None:
+        for _ in range(count):
+            self.me.getDerivatives(self.nx)
+
+    def close(self) -> None:
+        for unit in (self.cs, self.me):
+            unit.terminate()
+            unit.freeInstance()
+
+
+def step_costs(ref: str, repeat: int) -> int:
+    """FMU step cost of this tree against ``ref`` (see the module docstring)."""
+    print(f"CPUs: {os.cpu_count()}, load average (1 min): {os.getloadavg()[0]:.2f}; FMU step cost, "
+          f"this tree against {ref}, median of {repeat} alternating runs")
+    print(f"{'model':<30} {'what':<24} {'baseline':>12} {'current':>12} {'current/baseline':>17}")
+    worst = 0.0
+    with tempfile.TemporaryDirectory() as tmp:
+        trees = {"baseline": build_tree(ref, Path(tempfile.mkdtemp(dir=tmp)), STEP_MODELS),
+                 "current": build_tree(None, Path(tempfile.mkdtemp(dir=tmp)), STEP_MODELS)}
+        for model in STEP_MODELS:
+            units = {label: StepCost(fmus[model], tmp) for label, fmus in trees.items()}
+            for what, run, count in (("CS steps of 10 ms", StepCost.steps, 100),
+                                     ("ME derivative calls", StepCost.derivatives, 2000)):
+                times = {label: [] for label in units}
+                for _ in range(repeat):
+                    for label, unit in units.items():
+                        t0 = time.perf_counter()
+                        run(unit, count)
+                        times[label].append((time.perf_counter() - t0) / count)
+                cost = {label: statistics.median(t) for label, t in times.items()}
+                ratio = cost["current"] / cost["baseline"]
+                worst = max(worst, ratio)
+                print(f"{model:<30} {what:<24} {cost['baseline'] * 1e6:9.1f} us {cost['current'] * 1e6:9.1f} us "
+                      f"{ratio:16.2f}x")
+            for unit in units.values():
+                unit.close()
+    met = worst <= STEP_TARGET
+    print(f"largest cost ratio current/baseline: {worst:.2f}x ({'meets' if met else 'MISSES'} <= {STEP_TARGET:g}x)")
+    return 0 if met else 1
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--stop", type=float, default=60.0, help="simulated time per run [s] (default 60)")
     parser.add_argument("--repeat", type=int, default=5, help="runs per engine and system (median kept)")
+    parser.add_argument("--baseline", metavar="REF",
+                        help="measure the nonlinear bicycles' FMU step cost against the committed tree REF instead")
     args = parser.parse_args(argv)
+    if args.baseline:
+        return step_costs(args.baseline, args.repeat)
 
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
 

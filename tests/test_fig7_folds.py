@@ -84,9 +84,10 @@ class TurnConditions:
             return np.concatenate([self.g(*x), [np.linalg.det(self.jacobian(*x))]])
 
         # The determinant of a central-difference Jacobian (h = 1e-5 on derivatives good to 1e-14)
-        # is noisy at about 1e-9 of its size: the fold is not resolvable to a step of 1e-13, where
-        # hybr stalls on some FMUs of the same equations (the sympy oracle's among them).
-        sol = root(equations, [phi, delta, v], method="hybr", options={"xtol": 1e-10})
+        # is noisy: hybr stalls short of a relative step of 1e-13 on some FMUs of the same equations
+        # (the sympy oracle's among them), and stops early at 1e-10 (g = 7e-9); at 1e-11 every one
+        # converges with g below 1e-9.
+        sol = root(equations, [phi, delta, v], method="hybr", options={"xtol": 1e-11})
         assert sol.success, sol.message
         assert np.abs(self.g(*sol.x)).max() < 1e-9
         return sol.x

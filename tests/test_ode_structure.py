@@ -5,36 +5,17 @@ compares with a hand-computed solution."""
 from __future__ import annotations
 
 import math
-import textwrap
 import xml.etree.ElementTree as ET
-from pathlib import Path
 
 import casadi as ca
 import numpy as np
 import pytest
 
 from cosim.compiler.codegen import start_function
-from cosim.compiler.description import describe
-from cosim.compiler.flatten import flatten
-from cosim.compiler.library import Library
 from cosim.compiler.model_description import model_description_xml
-from cosim.compiler.ode import _tear, make_explicit
+from cosim.compiler.ode import _tear
 from cosim.errors import ModelStructureError
-
-
-def _library(root: Path, files: dict[str, str]) -> Library:
-    """Write ``files`` (path relative to ``root`` -> Modelica text) and parse the library."""
-    for name, text in files.items():
-        path = root / name
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(textwrap.dedent(text).lstrip(), encoding="utf-8")
-    return Library(root)
-
-
-def _explicit(library: Library, model: str):
-    flat = flatten(library, model)
-    explicit = make_explicit(flat)
-    return flat, explicit, describe(library.entry(model), flat, explicit)
+from test_pymoca_patches import _explicit, _library
 
 
 def _values(explicit, x=None, inputs=None, parameters=None) -> dict[str, float]:

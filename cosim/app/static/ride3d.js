@@ -14,7 +14,7 @@
 //       wheels as the scene graph draws them (tests check them against kinematics() and the FMU)
 //
 // Frames and signs. The bicycle's configuration is Meijaard et al. (2007)'s, as in the FMUs
-// (Bicycle.Mechanics.PartialGround): ground axes x forward, y right, z down; the rear frame's
+// (Bicycle.Mechanics.Ground): ground axes x forward, y right, z down; the rear frame's
 // orientation R = Rz(psi) Rx(phi) Ry(theta) (yaw psi about the ground z, roll phi about the yaw
 // frame's x, pitch theta about the roll frame's y, positive nose up); the steer axis (sin lam, 0,
 // cos lam) in the rear frame's axes, the front frame turned by delta about it (Rodrigues); the
