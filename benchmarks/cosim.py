@@ -92,6 +92,8 @@ class StepCost:
     """One instance of an FMU for Co-Simulation and one for Model Exchange, started leaning at 5 m/s."""
 
     def __init__(self, fmu: Path, tmp: str):
+        from ctypes import c_double
+
         from fmpy import extract, read_model_description
         from fmpy.fmi2 import FMU2Model, FMU2Slave
 
@@ -102,6 +104,7 @@ class StepCost:
         self.cs = FMU2Slave(instanceName="cs", **kw)
         self.me = FMU2Model(instanceName="me", **{**kw, "modelIdentifier": md.modelExchange.modelIdentifier})
         self.nx = md.numberOfContinuousStates
+        self.dx = (c_double * self.nx)()
         for unit in (self.cs, self.me):
             unit.instantiate()
             unit.setupExperiment(startTime=0.0)
@@ -109,16 +112,22 @@ class StepCost:
             unit.enterInitializationMode()
             unit.exitInitializationMode()
         self.me.enterContinuousTimeMode()
+        self.x = (c_double * self.nx)()
+        self.me.getContinuousStates(self.x, self.nx)
         self.time = 0.0
 
     def steps(self, count: int, h: float = 0.01) -> None:
         for _ in range(count):
-            self.cs.doStep(self.time, h)
+            self.cs.doStep(self.time, h)  # (FMPy raises on an error status)
             self.time += h
 
     def derivatives(self, count: int) -> None:
-        for _ in range(count):
-            self.me.getDerivatives(self.nx)
+        # a new state each call (the runtime keeps the derivatives of an unchanged state)
+        x, k = self.x, 3  # the roll angle
+        for i in range(count):
+            x[k] += 1e-9 if i % 2 else -1e-9
+            self.me.setContinuousStates(x, self.nx)
+            self.me.getDerivatives(self.dx, self.nx)
 
     def close(self) -> None:
         for unit in (self.cs, self.me):
