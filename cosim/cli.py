@@ -575,6 +575,18 @@ def _cmd_animate(args) -> int:
     return EXIT_OK
 
 
+def _cmd_diagram(args) -> int:
+    from cosim.diagram.svg import write_diagram
+
+    path, drawing = write_diagram(args.model, args.output, icon=args.icon)
+    what = f"{drawing.components} components, {drawing.connections} connections" if drawing.layer == "diagram" \
+        else f"{drawing.components} connectors"
+    print(f"wrote {path} ({drawing.layer} layer of {drawing.class_name}: {what})")
+    for note in drawing.notes:
+        print(f"note: {note}")
+    return EXIT_OK
+
+
 def _cmd_demo(args) -> int:
     from cosim.studies.demo import run_demo
 
@@ -802,6 +814,23 @@ def parser() -> argparse.ArgumentParser:
     an.add_argument("--speed", type=_finite, default=None, metavar="V",
                     help="forward speed [m/s] for a result without x (x = V t)")
     an.set_defaults(func=_cmd_animate)
+
+    dg = sub.add_parser("diagram", help="a class's diagram (or icon) layer as SVG, from its graphical annotations",
+                        formatter_class=raw,
+                        epilog="Draws the Diagram annotation of the class and its bases, each component as its class's\n"
+                               "icon in the extent of its Placement (flipped, rotated; its connectors at their own\n"
+                               "placements) with its name, and each connect() as its Line annotation (MLS chapter 18).\n"
+                               "A component without a Placement is drawn as a labelled box at a default position and a\n"
+                               "connection without a Line as a straight grey line; the SVG's title says so. The SVG\n"
+                               "groups each component in <g data-component=NAME> and each connection in\n"
+                               "<g data-connect=\"A B\">.\n\n" + EXIT_CODES)
+    dg.add_argument("model", help="full class name, e.g. Bicycle.Bicycles.Whipple")
+    dg.add_argument("-o", "--output", default=None,
+                    help="the SVG file (default: <class name with _>.svg, -icon.svg with --icon, in the working "
+                         "directory)")
+    dg.add_argument("--icon", action="store_true", help="draw the icon layer (with the connectors) instead")
+    library_option(dg)
+    dg.set_defaults(func=_cmd_diagram)
 
     d = sub.add_parser("demo", help="build, validate and simulate the bundled bicycle", formatter_class=raw,
                        epilog=f"{FMU_FOLDER}\n\n{EXIT_CODES}")

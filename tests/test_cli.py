@@ -123,7 +123,7 @@ def test_run_reports_fall(tmp_path):
 
 # Verbs that resolve Modelica model names (directly or through system files and specs).
 RESOLVING_VERBS = ["build", "list", "info", "validate", "simulate", "linearize", "compare", "run", "export-ssp",
-                   "figures", "demo", "matrix", "app"]
+                   "figures", "demo", "matrix", "app", "diagram"]
 TINY = """within Tiny;
 model Decay "dx/dt = -k x"
   parameter Real k(unit = "1/s") = 2 "rate";
@@ -175,7 +175,7 @@ def test_main_help_documents_the_environment_variables():
     ("simulate", ["Tiny.Decay", "--stop-time", "1"]), ("linearize", ["Tiny.Decay"]),
     ("compare", ["Bicycle.Bicycles.SelfStabilizing"]), ("run", ["system.toml"]),
     ("export-ssp", ["system.toml", "-o", "s.ssp"]), ("figures", ["fig5"]), ("demo", []), ("matrix", ["paper"]),
-    ("app", ["--export", "site"]),
+    ("app", ["--export", "site"]), ("diagram", ["Tiny.Decay", "-o", "d.svg"]),
 ], ids=lambda x: x if isinstance(x, str) else None)
 def test_missing_library_folder_is_refused_before_any_work(verb, args, tmp_path):
     missing = tmp_path / "no-library"
