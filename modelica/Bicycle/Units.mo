@@ -1,5 +1,6 @@
 within Bicycle;
 package Units "SI unit types used by the library (same definitions as Modelica.Units.SI)"
+  extends Bicycle.Icons.Package;
   type Time = Real(final quantity = "Time", final unit = "s");
   type Angle = Real(final quantity = "Angle", final unit = "rad", displayUnit = "deg");
   type AngularVelocity = Real(final quantity = "AngularVelocity", final unit = "rad/s");

@@ -1,5 +1,6 @@
 within Bicycle.Bicycles;
 model CrownedRoller "Bicycle on crowned rollers of rocking radius R (27): model (1) with gravity term m*g*(h - R), steer angle in"
+  extends Bicycle.Icons.Bike;
   parameter Bicycle.Units.Mass m(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.m "Total mass m of bicycle and rider";
   parameter Bicycle.Units.Length h(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.h "Height h of the centre of mass";
   parameter Bicycle.Units.Length b(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.b "Wheel base b";
@@ -8,22 +9,36 @@ model CrownedRoller "Bicycle on crowned rollers of rocking radius R (27): model 
   parameter Bicycle.Units.Velocity V = Bicycle.Records.Astrom2005SecondOrder.V "Forward speed V";
   parameter Bicycle.Units.Acceleration g(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.g "Gravitational acceleration";
   parameter Bicycle.Units.Length R(min = 0) = Bicycle.Records.Astrom2005SecondOrder.R "Lateral (rocking) radius R of the crowned rollers";
-  Bicycle.Interfaces.RealInput delta(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Steer angle (vertical steer axis), positive steering to the left";
-  Bicycle.Interfaces.RealOutput phi(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Roll angle, positive leaning to the right";
-  Bicycle.Interfaces.RealOutput psi(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Yaw angle of the rear frame, positive to the left";
-  Bicycle.Interfaces.RealOutput eta(final quantity = "Length", final unit = "m") "Path deviation of the rear contact point, positive to the left";
-  Bicycle.Components.RearFrame frame(m = m, h = h, b = b, J = J, D = D, V = V, g = g) "Rear frame with rider and wheels, eq (1)";
-  Bicycle.Components.SteerAngle handlebar(delta = delta) "Rider's steer angle";
-  Bicycle.Components.PathKinematics path(V = V, b = b) "Yaw angle and path deviation";
-  Bicycle.Components.CrownedRollers rollers(m = m, g = g, R = R) "Crowned rollers instead of thin tyres";
+  Bicycle.Interfaces.RealInput delta(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Steer angle (vertical steer axis), positive steering to the left"
+    annotation(Placement(transformation(extent = {{-140, -20}, {-100, 20}})));
+  Bicycle.Interfaces.RealOutput phi(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Roll angle, positive leaning to the right"
+    annotation(Placement(transformation(extent = {{100, 50}, {120, 70}})));
+  Bicycle.Interfaces.RealOutput psi(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Yaw angle of the rear frame, positive to the left"
+    annotation(Placement(transformation(extent = {{100, -10}, {120, 10}})));
+  Bicycle.Interfaces.RealOutput eta(final quantity = "Length", final unit = "m") "Path deviation of the rear contact point, positive to the left"
+    annotation(Placement(transformation(extent = {{100, -70}, {120, -50}})));
+  Bicycle.Components.RearFrame frame(m = m, h = h, b = b, J = J, D = D, V = V, g = g) "Rear frame with rider and wheels, eq (1)"
+    annotation(Placement(transformation(extent = {{-70, -20}, {-30, 20}})));
+  Bicycle.Components.SteerAngle handlebar(delta = delta) "Rider's steer angle"
+    annotation(Placement(transformation(extent = {{30, -20}, {70, 20}})));
+  Bicycle.Components.PathKinematics path(V = V, b = b) "Yaw angle and path deviation"
+    annotation(Placement(transformation(extent = {{-20, 30}, {20, 70}})));
+  Bicycle.Components.CrownedRollers rollers(m = m, g = g, R = R) "Crowned rollers instead of thin tyres"
+    annotation(Placement(transformation(extent = {{-70, -80}, {-30, -40}})));
 equation
-  connect(handlebar.front, frame.front);
-  connect(handlebar.front, path.front);
-  connect(frame.roll, rollers.roll);
+  connect(handlebar.front, frame.front) annotation(Line(points = {{28, 8}, {-26, 8}}, color = {0, 0, 127}));
+  connect(handlebar.front, path.front) annotation(Line(points = {{28, 8}, {0, 8}, {0, 26}}, color = {0, 0, 127}));
+  connect(frame.roll, rollers.roll) annotation(Line(points = {{-50, -20}, {-50, -40}}, color = {0, 0, 0}));
   phi = frame.phi;
   psi = path.psi;
   eta = path.eta;
   annotation(
+    Icon(graphics = {
+      Text(extent = {{20, 96}, {100, 56}}, textString = "(27)", textColor = {64, 64, 64}),
+      Ellipse(extent = {{-74, -92}, {-58, -76}}, lineColor = {0, 0, 0}, fillColor = {200, 200, 200}, fillPattern = FillPattern.Solid),
+      Ellipse(extent = {{-54, -92}, {-38, -76}}, lineColor = {0, 0, 0}, fillColor = {200, 200, 200}, fillPattern = FillPattern.Solid),
+      Ellipse(extent = {{38, -92}, {54, -76}}, lineColor = {0, 0, 0}, fillColor = {200, 200, 200}, fillPattern = FillPattern.Solid),
+      Ellipse(extent = {{58, -92}, {74, -76}}, lineColor = {0, 0, 0}, fillColor = {200, 200, 200}, fillPattern = FillPattern.Solid)}),
     experiment(StartTime = 0, StopTime = 2, Tolerance = 1e-8, Interval = 0.01),
     __Cosim(export = true),
     Documentation(info = "<html>

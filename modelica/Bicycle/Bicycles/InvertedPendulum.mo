@@ -1,5 +1,6 @@
 within Bicycle.Bicycles;
 model InvertedPendulum "Inverted-pendulum bicycle (1): steer angle in; roll angle, yaw angle and path deviation out"
+  extends Bicycle.Icons.Bike;
   parameter Bicycle.Units.Mass m(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.m "Total mass m of bicycle and rider";
   parameter Bicycle.Units.Length h(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.h "Height h of the centre of mass";
   parameter Bicycle.Units.Length b(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.b "Wheel base b";
@@ -7,20 +8,29 @@ model InvertedPendulum "Inverted-pendulum bicycle (1): steer angle in; roll angl
   parameter Bicycle.Units.MomentOfInertia D(min = 1e-9) = Bicycle.Records.Astrom2005SecondOrder.D "Inertia product D = -Jxz";
   parameter Bicycle.Units.Velocity V = Bicycle.Records.Astrom2005SecondOrder.V "Forward speed V";
   parameter Bicycle.Units.Acceleration g(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.g "Gravitational acceleration";
-  Bicycle.Interfaces.RealInput delta(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Steer angle (vertical steer axis), positive steering to the left";
-  Bicycle.Interfaces.RealOutput phi(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Roll angle, positive leaning to the right";
-  Bicycle.Interfaces.RealOutput psi(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Yaw angle of the rear frame, positive to the left";
-  Bicycle.Interfaces.RealOutput eta(final quantity = "Length", final unit = "m") "Path deviation of the rear contact point, positive to the left";
-  Bicycle.Components.RearFrame frame(m = m, h = h, b = b, J = J, D = D, V = V, g = g) "Rear frame with rider and wheels, eq (1)";
-  Bicycle.Components.SteerAngle handlebar(delta = delta) "Rider's steer angle";
-  Bicycle.Components.PathKinematics path(V = V, b = b) "Yaw angle and path deviation";
+  Bicycle.Interfaces.RealInput delta(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Steer angle (vertical steer axis), positive steering to the left"
+    annotation(Placement(transformation(extent = {{-140, -20}, {-100, 20}})));
+  Bicycle.Interfaces.RealOutput phi(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Roll angle, positive leaning to the right"
+    annotation(Placement(transformation(extent = {{100, 50}, {120, 70}})));
+  Bicycle.Interfaces.RealOutput psi(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Yaw angle of the rear frame, positive to the left"
+    annotation(Placement(transformation(extent = {{100, -10}, {120, 10}})));
+  Bicycle.Interfaces.RealOutput eta(final quantity = "Length", final unit = "m") "Path deviation of the rear contact point, positive to the left"
+    annotation(Placement(transformation(extent = {{100, -70}, {120, -50}})));
+  Bicycle.Components.RearFrame frame(m = m, h = h, b = b, J = J, D = D, V = V, g = g) "Rear frame with rider and wheels, eq (1)"
+    annotation(Placement(transformation(extent = {{-70, -20}, {-30, 20}})));
+  Bicycle.Components.SteerAngle handlebar(delta = delta) "Rider's steer angle"
+    annotation(Placement(transformation(extent = {{30, -20}, {70, 20}})));
+  Bicycle.Components.PathKinematics path(V = V, b = b) "Yaw angle and path deviation"
+    annotation(Placement(transformation(extent = {{-20, 30}, {20, 70}})));
 equation
-  connect(handlebar.front, frame.front);
-  connect(handlebar.front, path.front);
+  connect(handlebar.front, frame.front) annotation(Line(points = {{28, 8}, {-26, 8}}, color = {0, 0, 127}));
+  connect(handlebar.front, path.front) annotation(Line(points = {{28, 8}, {0, 8}, {0, 26}}, color = {0, 0, 127}));
   phi = frame.phi;
   psi = path.psi;
   eta = path.eta;
   annotation(
+    Icon(graphics = {
+      Text(extent = {{20, 96}, {100, 56}}, textString = "(1)", textColor = {64, 64, 64})}),
     experiment(StartTime = 0, StopTime = 2, Tolerance = 1e-8, Interval = 0.01),
     __Cosim(export = true),
     Documentation(info = "<html>

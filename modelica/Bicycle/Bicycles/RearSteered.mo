@@ -1,5 +1,6 @@
 within Bicycle.Bicycles;
 model RearSteered "Rear-wheel steered bicycle (18): model (1) driven backwards, forward speed V > 0 and the rider's signs, steer angle in"
+  extends Bicycle.Icons.Bike;
   parameter Bicycle.Units.Mass m(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.m "Total mass m of bicycle and rider";
   parameter Bicycle.Units.Length h(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.h "Height h of the centre of mass";
   parameter Bicycle.Units.Length b(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.b "Wheel base b";
@@ -8,16 +9,23 @@ model RearSteered "Rear-wheel steered bicycle (18): model (1) driven backwards, 
   parameter Bicycle.Units.Velocity V = Bicycle.Records.Astrom2005SecondOrder.V "Forward speed V, positive: the unsteered wheel leads, the steered wheel trails (negative: ridden backwards)";
   parameter Bicycle.Units.Acceleration g(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.g "Gravitational acceleration";
   parameter Bicycle.Units.Angle phi0 = 0 "Initial roll angle phi, positive leaning to the rider's right";
-  Bicycle.Interfaces.RealInput delta(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Steer angle of the rear wheel (vertical steer axis), positive steering the bicycle to the rider's left";
-  Bicycle.Interfaces.RealOutput phi(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Roll angle, positive leaning to the rider's right";
-  Bicycle.Interfaces.RealOutput psi(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Yaw angle of the frame, positive turning to the rider's left";
-  Bicycle.Interfaces.RealOutput eta(final quantity = "Length", final unit = "m") "Path deviation of the front (unsteered) contact point, positive to the rider's left";
-  Bicycle.Components.RearFrame frame(m = m, h = h, b = b, J = J, D = D, V = -V, g = g, phi(start = -phi0)) "Frame with rider and wheels, eq (1) at speed -V in the axes of model (1): roll angle -phi";
-  Bicycle.Components.SteerAngle handlebar(delta = -delta) "Steer angle of model (1), -delta: counter-clockwise seen from above";
-  Bicycle.Components.PathKinematics path(V = -V, b = b) "Yaw angle and path deviation of model (1) at speed -V (deviation -eta)";
+  Bicycle.Interfaces.RealInput delta(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Steer angle of the rear wheel (vertical steer axis), positive steering the bicycle to the rider's left"
+    annotation(Placement(transformation(extent = {{-140, -20}, {-100, 20}})));
+  Bicycle.Interfaces.RealOutput phi(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Roll angle, positive leaning to the rider's right"
+    annotation(Placement(transformation(extent = {{100, 50}, {120, 70}})));
+  Bicycle.Interfaces.RealOutput psi(final quantity = "Angle", final unit = "rad", displayUnit = "deg") "Yaw angle of the frame, positive turning to the rider's left"
+    annotation(Placement(transformation(extent = {{100, -10}, {120, 10}})));
+  Bicycle.Interfaces.RealOutput eta(final quantity = "Length", final unit = "m") "Path deviation of the front (unsteered) contact point, positive to the rider's left"
+    annotation(Placement(transformation(extent = {{100, -70}, {120, -50}})));
+  Bicycle.Components.RearFrame frame(m = m, h = h, b = b, J = J, D = D, V = -V, g = g, phi(start = -phi0)) "Frame with rider and wheels, eq (1) at speed -V in the axes of model (1): roll angle -phi"
+    annotation(Placement(transformation(extent = {{-70, -20}, {-30, 20}})));
+  Bicycle.Components.SteerAngle handlebar(delta = -delta) "Steer angle of model (1), -delta: counter-clockwise seen from above"
+    annotation(Placement(transformation(extent = {{30, -20}, {70, 20}})));
+  Bicycle.Components.PathKinematics path(V = -V, b = b) "Yaw angle and path deviation of model (1) at speed -V (deviation -eta)"
+    annotation(Placement(transformation(extent = {{-20, 30}, {20, 70}})));
 equation
-  connect(handlebar.front, frame.front);
-  connect(handlebar.front, path.front);
+  connect(handlebar.front, frame.front) annotation(Line(points = {{28, 8}, {-26, 8}}, color = {0, 0, 127}));
+  connect(handlebar.front, path.front) annotation(Line(points = {{28, 8}, {0, 8}, {0, 26}}, color = {0, 0, 127}));
   // From the axes of model (1) (x from the unsteered to the steered wheel) to the rider's axes
   // (x forward, the direction of motion): a half turn about the vertical. The roll angle and the
   // lateral deviation change sign; yaw and yaw rate keep it; the steer angle of model (1) is the
@@ -26,6 +34,9 @@ equation
   psi = path.psi;
   eta = -path.eta;
   annotation(
+    Icon(graphics = {
+      Text(extent = {{20, 96}, {100, 56}}, textString = "(18)", textColor = {64, 64, 64}),
+      Line(points = {{70, 44}, {30, 44}}, color = {255, 0, 0}, thickness = 0.75, arrow = {Arrow.None, Arrow.Filled}, arrowSize = 8)}),
     experiment(StartTime = 0, StopTime = 2, Tolerance = 1e-8, Interval = 0.01),
     __Cosim(export = true),
     Documentation(info = "<html>

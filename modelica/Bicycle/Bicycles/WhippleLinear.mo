@@ -1,5 +1,6 @@
 within Bicycle.Bicycles;
 model WhippleLinear "Linearized Whipple bicycle, eq (24): M q'' + v C1 q' + (g K0 + v^2 K2) q = [T_phi, T_delta] (Meijaard et al. 2007)"
+  extends Bicycle.Icons.Bike;
   replaceable package Data = Bicycle.Records.Benchmark constrainedby Bicycle.Records.PartialWhipple "Parameter set giving the defaults (Meijaard's Table 1 symbols)";
   // Geometry and gravity (Meijaard et al. 2007, Table 1)
   parameter Bicycle.Units.Length w(min = 1e-6) = Data.w "Wheelbase w";
@@ -39,12 +40,18 @@ model WhippleLinear "Linearized Whipple bicycle, eq (24): M q'' + v C1 q' + (g K
   parameter Bicycle.Units.AngularVelocity phi_dot0 = 0 "Initial roll rate";
   parameter Bicycle.Units.AngularVelocity delta_dot0 = 0 "Initial steer rate";
 
-  Bicycle.Linear.RearWheel rearWheel(w = w, c = c, lam = lam, g = g, v = v, r = rR, m = mR, Ixx = IRxx, Iyy = IRyy) "Rear wheel R";
-  Bicycle.Linear.RearFrame rearFrame(w = w, c = c, lam = lam, g = g, v = v, m = mB, x = xB, z = zB, Ixx = IBxx, Ixz = IBxz, Iyy = IByy, Izz = IBzz) "Rear frame B with rider";
-  Bicycle.Linear.FrontFrame frontFrame(w = w, c = c, lam = lam, g = g, v = v, m = mH, x = xH, z = zH, Ixx = IHxx, Ixz = IHxz, Iyy = IHyy, Izz = IHzz) "Front frame H (fork and handlebar)";
-  Bicycle.Linear.FrontWheel frontWheel(w = w, c = c, lam = lam, g = g, v = v, r = rF, m = mF, Ixx = IFxx, Iyy = IFyy) "Front wheel F";
-  Bicycle.Linear.Torques torques "Roll and steer torques";
-  Bicycle.Linear.Coordinates coordinates "Roll and steer coordinates: give the states to the components, return the accelerations of eq (24)";
+  Bicycle.Linear.RearWheel rearWheel(w = w, c = c, lam = lam, g = g, v = v, r = rR, m = mR, Ixx = IRxx, Iyy = IRyy) "Rear wheel R"
+    annotation(Placement(transformation(extent = {{-150, -20}, {-90, 40}})));
+  Bicycle.Linear.RearFrame rearFrame(w = w, c = c, lam = lam, g = g, v = v, m = mB, x = xB, z = zB, Ixx = IBxx, Ixz = IBxz, Iyy = IByy, Izz = IBzz) "Rear frame B with rider"
+    annotation(Placement(transformation(extent = {{-80, 40}, {-40, 80}})));
+  Bicycle.Linear.FrontFrame frontFrame(w = w, c = c, lam = lam, g = g, v = v, m = mH, x = xH, z = zH, Ixx = IHxx, Ixz = IHxz, Iyy = IHyy, Izz = IHzz) "Front frame H (fork and handlebar)"
+    annotation(Placement(transformation(extent = {{40, 40}, {80, 80}})));
+  Bicycle.Linear.FrontWheel frontWheel(w = w, c = c, lam = lam, g = g, v = v, r = rF, m = mF, Ixx = IFxx, Iyy = IFyy) "Front wheel F"
+    annotation(Placement(transformation(extent = {{90, -20}, {150, 40}})));
+  Bicycle.Linear.Torques torques "Roll and steer torques"
+    annotation(Placement(transformation(extent = {{-30, 100}, {30, 160}})));
+  Bicycle.Linear.Coordinates coordinates "Roll and steer coordinates: give the states to the components, return the accelerations of eq (24)"
+    annotation(Placement(transformation(extent = {{40, -120}, {-40, -40}})));
 
   // The matrices of eq (24), the sums of the bodies' parts (for inspection; the dynamics use the connection set)
   final parameter Bicycle.Units.MomentOfInertia M11 = rearWheel.M11 + rearFrame.M11 + frontFrame.M11 + frontWheel.M11 "Mass matrix M, element (phi, phi)";
@@ -61,27 +68,35 @@ model WhippleLinear "Linearized Whipple bicycle, eq (24): M q'' + v C1 q' + (g K
   final parameter Bicycle.Units.FirstMomentOfMass C1_21 = rearWheel.C1_21 + rearFrame.C1_21 + frontFrame.C1_21 + frontWheel.C1_21 "Velocity-proportional matrix C1, element (delta, phi)";
   final parameter Bicycle.Units.FirstMomentOfMass C1_22 = rearWheel.C1_22 + rearFrame.C1_22 + frontFrame.C1_22 + frontWheel.C1_22 "Velocity-proportional matrix C1, element (delta, delta)";
 
-  Bicycle.Interfaces.RealInput T_phi(final quantity = "Torque", final unit = "N.m") "Roll torque T_phi on the rear frame, positive tending to lean right";
-  Bicycle.Interfaces.RealInput T_delta(final quantity = "Torque", final unit = "N.m") "Steer torque T_delta between rear frame and front frame, positive tending to steer right";
-  Bicycle.Interfaces.RealOutput phi(final quantity = "Angle", final unit = "rad", displayUnit = "deg", start = phi0, fixed = true) "Roll angle phi of the rear frame, positive leaning right";
-  Bicycle.Interfaces.RealOutput delta(final quantity = "Angle", final unit = "rad", displayUnit = "deg", start = delta0, fixed = true) "Steer angle delta, positive steering right";
-  Bicycle.Interfaces.RealOutput phi_dot(final quantity = "AngularVelocity", final unit = "rad/s", start = phi_dot0, fixed = true) "Roll rate der(phi)";
-  Bicycle.Interfaces.RealOutput delta_dot(final quantity = "AngularVelocity", final unit = "rad/s", start = delta_dot0, fixed = true) "Steer rate der(delta)";
-  Bicycle.Interfaces.RealOutput psi(final quantity = "Angle", final unit = "rad", displayUnit = "deg", start = 0, fixed = true) "Yaw (heading) angle psi of the rear frame, positive turning right (about the downward z axis)";
-  Bicycle.Interfaces.RealOutput y(final quantity = "Length", final unit = "m", start = 0, fixed = true) "Lateral position y of the rear contact point, positive to the right of the initial path";
+  Bicycle.Interfaces.RealInput T_phi(final quantity = "Torque", final unit = "N.m") "Roll torque T_phi on the rear frame, positive tending to lean right"
+    annotation(Placement(transformation(extent = {{-220, 132}, {-200, 152}}), iconTransformation(extent = {{-140, -60}, {-100, -20}})));
+  Bicycle.Interfaces.RealInput T_delta(final quantity = "Torque", final unit = "N.m") "Steer torque T_delta between rear frame and front frame, positive tending to steer right"
+    annotation(Placement(transformation(extent = {{-220, 108}, {-200, 128}}), iconTransformation(extent = {{-140, 20}, {-100, 60}})));
+  Bicycle.Interfaces.RealOutput phi(final quantity = "Angle", final unit = "rad", displayUnit = "deg", start = phi0, fixed = true) "Roll angle phi of the rear frame, positive leaning right"
+    annotation(Placement(transformation(extent = {{202, -64}, {218, -48}}), iconTransformation(extent = {{100, 65}, {120, 85}})));
+  Bicycle.Interfaces.RealOutput delta(final quantity = "Angle", final unit = "rad", displayUnit = "deg", start = delta0, fixed = true) "Steer angle delta, positive steering right"
+    annotation(Placement(transformation(extent = {{202, -80}, {218, -64}}), iconTransformation(extent = {{100, 35}, {120, 55}})));
+  Bicycle.Interfaces.RealOutput phi_dot(final quantity = "AngularVelocity", final unit = "rad/s", start = phi_dot0, fixed = true) "Roll rate der(phi)"
+    annotation(Placement(transformation(extent = {{202, -96}, {218, -80}}), iconTransformation(extent = {{100, 5}, {120, 25}})));
+  Bicycle.Interfaces.RealOutput delta_dot(final quantity = "AngularVelocity", final unit = "rad/s", start = delta_dot0, fixed = true) "Steer rate der(delta)"
+    annotation(Placement(transformation(extent = {{202, -112}, {218, -96}}), iconTransformation(extent = {{100, -25}, {120, -5}})));
+  Bicycle.Interfaces.RealOutput psi(final quantity = "Angle", final unit = "rad", displayUnit = "deg", start = 0, fixed = true) "Yaw (heading) angle psi of the rear frame, positive turning right (about the downward z axis)"
+    annotation(Placement(transformation(extent = {{202, 122}, {218, 138}}), iconTransformation(extent = {{100, -55}, {120, -35}})));
+  Bicycle.Interfaces.RealOutput y(final quantity = "Length", final unit = "m", start = 0, fixed = true) "Lateral position y of the rear contact point, positive to the right of the initial path"
+    annotation(Placement(transformation(extent = {{202, 102}, {218, 118}}), iconTransformation(extent = {{100, -85}, {120, -65}})));
 equation
-  connect(coordinates.frame, rearWheel.frame);
-  connect(coordinates.frame, rearFrame.frame);
-  connect(coordinates.frame, frontFrame.frame);
-  connect(coordinates.frame, frontWheel.frame);
-  connect(coordinates.frame, torques.frame);
-  connect(T_phi, torques.T_phi);
-  connect(T_delta, torques.T_delta);
+  connect(coordinates.frame, rearWheel.frame) annotation(Line(points = {{0, -40}, {0, -30}, {-120, -30}, {-120, -20}}, color = {0, 128, 128}, thickness = 0.5));
+  connect(coordinates.frame, rearFrame.frame) annotation(Line(points = {{0, -40}, {0, -30}, {-60, -30}, {-60, 40}}, color = {0, 128, 128}, thickness = 0.5));
+  connect(coordinates.frame, frontFrame.frame) annotation(Line(points = {{0, -40}, {0, -30}, {60, -30}, {60, 40}}, color = {0, 128, 128}, thickness = 0.5));
+  connect(coordinates.frame, frontWheel.frame) annotation(Line(points = {{0, -40}, {0, -30}, {120, -30}, {120, -20}}, color = {0, 128, 128}, thickness = 0.5));
+  connect(coordinates.frame, torques.frame) annotation(Line(points = {{0, -40}, {0, 100}}, color = {0, 128, 128}, thickness = 0.5));
+  connect(T_phi, torques.T_phi) annotation(Line(points = {{-210, 142}, {-36, 142}}, color = {0, 0, 127}));
+  connect(T_delta, torques.T_delta) annotation(Line(points = {{-210, 118}, {-36, 118}}, color = {0, 0, 127}));
   // The states live here (they keep their names in the FMU); the coordinates give their accelerations.
-  connect(phi, coordinates.phi);
-  connect(delta, coordinates.delta);
-  connect(phi_dot, coordinates.phi_dot);
-  connect(delta_dot, coordinates.delta_dot);
+  connect(phi, coordinates.phi) annotation(Line(points = {{210, -56}, {48, -56}}, color = {0, 0, 127}));
+  connect(delta, coordinates.delta) annotation(Line(points = {{210, -72}, {48, -72}}, color = {0, 0, 127}));
+  connect(phi_dot, coordinates.phi_dot) annotation(Line(points = {{210, -88}, {48, -88}}, color = {0, 0, 127}));
+  connect(delta_dot, coordinates.delta_dot) annotation(Line(points = {{210, -104}, {48, -104}}, color = {0, 0, 127}));
   der(phi) = phi_dot;
   der(delta) = delta_dot;
   der(phi_dot) = coordinates.phi_ddot;
@@ -90,6 +105,9 @@ equation
   der(psi) = (v*delta + c*delta_dot)*cos(lam)/w;
   der(y) = v*psi;
   annotation(
+    Icon(graphics = {
+      Text(extent = {{20, 96}, {100, 56}}, textString = "(24)", textColor = {64, 64, 64})}),
+    Diagram(coordinateSystem(extent = {{-200, -130}, {220, 170}})),
     experiment(StartTime = 0, StopTime = 5, Tolerance = 1e-8, Interval = 0.01),
     __Cosim(export = true),
     Documentation(info = "<html>

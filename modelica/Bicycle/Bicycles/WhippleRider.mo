@@ -1,5 +1,6 @@
 within Bicycle.Bicycles;
 model WhippleRider "Nonlinear Whipple bicycle with a leaning rider: the upper body on a hip hinge of the rear frame (Meijaard et al. 2007 bicycle, Astrom et al. 2005 rider lean)"
+  extends Bicycle.Icons.BikeRider;
   constant Integer n = 7 "Number of generalized speeds: 1 to 3 dependent (yaw, pitch, front wheel), 4 roll, 5 steer, 6 rear wheel, 7 lean";
   replaceable package Data = Bicycle.Records.BenchmarkRider constrainedby Bicycle.Records.PartialWhippleRider "Parameter set (defaults of the parameters below)";
   parameter Bicycle.Units.Length w(min = 1e-6) = Data.w "Wheelbase w";
@@ -53,9 +54,12 @@ model WhippleRider "Nonlinear Whipple bicycle with a leaning rider: the upper bo
   parameter Bicycle.Units.MomentOfInertia IUzz(min = 0) = Data.IUzz "Upper body inertia-tensor element IUzz about its centre of mass";
   parameter Real kU(final quantity = "RotationalSpringConstant", final unit = "N.m/rad", min = 0) = Data.kU "Passive stiffness kU of the hip hinge (lean torque per lean angle)";
   parameter Real cU(final quantity = "RotationalDampingConstant", final unit = "N.m.s/rad", min = 0) = Data.cU "Passive damping cU of the hip hinge (lean torque per lean rate)";
-  Bicycle.Interfaces.RealInput T_delta(final quantity = "Torque", final unit = "N.m") "Steer torque T_delta between rear frame and front frame, positive tending to steer right";
-  Bicycle.Interfaces.RealInput T_phi(final quantity = "Torque", final unit = "N.m") "Roll torque T_phi on the rear frame about the (horizontal) roll axis, positive tending to lean right (disturbance)";
-  Bicycle.Interfaces.RealInput T_beta(final quantity = "Torque", final unit = "N.m") "Lean torque T_beta of the rider between rear frame and upper body, positive tending to lean the upper body right";
+  Bicycle.Interfaces.RealInput T_delta(final quantity = "Torque", final unit = "N.m") "Steer torque T_delta between rear frame and front frame, positive tending to steer right"
+    annotation(Placement(transformation(origin = {10, 250}, extent = {{-10, -10}, {10, 10}}, rotation = -90), iconTransformation(extent = {{-140, 40}, {-100, 80}})));
+  Bicycle.Interfaces.RealInput T_phi(final quantity = "Torque", final unit = "N.m") "Roll torque T_phi on the rear frame about the (horizontal) roll axis, positive tending to lean right (disturbance)"
+    annotation(Placement(transformation(extent = {{-220, -100}, {-200, -80}}), iconTransformation(extent = {{-140, -80}, {-100, -40}})));
+  Bicycle.Interfaces.RealInput T_beta(final quantity = "Torque", final unit = "N.m") "Lean torque T_beta of the rider between rear frame and upper body, positive tending to lean the upper body right"
+    annotation(Placement(transformation(extent = {{-220, 132}, {-200, 152}}), iconTransformation(extent = {{-140, 0}, {-100, 40}})));
   output Bicycle.Units.Position x = ground.x "x coordinate (forward at yaw 0) of the rear contact point";
   output Bicycle.Units.Position y = ground.y "y coordinate (right at yaw 0) of the rear contact point: lateral position";
   output Bicycle.Units.Angle psi = ground.psi "Yaw angle psi of the rear frame, positive turning right";
@@ -78,32 +82,42 @@ model WhippleRider "Nonlinear Whipple bicycle with a leaning rider: the upper bo
   output Bicycle.Units.Velocity v = ground.v "Forward speed of the rear contact point (velocity along the heading)";
   output Bicycle.Units.Energy E = ground.E "Total energy: kinetic + potential (gravity, zero at the ground, and the hip spring)";
   output Bicycle.Units.Length residual = ground.residual "Holonomic constraint residual: height of the front contact point above the ground (should be 0)";
-  Bicycle.Mechanics.Ground ground(n = n, g = g, x0 = x0, y0 = y0, psi0 = psi0, phi0 = phi0, u_phi0 = u_phi0, theta_guess = theta_guess) "Flat ground: the rear frame's attitude and position, rolling constraints, Kane's equations";
-  replaceable Bicycle.Wheels.Torus rearWheel(t = tR, n = n, k = 6, r = rR, m = mR, Ixx = IRxx, Iyy = IRyy, angle0 = thetaR0, spin0 = u_R0) constrainedby Bicycle.Wheels.PartialWheel(n = n, k = 6, r = rR, m = mR, Ixx = IRxx, Iyy = IRyy, angle0 = thetaR0, spin0 = u_R0) "Rear wheel R (spin angle thetaR, coordinate 6)";
-  Bicycle.Mechanics.Frames.RearFrame rearFrame(n = n, w = w, c = c, rR = rR, xB = xB, zB = zB, mB = mB, IBxx = IBxx, IBxz = IBxz, IByy = IByy, IBzz = IBzz) "Rear frame B without the rider's upper body";
-  Bicycle.Mechanics.Frames.SteerAxis steer(n = n, k = 5, lam = lam, angle0 = delta0, omega0 = u_delta0) "Steer axis (steer angle delta, coordinate 5)";
-  Bicycle.Mechanics.Frames.FrontFrame frontFrame(n = n, w = w, c = c, rF = rF, xH = xH, zH = zH, mH = mH, IHxx = IHxx, IHxz = IHxz, IHyy = IHyy, IHzz = IHzz) "Front frame H (fork and handlebar)";
-  replaceable Bicycle.Wheels.Torus frontWheel(t = tF, n = n, k = 3, rolling = true, r = rF, m = mF, Ixx = IFxx, Iyy = IFyy, angle0 = thetaF0) constrainedby Bicycle.Wheels.PartialWheel(n = n, k = 3, rolling = true, r = rF, m = mF, Ixx = IFxx, Iyy = IFyy, angle0 = thetaF0) "Front wheel F (spin angle thetaF; its rate is the dependent speed 3)";
-  Bicycle.Mechanics.Parts.FixedTranslation toHip(n = n, rx = xU, rz = rR - hU) "Rear axle to the hip hinge axis (xU, hU above the ground)";
-  replaceable Bicycle.Mechanics.Rider.HipHinge hip(c = kU, d = cU, n = n, k = 7, angle0 = beta0, omega0 = u_beta0) constrainedby Bicycle.Mechanics.Rider.PartialHinge(n = n, k = 7, angle0 = beta0, omega0 = u_beta0) "Hip hinge (lean angle beta, coordinate 7; LockedHinge: the upper body held at its initial lean)";
-  Bicycle.Mechanics.Rider.UpperBody upperBody(n = n, m = mU, l = lU, Ixx = IUxx, Ixz = IUxz, Iyy = IUyy, Izz = IUzz) "Rider's upper body U";
+  Bicycle.Mechanics.Ground ground(n = n, g = g, x0 = x0, y0 = y0, psi0 = psi0, phi0 = phi0, u_phi0 = u_phi0, theta_guess = theta_guess) "Flat ground: the rear frame's attitude and position, rolling constraints, Kane's equations"
+    annotation(Placement(transformation(extent = {{-160, -110}, {160, -70}})));
+  replaceable Bicycle.Wheels.Torus rearWheel(t = tR, n = n, k = 6, r = rR, m = mR, Ixx = IRxx, Iyy = IRyy, angle0 = thetaR0, spin0 = u_R0) constrainedby Bicycle.Wheels.PartialWheel(n = n, k = 6, r = rR, m = mR, Ixx = IRxx, Iyy = IRyy, angle0 = thetaR0, spin0 = u_R0) "Rear wheel R (spin angle thetaR, coordinate 6)"
+    annotation(Placement(transformation(extent = {{-130, -65}, {-70, -5}})));
+  Bicycle.Mechanics.Frames.RearFrame rearFrame(n = n, w = w, c = c, rR = rR, xB = xB, zB = zB, mB = mB, IBxx = IBxx, IBxz = IBxz, IByy = IByy, IBzz = IBzz) "Rear frame B without the rider's upper body"
+    annotation(Placement(transformation(extent = {{-80, 20}, {-40, 60}})));
+  Bicycle.Mechanics.Frames.SteerAxis steer(n = n, k = 5, lam = lam, angle0 = delta0, omega0 = u_delta0) "Steer axis (steer angle delta, coordinate 5)"
+    annotation(Placement(transformation(extent = {{-10, 20}, {30, 60}})));
+  Bicycle.Mechanics.Frames.FrontFrame frontFrame(n = n, w = w, c = c, rF = rF, xH = xH, zH = zH, mH = mH, IHxx = IHxx, IHxz = IHxz, IHyy = IHyy, IHzz = IHzz) "Front frame H (fork and handlebar)"
+    annotation(Placement(transformation(extent = {{80, 20}, {120, 60}})));
+  replaceable Bicycle.Wheels.Torus frontWheel(t = tF, n = n, k = 3, rolling = true, r = rF, m = mF, Ixx = IFxx, Iyy = IFyy, angle0 = thetaF0) constrainedby Bicycle.Wheels.PartialWheel(n = n, k = 3, rolling = true, r = rF, m = mF, Ixx = IFxx, Iyy = IFyy, angle0 = thetaF0) "Front wheel F (spin angle thetaF; its rate is the dependent speed 3)"
+    annotation(Placement(transformation(extent = {{70, -65}, {130, -5}})));
+  Bicycle.Mechanics.Parts.FixedTranslation toHip(n = n, rx = xU, rz = rR - hU) "Rear axle to the hip hinge axis (xU, hU above the ground)"
+    annotation(Placement(transformation(origin = {-100, 90}, extent = {{-20, -20}, {20, 20}}, rotation = 90)));
+  replaceable Bicycle.Mechanics.Rider.HipHinge hip(c = kU, d = cU, n = n, k = 7, angle0 = beta0, omega0 = u_beta0) constrainedby Bicycle.Mechanics.Rider.PartialHinge(n = n, k = 7, angle0 = beta0, omega0 = u_beta0) "Hip hinge (lean angle beta, coordinate 7; LockedHinge: the upper body held at its initial lean)"
+    annotation(Placement(transformation(extent = {{-120, 130}, {-80, 170}})));
+  Bicycle.Mechanics.Rider.UpperBody upperBody(n = n, m = mU, l = lU, Ixx = IUxx, Ixz = IUxz, Iyy = IUyy, Izz = IUzz) "Rider's upper body U"
+    annotation(Placement(transformation(extent = {{-120, 190}, {-80, 230}})));
 equation
   // The replaceable components repeat their constraining clause's modifiers (which apply to every
   // replacement, MLS 7.3.2) in the declaration: rumoca 0.10 applies only the latter.
-  connect(ground.frame_b, rearWheel.hub);
-  connect(ground.frame_b, rearFrame.frame_a);
-  connect(rearWheel.contact, ground.rearContact);
-  connect(rearFrame.frame_b, steer.frame_a);
-  connect(steer.frame_b, frontFrame.frame_a);
-  connect(frontFrame.frame_b, frontWheel.hub);
-  connect(frontWheel.contact, ground.frontContact);
-  connect(T_delta, steer.tau_in);
-  connect(T_phi, ground.T_phi);
-  connect(ground.frame_b, toHip.frame_a);
-  connect(toHip.frame_b, hip.frame_a);
-  connect(hip.frame_b, upperBody.frame_a);
-  connect(T_beta, hip.tau_in);
+  connect(ground.frame_b, rearWheel.hub) annotation(Line(points = {{-150, -70}, {-150, 40}, {-100, 40}, {-100, -5}}, color = {95, 95, 95}, thickness = 0.5));
+  connect(ground.frame_b, rearFrame.frame_a) annotation(Line(points = {{-150, -70}, {-150, 40}, {-80, 40}}, color = {95, 95, 95}, thickness = 0.5));
+  connect(rearWheel.contact, ground.rearContact) annotation(Line(points = {{-100, -65}, {-100, -70}}, color = {140, 70, 20}, thickness = 0.5));
+  connect(rearFrame.frame_b, steer.frame_a) annotation(Line(points = {{-40, 40}, {-10, 40}}, color = {95, 95, 95}, thickness = 0.5));
+  connect(steer.frame_b, frontFrame.frame_a) annotation(Line(points = {{30, 40}, {80, 40}}, color = {95, 95, 95}, thickness = 0.5));
+  connect(frontFrame.frame_b, frontWheel.hub) annotation(Line(points = {{100, 20}, {100, -5}}, color = {95, 95, 95}, thickness = 0.5));
+  connect(frontWheel.contact, ground.frontContact) annotation(Line(points = {{100, -65}, {100, -70}}, color = {140, 70, 20}, thickness = 0.5));
+  connect(T_delta, steer.tau_in) annotation(Line(points = {{10, 250}, {10, 64}}, color = {0, 0, 127}));
+  connect(T_phi, ground.T_phi) annotation(Line(points = {{-210, -90}, {-165, -90}}, color = {0, 0, 127}));
+  connect(ground.frame_b, toHip.frame_a) annotation(Line(points = {{-150, -70}, {-150, 40}, {-100, 40}, {-100, 70}}, color = {95, 95, 95}, thickness = 0.5));
+  connect(toHip.frame_b, hip.frame_a) annotation(Line(points = {{-100, 110}, {-100, 130}}, color = {95, 95, 95}, thickness = 0.5));
+  connect(hip.frame_b, upperBody.frame_a) annotation(Line(points = {{-100, 170}, {-100, 190}}, color = {95, 95, 95}, thickness = 0.5));
+  connect(T_beta, hip.tau_in) annotation(Line(points = {{-210, 142}, {-124, 142}}, color = {0, 0, 127}));
   annotation(
+    Diagram(coordinateSystem(extent = {{-200, -120}, {200, 240}})),
     experiment(StartTime = 0, StopTime = 10, Tolerance = 1e-10, Interval = 0.01),
     __Cosim(export = true,
       singular(

@@ -5,11 +5,12 @@ model WhippleRiderTwist "Nonlinear Whipple bicycle with a rider whose upper body
   parameter Real cT(final quantity = "RotationalDampingConstant", final unit = "N.m.s/rad", min = 0) = cU "Passive damping of the twist hinge (twist torque per twist rate)";
   parameter Bicycle.Units.Angle twist0 = 0 "Initial twist angle of the upper body";
   parameter Bicycle.Units.AngularVelocity u_twist0 = 0 "Initial twist rate of the upper body";
-  Bicycle.Interfaces.RealInput T_twist(final quantity = "Torque", final unit = "N.m") "Twist torque of the rider on the upper body about its vertical axis, positive turning the upper body right";
+  Bicycle.Interfaces.RealInput T_twist(final quantity = "Torque", final unit = "N.m") "Twist torque of the rider on the upper body about its vertical axis, positive turning the upper body right"
+    annotation(Placement(transformation(extent = {{-220, 170}, {-200, 190}}), iconTransformation(extent = {{-140, -40}, {-100, 0}})));
   output Bicycle.Units.Angle twist = hip.twist.angle "Twist angle of the upper body about its vertical axis (coordinate 8), positive turning right";
   output Bicycle.Units.AngularVelocity u_twist = hip.twist.omega "Twist rate of the upper body (independent speed)";
 equation
-  connect(T_twist, hip.tau_twist);
+  connect(T_twist, hip.tau_twist) annotation(Line(points = {{-210, 180}, {-160, 180}, {-160, 158}, {-124, 158}}, color = {0, 0, 127}));
   annotation(
     experiment(StartTime = 0, StopTime = 10, Tolerance = 1e-10, Interval = 0.01),
     Documentation(info = "<html>

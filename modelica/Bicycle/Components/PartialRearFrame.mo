@@ -1,5 +1,6 @@
 within Bicycle.Components;
 partial model PartialRearFrame "Roll angular momentum balance of the rear frame with rider, eq (1) in momentum form (kinematics left to the extending model)"
+  extends Bicycle.Icons.RearFrame;
   parameter Bicycle.Units.Mass m(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.m "Total mass m of bicycle and rider";
   parameter Bicycle.Units.Length h(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.h "Height h of the centre of mass above the ground";
   parameter Bicycle.Units.Length b(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.b "Wheel base b";
@@ -10,8 +11,10 @@ partial model PartialRearFrame "Roll angular momentum balance of the rear frame 
   Bicycle.Units.Angle phi(start = 0) "Roll angle of the rear frame, positive leaning to the right";
   Bicycle.Units.AngularMomentum L(start = 0, fixed = true) "Angular momentum about the x axis less the steering term, L = J*der(chi) - D*V*delta_f/b";
   Bicycle.Units.AngularVelocity omega "Rate der(chi) of the inertia-weighted roll angle (the roll rate der(phi) when nothing moves relative to the frame)";
-  Bicycle.Interfaces.Roll roll "Roll axis: external torques about the x axis act here";
-  Bicycle.Interfaces.EffectiveSteerInput front "Effective steer angle delta_f of the front wheel, eq (8)";
+  Bicycle.Interfaces.Roll roll "Roll axis: external torques about the x axis act here"
+    annotation(Placement(transformation(extent = {{-10, -110}, {10, -90}})));
+  Bicycle.Interfaces.EffectiveSteerInput front "Effective steer angle delta_f of the front wheel, eq (8)"
+    annotation(Placement(transformation(origin = {120, 40}, extent = {{-20, -20}, {20, 20}}, rotation = 180)));
 equation
   // Momentum form of (1) with delta replaced by delta_f: the effective steer angle may be an
   // algebraic variable or an input, so der(delta_f) must not appear.

@@ -1,5 +1,6 @@
 within Bicycle;
 package Control "Rider and autopilot controllers (twins of the Python controllers of cosim)"
+  extends Bicycle.Icons.Package;
   annotation(Documentation(info = "<html>
 <p>Controllers as blocks with signal connectors in the style of <code>Modelica.Blocks</code>: every
 measurement is a <a href=\"modelica://Bicycle.Interfaces.RealInput\">RealInput</a> and every

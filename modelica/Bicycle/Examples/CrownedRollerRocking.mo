@@ -1,6 +1,8 @@
 within Bicycle.Examples;
 model CrownedRollerRocking "Bicycle on crowned rollers with R > h: undamped rocking from an initial lean, eq (27)"
-  Bicycle.Bicycles.CrownedRoller bicycle(R = 1.2, V = 2, delta = 0, frame(phi(start = 0.05))) "Rocking radius 1.2 m > h = 1 m, steer angle held at zero";
+  extends Bicycle.Icons.Example;
+  Bicycle.Bicycles.CrownedRoller bicycle(R = 1.2, V = 2, delta = 0, frame(phi(start = 0.05))) "Rocking radius 1.2 m > h = 1 m, steer angle held at zero"
+    annotation(Placement(transformation(extent = {{-40, -40}, {40, 40}})));
   annotation(
     experiment(StartTime = 0, StopTime = 10, Tolerance = 1e-8, Interval = 0.01),
     Documentation(info = "<html>

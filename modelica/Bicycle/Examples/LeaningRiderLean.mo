@@ -1,6 +1,8 @@
 within Bicycle.Examples;
 model LeaningRiderLean "Self-stabilizing bicycle at 6 m/s steered by the rider leaning the upper body (no steer torque)"
-  Bicycle.Bicycles.LeaningRider bicycle(V = 6, T = 0, theta = 0.05) "Rider leans the upper body 0.05 rad to the right relative to the frame";
+  extends Bicycle.Icons.Example;
+  Bicycle.Bicycles.LeaningRider bicycle(V = 6, T = 0, theta = 0.05) "Rider leans the upper body 0.05 rad to the right relative to the frame"
+    annotation(Placement(transformation(extent = {{-40, -40}, {40, 40}})));
   annotation(
     experiment(StartTime = 0, StopTime = 5, Tolerance = 1e-8, Interval = 0.01),
     Documentation(info = "<html>

@@ -1,6 +1,8 @@
 within Bicycle.Examples;
 model SelfStabilizingGyroRecovery "Self-stabilizing bicycle with gyroscopic front fork recovering from an initial lean at 4 m/s"
-  Bicycle.Bicycles.SelfStabilizingGyro bicycle(V = 4, k3 = 0.05, T = 0, frame(phi(start = 0.05))) "Bicycle at 4 m/s, hands off, initial lean 0.05 rad";
+  extends Bicycle.Icons.Example;
+  Bicycle.Bicycles.SelfStabilizingGyro bicycle(V = 4, k3 = 0.05, T = 0, frame(phi(start = 0.05))) "Bicycle at 4 m/s, hands off, initial lean 0.05 rad"
+    annotation(Placement(transformation(extent = {{-40, -40}, {40, 40}})));
   annotation(
     experiment(StartTime = 0, StopTime = 5, Tolerance = 1e-8, Interval = 0.01),
     Documentation(info = "<html>

@@ -1,9 +1,12 @@
 within Bicycle.Examples;
 model SelfStabilizingTorqueStep "Self-stabilizing bicycle at 6 m/s under a constant steer torque (cf. Figure 5)"
-  Bicycle.Bicycles.SelfStabilizing bicycle(V = 6) "Self-stabilizing bicycle (14) + (11) at 6 m/s";
-  Bicycle.Sources.TorqueStep torque(amplitude = 1, start = 0) "Steer torque of 1 N.m from t = 0 on";
+  extends Bicycle.Icons.Example;
+  Bicycle.Bicycles.SelfStabilizing bicycle(V = 6) "Self-stabilizing bicycle (14) + (11) at 6 m/s"
+    annotation(Placement(transformation(extent = {{0, -40}, {80, 40}})));
+  Bicycle.Sources.TorqueStep torque(amplitude = 1, start = 0) "Steer torque of 1 N.m from t = 0 on"
+    annotation(Placement(transformation(extent = {{-80, -20}, {-40, 20}})));
 equation
-  connect(torque.y, bicycle.T);
+  connect(torque.y, bicycle.T) annotation(Line(points = {{-38, 0}, {-8, 0}}, color = {0, 0, 127}));
   annotation(
     experiment(StartTime = 0, StopTime = 5, Tolerance = 1e-8, Interval = 0.01),
     Documentation(info = "<html>

@@ -1,5 +1,6 @@
 within Bicycle;
 package Examples "Runnable examples with experiment settings"
+  extends Bicycle.Icons.ExamplesPackage;
   annotation(Documentation(info = "<html>
 <p>Each example is one model with an <code>experiment</code> annotation. Examples that close a
 loop or drive a bicycle compose the bicycle with blocks of

@@ -1,4 +1,11 @@
 within Bicycle.Interfaces;
 connector RollRateOutput "Roll rate of the rear frame, as a signal (output)"
   output Bicycle.Units.AngularVelocity omega "Roll rate der(phi), positive when the lean to the right increases";
+  annotation(
+    defaultComponentName = "rollRate",
+    Icon(coordinateSystem(preserveAspectRatio = true, initialScale = 0.2), graphics = {
+      Polygon(points = {{-100, 100}, {100, 0}, {-100, -100}, {-100, 100}}, lineColor = {0, 0, 127}, fillColor = {255, 255, 255}, fillPattern = FillPattern.Solid)}),
+    Diagram(coordinateSystem(preserveAspectRatio = true, initialScale = 0.2), graphics = {
+      Polygon(points = {{-100, 50}, {0, 0}, {-100, -50}, {-100, 50}}, lineColor = {0, 0, 127}, fillColor = {255, 255, 255}, fillPattern = FillPattern.Solid),
+      Text(extent = {{-100, 60}, {100, 100}}, textString = "%name", textColor = {0, 0, 127})}));
 end RollRateOutput;

@@ -1,3 +1,4 @@
 within Bicycle;
 package Interfaces "Connectors between bicycle components"
+  extends Bicycle.Icons.InterfacesPackage;
 end Interfaces;

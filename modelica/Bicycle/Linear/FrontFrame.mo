@@ -1,5 +1,6 @@
 within Bicycle.Linear;
 model FrontFrame "Front frame H: fork and handlebar, turning about the steer axis"
+  extends Bicycle.Icons.FrontFrame;
   extends Bicycle.Linear.PartialFrontBody(final S = 0);
   parameter Bicycle.Units.MomentOfInertia Iyy(min = 0) "Inertia-tensor element yy about the centre of mass (does not enter the linear model)";
   annotation(Documentation(info = "<html>

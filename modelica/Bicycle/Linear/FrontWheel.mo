@@ -1,5 +1,6 @@
 within Bicycle.Linear;
 model FrontWheel "Front wheel F: axisymmetric knife-edge wheel, turning with the front frame, its centre one wheelbase ahead"
+  extends Bicycle.Icons.Wheel;
   extends Bicycle.Linear.PartialFrontBody(final x = w, final z = -r, final Izz = Ixx, final Ixz = 0, final S = Iyy/r);
   parameter Bicycle.Units.Length r(min = 1e-6) "Wheel radius rF";
   parameter Bicycle.Units.MomentOfInertia Iyy(min = 0) "Spin (polar) inertia IFyy about the axle";

@@ -34,7 +34,8 @@ partial model PartialBody "Rigid body of the linearized bicycle: its mass proper
   parameter Bicycle.Units.FirstMomentOfMass C1_12 "Part of the velocity-proportional matrix C1, element (phi, delta)";
   parameter Bicycle.Units.FirstMomentOfMass C1_21 "Part of the velocity-proportional matrix C1, element (delta, phi)";
   parameter Bicycle.Units.FirstMomentOfMass C1_22 "Part of the velocity-proportional matrix C1, element (delta, delta)";
-  Bicycle.Linear.RollSteer_a frame "Roll and steer coordinates; the body's generalized force, inertia terms included, goes out through it";
+  Bicycle.Linear.RollSteer_a frame "Roll and steer coordinates; the body's generalized force, inertia terms included, goes out through it"
+    annotation(Placement(transformation(extent = {{-16, -116}, {16, -84}})));
 equation
   // d'Alembert: the generalized force through the connector balances the body's part of eq (24), inertia terms included
   frame.Q_phi = M11*frame.phi_ddot + M12*frame.delta_ddot + v*C1_12*frame.delta_dot + g*K0_11*frame.phi + (g*K0_12 + v^2*K2_12)*frame.delta;

@@ -1,5 +1,6 @@
 within Bicycle.Linear;
 model RearFrame "Rear frame B (with the rigidly attached rider)"
+  extends Bicycle.Icons.RearFrame;
   extends Bicycle.Linear.PartialRearBody(final S = 0);
   parameter Bicycle.Units.MomentOfInertia Iyy(min = 0) "Inertia-tensor element yy about the centre of mass (does not enter the linear model)";
   annotation(Documentation(info = "<html>

@@ -8,7 +8,14 @@ connector RollSteer_a "Roll and steer of the linearized bicycle, component side:
   Real delta_ddot(final quantity = "AngularAcceleration", final unit = "rad/s2") "Steer acceleration der(delta_dot)";
   flow Bicycle.Units.Torque Q_phi "Generalized force on the roll coordinate, exerted on the component through the connector";
   flow Bicycle.Units.Torque Q_delta "Generalized force on the steer coordinate, exerted on the component through the connector";
-  annotation(Documentation(info = "<html>
+  annotation(
+    defaultComponentName = "frame",
+    Icon(coordinateSystem(preserveAspectRatio = true, initialScale = 0.16), graphics = {
+      Rectangle(extent = {{-100, -100}, {100, 100}}, lineColor = {0, 0, 0}, fillColor = {0, 128, 128}, fillPattern = FillPattern.Solid)}),
+    Diagram(coordinateSystem(preserveAspectRatio = true, initialScale = 0.16), graphics = {
+      Rectangle(extent = {{-40, -40}, {40, 40}}, lineColor = {0, 0, 0}, fillColor = {0, 128, 128}, fillPattern = FillPattern.Solid),
+      Text(extent = {{-160, 90}, {40, 50}}, textString = "%name", textColor = {0, 0, 0})}),
+    Documentation(info = "<html>
 <p>The connector of a component that contributes to the equations of motion of the linearized
 bicycle (a body, the applied torques). The generalized coordinates q = [phi; delta] and speeds
 q' are known where the states are, so they come in as <em>inputs</em>, from the

@@ -8,7 +8,14 @@ connector RollSteer_b "Roll and steer of the linearized bicycle, coordinates sid
   Real delta_ddot(final quantity = "AngularAcceleration", final unit = "rad/s2") "Steer acceleration der(delta_dot)";
   flow Bicycle.Units.Torque Q_phi "Generalized force on the roll coordinate, exerted on the component through the connector";
   flow Bicycle.Units.Torque Q_delta "Generalized force on the steer coordinate, exerted on the component through the connector";
-  annotation(Documentation(info = "<html>
+  annotation(
+    defaultComponentName = "frame",
+    Icon(coordinateSystem(preserveAspectRatio = true, initialScale = 0.16), graphics = {
+      Rectangle(extent = {{-100, -100}, {100, 100}}, lineColor = {0, 128, 128}, fillColor = {255, 255, 255}, fillPattern = FillPattern.Solid, lineThickness = 0.5)}),
+    Diagram(coordinateSystem(preserveAspectRatio = true, initialScale = 0.16), graphics = {
+      Rectangle(extent = {{-40, -40}, {40, 40}}, lineColor = {0, 128, 128}, fillColor = {255, 255, 255}, fillPattern = FillPattern.Solid, lineThickness = 0.5),
+      Text(extent = {{-160, 90}, {40, 50}}, textString = "%name", textColor = {0, 0, 0})}),
+    Documentation(info = "<html>
 <p>The connector of <a href=\"modelica://Bicycle.Linear.Coordinates\">Coordinates</a>, the
 component that holds the generalized coordinates q = [phi; delta] and speeds q' of the linearized
 bicycle: it gives them as <em>outputs</em> to the

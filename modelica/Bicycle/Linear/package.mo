@@ -1,5 +1,6 @@
 within Bicycle;
 package Linear "Components of the linearized Whipple bicycle (Meijaard et al. 2007): bodies contributing to M, C1, K0, K2"
+  extends Bicycle.Icons.Package;
   annotation(Documentation(info = "<html>
 <p>The linearized Whipple bicycle of Meijaard, Papadopoulos, Ruina and Schwab (2007), eq (24) of
 Astrom, Klein and Lennartsson (2005),</p>

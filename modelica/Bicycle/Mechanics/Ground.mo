@@ -8,10 +8,14 @@ model Ground "Flat ground carrying a bicycle: the rear frame's attitude and posi
   parameter Bicycle.Units.Angle phi0 = 0 "Initial roll angle";
   parameter Bicycle.Units.AngularVelocity u_phi0 = 0 "Initial roll rate";
   parameter Bicycle.Units.Angle theta_guess = 0 "Starting value of the Newton iteration for the initial pitch";
-  Bicycle.Interfaces.RealInput T_phi(final quantity = "Torque", final unit = "N.m") "Roll torque T_phi on the rear frame about the (horizontal) roll axis, positive tending to lean right (disturbance)";
-  Bicycle.Mechanics.Interfaces.Frame_b frame_b(n = n) "Rear frame at the centre of the wheel that carries it (the rear axle): attitude from yaw, roll and pitch, motion from the rolling of that wheel";
-  Bicycle.Mechanics.Interfaces.GroundContact rearContact(n = n) "Contact of the wheel whose hub is frame_b: its contact point does not move, which fixes the motion of frame_b";
-  Bicycle.Mechanics.Interfaces.GroundContact frontContact(n = n) "Contact of the front wheel: its rolling constraints fix the dependent speeds";
+  Bicycle.Interfaces.RealInput T_phi(final quantity = "Torque", final unit = "N.m") "Roll torque T_phi on the rear frame about the (horizontal) roll axis, positive tending to lean right (disturbance)"
+    annotation(Placement(transformation(extent = {{-170, -5}, {-160, 5}})));
+  Bicycle.Mechanics.Interfaces.Frame_b frame_b(n = n) "Rear frame at the centre of the wheel that carries it (the rear axle): attitude from yaw, roll and pitch, motion from the rolling of that wheel"
+    annotation(Placement(transformation(origin = {-150, 20}, extent = {{-5, -5}, {5, 5}}, rotation = 90)));
+  Bicycle.Mechanics.Interfaces.GroundContact rearContact(n = n) "Contact of the wheel whose hub is frame_b: its contact point does not move, which fixes the motion of frame_b"
+    annotation(Placement(transformation(extent = {{-105, 15}, {-95, 25}})));
+  Bicycle.Mechanics.Interfaces.GroundContact frontContact(n = n) "Contact of the front wheel: its rolling constraints fix the dependent speeds"
+    annotation(Placement(transformation(extent = {{95, 15}, {105, 25}})));
   Bicycle.Units.Position x(start = x0, fixed = true) "x coordinate (forward at yaw 0) of the rear contact point";
   Bicycle.Units.Position y(start = y0, fixed = true) "y coordinate (right at yaw 0) of the rear contact point";
   Bicycle.Units.Angle psi(start = psi0, fixed = true) "Yaw angle psi of the rear frame, positive turning right";
@@ -134,7 +138,12 @@ equation
   E = -frame_b.E;
   v = rearContact.v[1]*cos(psi) + rearContact.v[2]*sin(psi);
   residual = frontContact.p[3];
-  annotation(Documentation(info = "<html>
+  annotation(
+    Icon(coordinateSystem(preserveAspectRatio = true, extent = {{-160, -20}, {160, 20}}), graphics = {
+      Rectangle(extent = {{-160, 20}, {160, 4}}, lineColor = {128, 128, 128}, fillColor = {128, 128, 128}, fillPattern = FillPattern.Backward, pattern = LinePattern.None),
+      Line(points = {{-160, 20}, {160, 20}}, color = {0, 0, 0}, thickness = 1),
+      Text(extent = {{-60, -5}, {60, -17}}, textString = "%name", textColor = {0, 0, 255})}),
+    Documentation(info = "<html>
 <p>The ground of the generalized-coordinate components (Kane's method): a component like any other,
 connected to the bicycle by its frame <code>frame_b</code> (the rear axle, where the rear frame and
 the rear wheel hang) and by the two wheel contacts. It owns the coordinates of the rear frame

@@ -1,5 +1,6 @@
 within Bicycle;
 package Mechanics "Multibody components in generalized coordinates (Kane's method): connectors, bodies, joints, ground"
+  extends Bicycle.Icons.Package;
   annotation(Documentation(info = "<html>
 <p>A small multibody library for systems described by <code>n</code> generalized speeds
 <code>u</code> (Kane's method). Every frame connector carries, besides the frame's orientation

@@ -1,9 +1,12 @@
 within Bicycle.Rider;
 block PadeDelay "Neuromuscular delay exp(-s*tau) of the rider as a Pade approximation of order n"
+  extends Bicycle.Icons.Block;
   parameter Bicycle.Units.Time tau(min = 1e-6) = 0.1 "Delay (0.1 s for steer torque, 0.3 s for upper-body lean)";
   parameter Integer n(min = 1, max = 10) = 2 "Order of the approximation (numerator and denominator degree); structural";
-  Bicycle.Interfaces.RealInput u "Signal into the delay";
-  Bicycle.Interfaces.RealOutput y "Delayed signal";
+  Bicycle.Interfaces.RealInput u "Signal into the delay"
+    annotation(Placement(transformation(extent = {{-140, -20}, {-100, 20}})));
+  Bicycle.Interfaces.RealOutput y "Delayed signal"
+    annotation(Placement(transformation(extent = {{100, -10}, {120, 10}})));
 protected
   Real d[n + 1] "Denominator coefficient of s^(k-1), d[1] = 1 (the numerator's alternate in sign)";
   Real x[n](each start = 0, each fixed = true) "States of the controllable canonical form";
@@ -27,7 +30,12 @@ equation
   end for;
   der(x[n]) = u - feedback[n]/d[n + 1];
   y = output_[n]/d[n + 1] + (-1)^n*u;
-  annotation(__Cosim(export = true), Documentation(info = "<html>
+  annotation(
+    Icon(graphics = {
+      Text(extent = {{-90, 60}, {90, -10}}, textString = "e^(-sτ)", textColor = {0, 0, 0}),
+      Text(extent = {{-90, -30}, {90, -80}}, textString = "τ=%tau, n=%n", textColor = {0, 0, 0})}),
+    __Cosim(export = true),
+    Documentation(info = "<html>
 <p>Transfer function N(s)/D(s) with D(s) = sum d[k+1] s^k and N(s) = sum (-1)^k d[k+1] s^k, the
 [n/n] Pade approximant of exp(-s tau) (identical to python-control's <code>pade(tau, n)</code>).
 The order n fixes the number of states and is therefore fixed when the FMU is built.</p>

@@ -1,5 +1,6 @@
 within Bicycle;
 package Rider "Rider models: neuromuscular delay (twins of cosim's Python delay blocks)"
+  extends Bicycle.Icons.Package;
   annotation(Documentation(info = "<html>
 <p>The rider's neuromuscular delay as a block with one
 <a href=\"modelica://Bicycle.Interfaces.RealInput\">RealInput</a> <code>u</code> and one

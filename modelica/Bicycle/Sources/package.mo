@@ -1,5 +1,6 @@
 within Bicycle;
 package Sources "Signal sources for co-simulation systems (twins of cosim's Python sources)"
+  extends Bicycle.Icons.SourcesPackage;
   annotation(Documentation(info = "<html>
 <p>Sources have no input and one
 <a href=\"modelica://Bicycle.Interfaces.RealOutput\">RealOutput</a> <code>y</code> (a torque in

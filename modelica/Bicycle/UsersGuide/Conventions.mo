@@ -1,5 +1,6 @@
 within Bicycle.UsersGuide;
 class Conventions "Axes, sign conventions, angles and units"
+  extends Bicycle.Icons.Information;
   annotation(Documentation(info = "<html>
 <h4>Two sign conventions</h4>
 <p>The library keeps the conventions of the sources its models are checked against, so that every

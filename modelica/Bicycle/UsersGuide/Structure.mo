@@ -1,5 +1,6 @@
 within Bicycle.UsersGuide;
 class Structure "The packages and how the components connect"
+  extends Bicycle.Icons.Information;
   annotation(Documentation(info = "<html>
 <h4>Packages</h4>
 <table border=\"1\" cellpadding=\"3\">
@@ -21,7 +22,19 @@ the rider split, the second-order models' parameters</td></tr>
 <tr><td><code>Control</code>, <code>Rider</code>, <code>Sources</code></td><td>controllers, the rider's
 delay and test signals, with <code>Interfaces.RealInput</code>/<code>RealOutput</code> connectors</td></tr>
 <tr><td><code>Examples</code></td><td>bicycles connected to controllers, delays and sources</td></tr>
+<tr><td><code>Icons</code></td><td>the icons the packages, examples, blocks and components extend
+(partial classes with nothing but an <code>Icon</code> annotation, as <code>Modelica.Icons</code>)</td></tr>
 </table>
+<h4>Icons and diagrams</h4>
+<p>Every connector, model and block has an icon (its own or one it extends from <code>Icons</code>):
+the connectors those of the Modelica Standard Library (<code>Frame_a</code>/<code>Frame_b</code> of
+MultiBody, <code>RealInput</code>/<code>RealOutput</code> of Blocks; the roll axis a circle, the steer
+axis a diamond, the wheel's contact a tyre's footprint, the ground's a hatched square,
+<code>RollSteer_a</code>/<code>_b</code> filled and open squares), each component a picture of what it
+is. Every model that connects components has a diagram: the bicycles read as the side view of the
+paper's Figure 1, the ground at the bottom, the rear wheel left, the front wheel right, the rear
+frame, steer axis and front frame between them, the rider's hip hinge and upper body above; in the
+examples the controllers and sources stand left of the bicycle.</p>
 <h4>How the nonlinear bicycle is assembled</h4>
 <p>Each body's motion is described by its frame connector
 (<code>Mechanics.Interfaces.Frame_a</code>, <code>Frame_b</code>) as a function of the generalized

@@ -1,5 +1,6 @@
 within Bicycle.UsersGuide;
 class ToolCompatibility "Which Modelica tools load the library, and what each checks"
+  extends Bicycle.Icons.Information;
   annotation(Documentation(info = "<html>
 <p>The library is written to the Modelica Language Specification (MLS 3.6) without the Modelica
 Standard Library (its unit types are copied in <code>Bicycle.Units</code>). What was checked, and

@@ -1,5 +1,6 @@
 within Bicycle.UsersGuide;
 class Variants "How to make another bicycle in a few lines"
+  extends Bicycle.Icons.Information;
   annotation(Documentation(info = "<html>
 <p>Another wheel is one <code>redeclare</code> (the constraining clause keeps radius, mass and
 inertia):</p>

@@ -1,5 +1,6 @@
 within Bicycle;
 package UsersGuide "User's Guide"
+  extends Bicycle.Icons.Information;
   annotation(Documentation(info = "<html>
 <p>The library models the bicycle of K. J. &Aring;str&ouml;m, R. E. Klein and A. Lennartsson,
 <em>Bicycle Dynamics and Control</em>, IEEE Control Systems Magazine 25(4), 2005, from the paper's

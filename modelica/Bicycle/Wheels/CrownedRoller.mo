@@ -7,7 +7,10 @@ equation
   rho[2] = (r - R)*e[2];
   rho[3] = (r - R)*e[3] + R;
   rho_dot = (r - R)*e_dot;
-  annotation(Documentation(info = "<html>
+  annotation(
+    Icon(graphics = {
+      Rectangle(extent = {{24, -66}, {76, -34}}, lineColor = {0, 0, 0}, fillColor = {64, 64, 64}, fillPattern = FillPattern.Solid, radius = 16)}),
+    Documentation(info = "<html>
 <p>The crowned roller of the adapted bicycles of Astrom, Klein and Lennartsson (2005), section
 \"Adapted Bicycles for Teaching Children with Disabilities\", Figure 21: a wide roller whose lateral
 profile is a circular arc of radius <code>R</code> (the rocking radius) with its centre on the

@@ -1,5 +1,6 @@
 within Bicycle.Wheels;
 partial model PartialWheel "Rigid axisymmetric wheel spinning about the y axis of its hub frame, rolling on the ground z = 0; it owns its spin coordinate"
+  extends Bicycle.Icons.Wheel;
   constant Integer n = 6 "Number of generalized speeds of the system";
   constant Integer k = 1 "Column of the wheel's spin rate among the generalized speeds";
   constant Boolean rolling = false "= true: the spin rate is one of the dependent speeds, fixed by the rolling constraints and given by the ground (the front wheel); false: the wheel owns it as a state";
@@ -9,8 +10,10 @@ partial model PartialWheel "Rigid axisymmetric wheel spinning about the y axis o
   parameter Bicycle.Units.MomentOfInertia Iyy "Moment of inertia about the spin axis";
   parameter Bicycle.Units.Angle angle0 = 0 "Initial spin angle relative to the hub";
   parameter Bicycle.Units.AngularVelocity spin0 = 0 "Initial spin rate relative to the hub (a wheel that owns it)";
-  Bicycle.Mechanics.Interfaces.Frame_a hub(n = n) "Hub frame: origin at the wheel centre, y axis = spin axis";
-  Bicycle.Mechanics.Interfaces.WheelContact contact(n = n) "Rolling contact with the ground";
+  Bicycle.Mechanics.Interfaces.Frame_a hub(n = n) "Hub frame: origin at the wheel centre, y axis = spin axis"
+    annotation(Placement(transformation(origin = {0, 100}, extent = {{-16, -16}, {16, 16}}, rotation = 90)));
+  Bicycle.Mechanics.Interfaces.WheelContact contact(n = n) "Rolling contact with the ground"
+    annotation(Placement(transformation(extent = {{-16, -116}, {16, -84}})));
   Bicycle.Units.Angle angle(start = angle0, fixed = true) "Spin angle relative to the hub";
   // no fixed: a state that starts at spin0 when the wheel owns it, else the ground's dependent speed
   Bicycle.Units.AngularVelocity spin(start = spin0) "Spin rate relative to the hub: the generalized speed k";
@@ -102,7 +105,10 @@ equation
   contact.B = hub.Vp + contact.Bc;
   contact.b0 = hub.a0 + contact.bc0;
   contact.v = vc + rho_dot;
-  annotation(Documentation(info = "<html>
+  annotation(
+    Icon(graphics = {
+      Line(points = {{0, 16}, {0, 100}}, color = {95, 95, 95}, thickness = 0.5)}),
+    Documentation(info = "<html>
 <p>The wheel's mass centre is the hub origin, its spin axis the hub's y axis. The wheel owns its
 spin coordinate: the angle is a state, and the rate is either a state too (the generalized speed
 in column <code>k</code>, which the wheel adds to the flow <code>us</code>; its acceleration is

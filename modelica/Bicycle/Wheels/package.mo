@@ -1,5 +1,6 @@
 within Bicycle;
 package Wheels "Replaceable wheel models: knife edge, torus, crowned roller"
+  extends Bicycle.Icons.Package;
   annotation(Documentation(info = "<html><p>Rigid axisymmetric wheels rolling without slip on the flat
 ground, for the generalized-coordinate components of <a href=\"modelica://Bicycle.Mechanics\">Mechanics</a>.
 They differ only in the vector <code>rho</code> from the wheel centre to the contact point:

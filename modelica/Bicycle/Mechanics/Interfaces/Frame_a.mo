@@ -14,7 +14,15 @@ connector Frame_a "Frame on the side away from the ground: kinematics in (input)
   flow Bicycle.Units.Torque F[n] "Generalized forces of the bodies and joints beyond the frame, inertia included: Kane's sum of F_r + F_r*";
   Bicycle.Units.Acceleration g "Gravitational acceleration along the ground z axis (down), given by the ground";
   flow Bicycle.Units.Energy E "Mechanical energy of the bodies and springs beyond the frame: kinetic, gravitational (zero at the ground) and elastic";
-  annotation(Documentation(info = "<html>
+  annotation(
+    defaultComponentName = "frame_a",
+    Icon(coordinateSystem(preserveAspectRatio = true, initialScale = 0.16), graphics = {
+      Rectangle(extent = {{-10, 10}, {10, -10}}, lineColor = {95, 95, 95}, lineThickness = 0.5),
+      Rectangle(extent = {{-30, 100}, {30, -100}}, lineColor = {0, 0, 0}, fillColor = {192, 192, 192}, fillPattern = FillPattern.Solid)}),
+    Diagram(coordinateSystem(preserveAspectRatio = true, initialScale = 0.16), graphics = {
+      Text(extent = {{-140, -50}, {140, -88}}, textString = "%name", textColor = {0, 0, 0}),
+      Rectangle(extent = {{-12, 40}, {12, -40}}, lineColor = {0, 0, 0}, fillColor = {192, 192, 192}, fillPattern = FillPattern.Solid)}),
+    Documentation(info = "<html>
 <p>The connector of the generalized-coordinate multibody components (Kane's method). It is
 balanced (MLS 9.3.1) in the way the specification prescribes for such frames: the kinematics
 travel causally from the ground outwards (<code>output</code> in

@@ -14,7 +14,15 @@ connector Frame_b "Frame on the side of the ground: kinematics out (output), gen
   flow Bicycle.Units.Torque F[n] "Generalized forces of the bodies and joints beyond the frame, inertia included: Kane's sum of F_r + F_r*";
   Bicycle.Units.Acceleration g "Gravitational acceleration along the ground z axis (down), given by the ground";
   flow Bicycle.Units.Energy E "Mechanical energy of the bodies and springs beyond the frame: kinetic, gravitational (zero at the ground) and elastic";
-  annotation(Documentation(info = "<html>
+  annotation(
+    defaultComponentName = "frame_b",
+    Icon(coordinateSystem(preserveAspectRatio = true, initialScale = 0.16), graphics = {
+      Rectangle(extent = {{-10, 10}, {10, -10}}, lineColor = {95, 95, 95}, lineThickness = 0.5),
+      Rectangle(extent = {{-30, 100}, {30, -100}}, lineColor = {0, 0, 0}, fillColor = {255, 255, 255}, fillPattern = FillPattern.Solid)}),
+    Diagram(coordinateSystem(preserveAspectRatio = true, initialScale = 0.16), graphics = {
+      Text(extent = {{-140, -50}, {140, -88}}, textString = "%name", textColor = {0, 0, 0}),
+      Rectangle(extent = {{-12, 40}, {12, -40}}, lineColor = {0, 0, 0}, fillColor = {255, 255, 255}, fillPattern = FillPattern.Solid)}),
+    Documentation(info = "<html>
 <p>The same variables as <a href=\"modelica://Bicycle.Mechanics.Interfaces.Frame_a\">Frame_a</a>, on the side that
 computes the kinematics: the ground, and the outer frame of a joint or a fixed translation.
 Connect a <code>Frame_b</code> to any number of <code>Frame_a</code> (one source of the kinematics in

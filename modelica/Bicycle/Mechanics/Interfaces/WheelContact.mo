@@ -8,7 +8,14 @@ connector WheelContact "Rolling contact of a wheel with the ground, the wheel's 
   output Bicycle.Units.Acceleration bc0[3] "Acceleration remainder of the material contact point relative to the wheel centre";
   output Bicycle.Units.Length B[3, n] "Partial velocities of the material contact point: its velocity is B*u";
   output Bicycle.Units.Acceleration b0[3] "Acceleration remainder of the material contact point: its acceleration is B*du + b0";
-  annotation(Documentation(info = "<html><p>Rolling without slip means <code>B*u = 0</code> (three
+  annotation(
+    defaultComponentName = "contact",
+    Icon(coordinateSystem(preserveAspectRatio = true, initialScale = 0.16), graphics = {
+      Polygon(points = {{-100, 100}, {-96.6, 48.2}, {-86.6, 0}, {-70.7, -41.4}, {-50, -73.2}, {-25.9, -93.2}, {0, -100}, {25.9, -93.2}, {50, -73.2}, {70.7, -41.4}, {86.6, 0}, {96.6, 48.2}, {100, 100}, {-100, 100}}, lineColor = {140, 70, 20}, fillColor = {140, 70, 20}, fillPattern = FillPattern.Solid)}),
+    Diagram(coordinateSystem(preserveAspectRatio = true, initialScale = 0.16), graphics = {
+      Polygon(points = {{-40, 40}, {-38.64, 19.28}, {-34.64, 0}, {-28.28, -16.56}, {-20, -29.28}, {-10.36, -37.28}, {0, -40}, {10.36, -37.28}, {20, -29.28}, {28.28, -16.56}, {34.64, 0}, {38.64, 19.28}, {40, 40}, {-40, 40}}, lineColor = {140, 70, 20}, fillColor = {140, 70, 20}, fillPattern = FillPattern.Solid),
+      Text(extent = {{-140, -50}, {140, -88}}, textString = "%name", textColor = {0, 0, 0})}),
+    Documentation(info = "<html><p>Rolling without slip means <code>B*u = 0</code> (three
 nonholonomic constraints; the vertical one is the rate of the holonomic constraint
 <code>p[3] = 0</code>) and, differentiated, <code>B*du + b0 = 0</code>. A wheel computes these rows
 from its hub's kinematics; the ground

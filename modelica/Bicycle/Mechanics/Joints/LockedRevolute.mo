@@ -8,7 +8,11 @@ equation
   Fa = -J*frame_a.du[k];
   tau = Fa + frame_b.F[k];
   Ej = 0;
-  annotation(Documentation(info = "<html><p>The joint of <a
+  annotation(
+    Icon(graphics = {
+      Line(points = {{-40, -40}, {40, 40}}, color = {255, 0, 0}, thickness = 1),
+      Line(points = {{-40, 40}, {40, -40}}, color = {255, 0, 0}, thickness = 1)}),
+    Documentation(info = "<html><p>The joint of <a
 href=\"modelica://Bicycle.Mechanics.Joints.PartialRevolute\">PartialRevolute</a>, locked: frame_b is
 turned by the joint's angle as with a free joint, and the joint keeps its coordinate (column
 <code>k</code>), but Kane's equation of that coordinate reads <code>J*der(omega) = 0</code>. The

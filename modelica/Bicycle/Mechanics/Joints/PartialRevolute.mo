@@ -1,5 +1,6 @@
 within Bicycle.Mechanics.Joints;
 partial model PartialRevolute "Revolute joint that owns its coordinate: frame_b turns relative to frame_a about a body-fixed axis; the angle and its rate are states of the joint"
+  extends Bicycle.Icons.Revolute;
   constant Integer n = 6 "Number of generalized speeds of the system";
   constant Integer k = 1 "Column of the joint's speed among the generalized speeds";
   parameter Real nx(final unit = "1") = 0 "Axis (unit vector): x component in frame_a axes";
@@ -7,8 +8,10 @@ partial model PartialRevolute "Revolute joint that owns its coordinate: frame_b 
   parameter Real nz(final unit = "1") = 0 "Axis (unit vector): z component in frame_a axes";
   parameter Bicycle.Units.Angle angle0 = 0 "Initial angle";
   parameter Bicycle.Units.AngularVelocity omega0 = 0 "Initial rate";
-  Bicycle.Mechanics.Interfaces.Frame_a frame_a(n = n) "Frame the joint is fixed to";
-  Bicycle.Mechanics.Interfaces.Frame_b frame_b(n = n) "Frame that turns about the axis";
+  Bicycle.Mechanics.Interfaces.Frame_a frame_a(n = n) "Frame the joint is fixed to"
+    annotation(Placement(transformation(extent = {{-116, -16}, {-84, 16}})));
+  Bicycle.Mechanics.Interfaces.Frame_b frame_b(n = n) "Frame that turns about the axis"
+    annotation(Placement(transformation(extent = {{84, -16}, {116, 16}})));
   Bicycle.Units.Angle angle(start = angle0, fixed = true) "Rotation angle of frame_b relative to frame_a about the axis";
   Bicycle.Units.AngularVelocity omega(start = omega0, fixed = true) "Rotation rate der(angle): the generalized speed k";
   Bicycle.Units.Torque tau "Torque on frame_b about the axis (and -tau on frame_a): the generalized force of the coordinate";

@@ -1,11 +1,14 @@
 within Bicycle.Mechanics.Parts;
 model FixedTranslation "Rigid translation from frame_a to frame_b (same orientation)"
+  extends Bicycle.Icons.FixedTranslation;
   constant Integer n = 6 "Number of generalized speeds";
   parameter Bicycle.Units.Position rx = 0 "Vector from frame_a to frame_b: x component in frame_a axes";
   parameter Bicycle.Units.Position ry = 0 "Vector from frame_a to frame_b: y component in frame_a axes";
   parameter Bicycle.Units.Position rz = 0 "Vector from frame_a to frame_b: z component in frame_a axes";
-  Bicycle.Mechanics.Interfaces.Frame_a frame_a(n = n) "Frame at the start of the translation";
-  Bicycle.Mechanics.Interfaces.Frame_b frame_b(n = n) "Frame at the end of the translation";
+  Bicycle.Mechanics.Interfaces.Frame_a frame_a(n = n) "Frame at the start of the translation"
+    annotation(Placement(transformation(extent = {{-116, -16}, {-84, 16}})));
+  Bicycle.Mechanics.Interfaces.Frame_b frame_b(n = n) "Frame at the end of the translation"
+    annotation(Placement(transformation(extent = {{84, -16}, {116, 16}})));
 protected
   Real rho[3] "Vector from frame_a to frame_b (ground axes) (m)";
   Real wr[3] "w x rho (m/s)";

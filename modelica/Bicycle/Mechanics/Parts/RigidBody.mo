@@ -1,5 +1,6 @@
 within Bicycle.Mechanics.Parts;
 model RigidBody "Rigid body fixed to frame_a: mass, centre of mass, inertia tensor; gravity along the ground z axis"
+  extends Bicycle.Icons.RigidBody;
   constant Integer n = 6 "Number of generalized speeds";
   parameter Bicycle.Units.Mass m "Mass";
   parameter Bicycle.Units.Position rx = 0 "Centre of mass: x coordinate in frame_a axes";
@@ -11,7 +12,8 @@ model RigidBody "Rigid body fixed to frame_a: mass, centre of mass, inertia tens
   parameter Bicycle.Units.MomentOfInertia Ixy = 0 "Inertia-tensor element Ixy about the centre of mass, frame_a axes";
   parameter Bicycle.Units.MomentOfInertia Ixz = 0 "Inertia-tensor element Ixz about the centre of mass, frame_a axes";
   parameter Bicycle.Units.MomentOfInertia Iyz = 0 "Inertia-tensor element Iyz about the centre of mass, frame_a axes";
-  Bicycle.Mechanics.Interfaces.Frame_a frame_a(n = n) "Frame the body is fixed to";
+  Bicycle.Mechanics.Interfaces.Frame_a frame_a(n = n) "Frame the body is fixed to"
+    annotation(Placement(transformation(extent = {{-116, -16}, {-84, 16}})));
   Real r_cm[3] "Position of the centre of mass (ground axes) (m)";
 protected
   Real rho[3] "Vector from frame_a to the centre of mass (ground axes) (m)";

@@ -1,5 +1,6 @@
 within Bicycle.Mechanics;
 package Rider "The rider's upper body on a hip hinge: body, hinges (free with stiffness, damping and lean torque; locked; lean and twist)"
+  extends Bicycle.Icons.Package;
   annotation(Documentation(info = "<html>
 <p>Components for a rider whose upper body <code>U</code> leans relative to the rear frame
 <code>B</code> about a longitudinal hip axis (Astrom, Klein, Lennartsson 2005, \"Effects of Rider
