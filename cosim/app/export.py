@@ -11,9 +11,11 @@ Chromium refuses ``fetch`` and ES modules of ``file://`` pages, so the site is t
     :func:`cosim.analytic.parameters.load_parameters`, the sliders; ``ride``, what
     ``static/ride.js`` needs: the ride model, its step, the fall limit, the bicycles of "ride it
     yourself"; ``demos``, the guided demos of ``cosim/app/demos/*.toml`` read and checked by
-    :mod:`cosim.app.demos`), then the scripts of :func:`_scripts` in that order (ES modules
-    without imports, such as ``cosim/wasm/fmu.js``, with their ``export`` keywords removed and
-    their names gathered in a global).
+    :mod:`cosim.app.demos`; ``diagrams``, the Modelica diagram (SVG) of each model the bicycles
+    use, drawn by :mod:`cosim.diagram`: :func:`cosim.app.diagrams.page_diagrams`), then the
+    scripts of :func:`_scripts` in that order (ES modules without imports, such as
+    ``cosim/wasm/fmu.js``, with their ``export`` keywords removed and their names gathered in a
+    global).
 
 The modules are built by `cosim build --wasm` machinery (:func:`cosim.wasm.build.build_wasm`) from
 the FMUs in the FMU folder (``$COSIM_FMU_DIR``, else ``./fmus``), both incremental. The parameter
@@ -29,6 +31,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from cosim.app.bicycles import CROWN_RADIUS, page_data
+from cosim.app.diagrams import page_diagrams
 from cosim.errors import OutputError
 from cosim.outputs import check_output_folder, write_text
 
@@ -105,7 +108,8 @@ def _scripts() -> tuple[Script, ...]:
     # three.js before ride3d.js (it uses the global THREE); ride3d.js and plots.js before ride.js
     # (which uses CosimRide3D and CosimPlots). app.js and ride.js are independent of each other;
     # ride.js comes first so that the rides are defined even if app.js throws while loading (one
-    # bundle is one script: an uncaught error stops what follows it).
+    # bundle is one script: an uncaught error stops what follows it). diagram.js after app.js, which
+    # fills the bicycle select it follows.
     return (
         Script(VENDOR / "ml-matrix.umd.js"),
         Script(LOADER, "CosimFMU", "module"),
@@ -114,6 +118,7 @@ def _scripts() -> tuple[Script, ...]:
         Script(STATIC / "plots.js"),
         Script(STATIC / "ride.js"),
         Script(STATIC / "app.js"),
+        Script(STATIC / "diagram.js"),
     )
 
 
@@ -193,6 +198,8 @@ def export_app(folder: str | os.PathLike, demos: str | os.PathLike | None = None
         If the FMU or its WebAssembly module cannot be built (e.g. no ``ziglang`` wheel).
     DemoError
         If a demo file is bad (its name and the key; the structure is checked before any build).
+    ModelicaError
+        If a model the page draws has a malformed graphical annotation (its ``file:line``).
     """
     from cosim.compiler.build import build
     from cosim.wasm.build import build_wasm, zig_command
@@ -215,6 +222,7 @@ def export_app(folder: str | os.PathLike, demos: str | os.PathLike | None = None
     descriptions = {name: m["description"] for name, m in modules.items()}
     data = {**page_data(modules[MODEL]["description"], descriptions), **ride_data(descriptions, demos),
             "modules": modules}
+    data["diagrams"] = page_diagrams(b["module"] for b in data["bicycles"])
     scripts = _scripts()
     bundle = "\n".join([
         "// bundle.js of `cosim app --export`: generated, do not edit. Sources, in this order: "
