@@ -2,9 +2,10 @@
 
 A Modelica tool (OpenModelica, Dymola) draws every class from its annotations: every non-partial
 connector, model and block has an ``Icon`` (its own or one inherited through ``extends``) that
-shows its name; every connector of a class has a ``Placement`` (so it sits on the icon border);
-every component of a model that has ``connect`` equations has a ``Placement`` in its diagram, no
-two of them overlap, and every ``connect`` has a ``Line`` from the one connector to the other.
+shows its name; every package has an icon; every connector of a class has a ``Placement`` on the
+border of its icon; every component of a model that has ``connect`` equations (and of every
+example) has a ``Placement`` in its diagram, no two of them overlap, and every ``connect`` has a
+``Line`` from the one connector to the other.
 
 pymoca's parse tree drops the annotations of components and connect equations, so the source is
 read here with a small tokenizer: classes (``within``, nested and short classes), their
@@ -221,6 +222,11 @@ def _balanced(tokens: list[Token], i: int) -> int:
     raise SyntaxError(f"line {tokens[i].line}: unbalanced {tokens[i].text!r}")
 
 
+def _depth(tokens: list[Token], start: int, end: int) -> int:
+    """Bracket depth at ``tokens[end]`` counted from ``tokens[start]``."""
+    return sum((t.text in "({[") - (t.text in ")}]") for t in tokens[start:end])
+
+
 def _statement(tokens: list[Token], i: int) -> int:
     """Index of the ``;`` that ends the statement starting at ``i`` (outside brackets)."""
     j = i
@@ -328,8 +334,9 @@ def _parse_class(tokens, i, scope, file, found) -> int:
             cls.extends.append((base, _redeclares(statement), _annotation_in(statement[1:])))
         elif first == "connect":
             close = _balanced(statement, 1)
-            inner = "".join(t.text for t in statement[2:close - 1])
-            a, b = inner.split(",")
+            comma = next(j for j in range(2, close) if statement[j].text == "," and
+                         _depth(statement, 2, j) == 0)
+            a, b = ("".join(t.text for t in part) for part in (statement[2:comma], statement[comma + 1:close - 1]))
             cls.connects.append(Connect(a, b, _annotation_in(statement[close:]), token.line))
         elif section != "equation" and first not in ("import",):
             k = 0
@@ -553,6 +560,9 @@ def test_every_connector_of_a_class_sits_on_its_icon_border(cls):
 
 @pytest.mark.parametrize("cls", ASSEMBLIES, ids=_ids(ASSEMBLIES))
 def test_every_component_of_an_assembly_is_placed_without_overlap(cls):
+    """Every component drawn in the diagram (connector, model or block; inherited ones and the
+    model's own connectors included) has a Placement, and no two extents overlap (touching is
+    allowed)."""
     placed = []
     for name, component in LIBRARY.components(cls).items():
         component_class = _graphical(component, cls)
