@@ -18,17 +18,17 @@ model CrownedRoller "Bicycle on crowned rollers of rocking radius R (27): model 
   Bicycle.Interfaces.RealOutput eta(final quantity = "Length", final unit = "m") "Path deviation of the rear contact point, positive to the left"
     annotation(Placement(transformation(extent = {{100, -70}, {120, -50}})));
   Bicycle.Components.RearFrame frame(m = m, h = h, b = b, J = J, D = D, V = V, g = g) "Rear frame with rider and wheels, eq (1)"
-    annotation(Placement(transformation(extent = {{-70, -20}, {-30, 20}})));
+    annotation(Placement(transformation(extent = {{-70, -40}, {-30, 0}})));
   Bicycle.Components.SteerAngle handlebar(delta = delta) "Rider's steer angle"
-    annotation(Placement(transformation(extent = {{30, -20}, {70, 20}})));
+    annotation(Placement(transformation(extent = {{30, -40}, {70, 0}})));
   Bicycle.Components.PathKinematics path(V = V, b = b) "Yaw angle and path deviation"
-    annotation(Placement(transformation(extent = {{-20, 30}, {20, 70}})));
+    annotation(Placement(transformation(extent = {{-20, 10}, {20, 50}})));
   Bicycle.Components.CrownedRollers rollers(m = m, g = g, R = R) "Crowned rollers instead of thin tyres"
-    annotation(Placement(transformation(extent = {{-70, -80}, {-30, -40}})));
+    annotation(Placement(transformation(extent = {{-70, -90}, {-30, -50}})));
 equation
-  connect(handlebar.front, frame.front) annotation(Line(points = {{28, 8}, {-26, 8}}, color = {0, 0, 127}));
-  connect(handlebar.front, path.front) annotation(Line(points = {{28, 8}, {0, 8}, {0, 26}}, color = {0, 0, 127}));
-  connect(frame.roll, rollers.roll) annotation(Line(points = {{-50, -20}, {-50, -40}}, color = {0, 0, 0}));
+  connect(handlebar.front, frame.front) annotation(Line(points = {{28, -12}, {-26, -12}}, color = {0, 0, 127}));
+  connect(handlebar.front, path.front) annotation(Line(points = {{28, -12}, {0, -12}, {0, 6}}, color = {0, 0, 127}));
+  connect(frame.roll, rollers.roll) annotation(Line(points = {{-50, -40}, {-50, -50}}, color = {0, 0, 0}));
   phi = frame.phi;
   psi = path.psi;
   eta = path.eta;

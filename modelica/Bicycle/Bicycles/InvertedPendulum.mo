@@ -17,14 +17,14 @@ model InvertedPendulum "Inverted-pendulum bicycle (1): steer angle in; roll angl
   Bicycle.Interfaces.RealOutput eta(final quantity = "Length", final unit = "m") "Path deviation of the rear contact point, positive to the left"
     annotation(Placement(transformation(extent = {{100, -70}, {120, -50}})));
   Bicycle.Components.RearFrame frame(m = m, h = h, b = b, J = J, D = D, V = V, g = g) "Rear frame with rider and wheels, eq (1)"
-    annotation(Placement(transformation(extent = {{-70, -20}, {-30, 20}})));
+    annotation(Placement(transformation(extent = {{-70, -40}, {-30, 0}})));
   Bicycle.Components.SteerAngle handlebar(delta = delta) "Rider's steer angle"
-    annotation(Placement(transformation(extent = {{30, -20}, {70, 20}})));
+    annotation(Placement(transformation(extent = {{30, -40}, {70, 0}})));
   Bicycle.Components.PathKinematics path(V = V, b = b) "Yaw angle and path deviation"
-    annotation(Placement(transformation(extent = {{-20, 30}, {20, 70}})));
+    annotation(Placement(transformation(extent = {{-20, 10}, {20, 50}})));
 equation
-  connect(handlebar.front, frame.front) annotation(Line(points = {{28, 8}, {-26, 8}}, color = {0, 0, 127}));
-  connect(handlebar.front, path.front) annotation(Line(points = {{28, 8}, {0, 8}, {0, 26}}, color = {0, 0, 127}));
+  connect(handlebar.front, frame.front) annotation(Line(points = {{28, -12}, {-26, -12}}, color = {0, 0, 127}));
+  connect(handlebar.front, path.front) annotation(Line(points = {{28, -12}, {0, -12}, {0, 6}}, color = {0, 0, 127}));
   phi = frame.phi;
   psi = path.psi;
   eta = path.eta;

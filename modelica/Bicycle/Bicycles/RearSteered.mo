@@ -18,14 +18,14 @@ model RearSteered "Rear-wheel steered bicycle (18): model (1) driven backwards, 
   Bicycle.Interfaces.RealOutput eta(final quantity = "Length", final unit = "m") "Path deviation of the front (unsteered) contact point, positive to the rider's left"
     annotation(Placement(transformation(extent = {{100, -70}, {120, -50}})));
   Bicycle.Components.RearFrame frame(m = m, h = h, b = b, J = J, D = D, V = -V, g = g, phi(start = -phi0)) "Frame with rider and wheels, eq (1) at speed -V in the axes of model (1): roll angle -phi"
-    annotation(Placement(transformation(extent = {{-70, -20}, {-30, 20}})));
+    annotation(Placement(transformation(extent = {{-70, -40}, {-30, 0}})));
   Bicycle.Components.SteerAngle handlebar(delta = -delta) "Steer angle of model (1), -delta: counter-clockwise seen from above"
-    annotation(Placement(transformation(extent = {{30, -20}, {70, 20}})));
+    annotation(Placement(transformation(extent = {{30, -40}, {70, 0}})));
   Bicycle.Components.PathKinematics path(V = -V, b = b) "Yaw angle and path deviation of model (1) at speed -V (deviation -eta)"
-    annotation(Placement(transformation(extent = {{-20, 30}, {20, 70}})));
+    annotation(Placement(transformation(extent = {{-20, 10}, {20, 50}})));
 equation
-  connect(handlebar.front, frame.front) annotation(Line(points = {{28, 8}, {-26, 8}}, color = {0, 0, 127}));
-  connect(handlebar.front, path.front) annotation(Line(points = {{28, 8}, {0, 8}, {0, 26}}, color = {0, 0, 127}));
+  connect(handlebar.front, frame.front) annotation(Line(points = {{28, -12}, {-26, -12}}, color = {0, 0, 127}));
+  connect(handlebar.front, path.front) annotation(Line(points = {{28, -12}, {0, -12}, {0, 6}}, color = {0, 0, 127}));
   // From the axes of model (1) (x from the unsteered to the steered wheel) to the rider's axes
   // (x forward, the direction of motion): a half turn about the vertical. The roll angle and the
   // lateral deviation change sign; yaw and yaw rate keep it; the steer angle of model (1) is the

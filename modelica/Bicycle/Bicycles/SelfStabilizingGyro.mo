@@ -23,19 +23,19 @@ model SelfStabilizingGyro "Rear frame (14) with a front fork that includes the g
   Bicycle.Interfaces.RealOutput eta(final quantity = "Length", final unit = "m") "Path deviation of the rear contact point, positive to the left"
     annotation(Placement(transformation(extent = {{100, -70}, {120, -50}})));
   Bicycle.Components.RearFrame frame(m = m, h = h, b = b, J = J, D = D, V = V, g = g) "Rear frame with rider and wheels, eq (1)"
-    annotation(Placement(transformation(extent = {{-70, -20}, {-30, 20}})));
+    annotation(Placement(transformation(extent = {{-70, -40}, {-30, 0}})));
   Bicycle.Components.GyroscopicFrontFork fork(m = m, a = a, b = b, c = c, lambda = lambda, V = V, g = g, k3 = k3) "Front fork with gyroscopic effects"
-    annotation(Placement(transformation(extent = {{30, -20}, {70, 20}})));
+    annotation(Placement(transformation(extent = {{30, -40}, {70, 0}})));
   Bicycle.Components.SteerTorque handlebar(T = T) "Rider's steer torque"
-    annotation(Placement(transformation(extent = {{30, 40}, {70, 80}})));
+    annotation(Placement(transformation(extent = {{30, 20}, {70, 60}})));
   Bicycle.Components.PathKinematics path(V = V, b = b) "Yaw angle and path deviation"
-    annotation(Placement(transformation(extent = {{-20, 30}, {20, 70}})));
+    annotation(Placement(transformation(extent = {{-20, 10}, {20, 50}})));
 equation
-  connect(frame.roll, fork.roll) annotation(Line(points = {{-50, -20}, {-50, -40}, {50, -40}, {50, -20}}, color = {0, 0, 0}));
-  connect(frame.rollRate, fork.rollRate) annotation(Line(points = {{-28, -8}, {26, -8}}, color = {0, 0, 127}));
-  connect(fork.front, frame.front) annotation(Line(points = {{28, 8}, {-26, 8}}, color = {0, 0, 127}));
-  connect(fork.front, path.front) annotation(Line(points = {{28, 8}, {0, 8}, {0, 26}}, color = {0, 0, 127}));
-  connect(handlebar.steer, fork.steer) annotation(Line(points = {{50, 40}, {50, 20}}, color = {0, 0, 0}));
+  connect(frame.roll, fork.roll) annotation(Line(points = {{-50, -40}, {-50, -60}, {50, -60}, {50, -40}}, color = {0, 0, 0}));
+  connect(frame.rollRate, fork.rollRate) annotation(Line(points = {{-28, -28}, {26, -28}}, color = {0, 0, 127}));
+  connect(fork.front, frame.front) annotation(Line(points = {{28, -12}, {-26, -12}}, color = {0, 0, 127}));
+  connect(fork.front, path.front) annotation(Line(points = {{28, -12}, {0, -12}, {0, 6}}, color = {0, 0, 127}));
+  connect(handlebar.steer, fork.steer) annotation(Line(points = {{50, 20}, {50, 0}}, color = {0, 0, 0}));
   phi = frame.phi;
   delta = fork.steer.delta;
   psi = path.psi;

@@ -3,12 +3,12 @@ model InvertedPendulumSteerFeedback "Inverted-pendulum bicycle (1) balanced by p
   extends Bicycle.Icons.Example;
   parameter Real k2(unit = "1", min = 0) = 0.8 "Gain k2 from roll angle to steer angle (stable iff k2 > b*g/V^2 = 0.39 at 5 m/s, eq (6))";
   Bicycle.Bicycles.InvertedPendulum bicycle(V = 5, frame(phi(start = 0.05))) "Bicycle at 5 m/s, initial lean 0.05 rad"
-    annotation(Placement(transformation(extent = {{0, -40}, {80, 40}})));
+    annotation(Placement(transformation(extent = {{0, -55}, {80, 25}})));
   Bicycle.Control.SteerAngleFeedback controller(k2 = k2) "Rider steering into the lean, delta = -k2*phi"
-    annotation(Placement(transformation(extent = {{-80, -20}, {-40, 20}})));
+    annotation(Placement(transformation(extent = {{-80, -35}, {-40, 5}})));
 equation
-  connect(bicycle.phi, controller.phi) annotation(Line(points = {{84, 24}, {92, 24}, {92, 70}, {-92, 70}, {-92, 0}, {-84, 0}}, color = {0, 0, 127}));
-  connect(controller.delta, bicycle.delta) annotation(Line(points = {{-38, 0}, {-8, 0}}, color = {0, 0, 127}));
+  connect(bicycle.phi, controller.phi) annotation(Line(points = {{84, 9}, {92, 9}, {92, 55}, {-92, 55}, {-92, -15}, {-84, -15}}, color = {0, 0, 127}));
+  connect(controller.delta, bicycle.delta) annotation(Line(points = {{-38, -15}, {-8, -15}}, color = {0, 0, 127}));
   annotation(
     experiment(StartTime = 0, StopTime = 5, Tolerance = 1e-8, Interval = 0.01),
     Documentation(info = "<html>

@@ -22,7 +22,7 @@ equation
   connect(delay.y, bike.T_delta) annotation(Line(points = {{2, 16}, {22, 16}}, color = {0, 0, 127}));
   connect(push.y, bike.T_phi) annotation(Line(points = {{2, -40}, {12, -40}, {12, -16}, {22, -16}}, color = {0, 0, 127}));
   annotation(
-    Diagram(coordinateSystem(extent = {{-160, -100}, {160, 100}})),
+    Diagram(coordinateSystem(extent = {{-160, -80}, {160, 100}})),
     experiment(StartTime = 0, StopTime = 10, Tolerance = 1e-8, Interval = 0.01),
     Documentation(info = "<html>
 <p>The system <code>cosim/systems/lqr-autopilot.toml</code> as one Modelica model, with the

@@ -2,15 +2,15 @@ within Bicycle.Examples;
 model WhippleLinearRiderPush "Benchmark bicycle at 4 m/s, below its weave speed, balanced by the rider's proportional steer torque after a lateral push"
   extends Bicycle.Icons.Example;
   Bicycle.Bicycles.WhippleLinear bike(v = 4) "Linear Whipple bicycle with the benchmark parameters, not self-stable at 4 m/s"
-    annotation(Placement(transformation(extent = {{0, -40}, {80, 40}})));
+    annotation(Placement(transformation(extent = {{0, -55}, {80, 25}})));
   Bicycle.Control.Proportional rider(k = 2) "The paper's rider, T = -k*phi"
-    annotation(Placement(transformation(extent = {{-80, -4}, {-40, 36}})));
+    annotation(Placement(transformation(extent = {{-80, -19}, {-40, 21}})));
   Bicycle.Sources.TorquePulse push(amplitude = 10, start = 0.5, duration = 0.2) "Lateral push: a roll torque of 10 N.m for 0.2 s"
-    annotation(Placement(transformation(extent = {{-80, -70}, {-40, -30}})));
+    annotation(Placement(transformation(extent = {{-80, -90}, {-40, -50}})));
 equation
-  connect(bike.phi, rider.phi) annotation(Line(points = {{84, 30}, {92, 30}, {92, 70}, {-92, 70}, {-92, 16}, {-84, 16}}, color = {0, 0, 127}));
-  connect(rider.T, bike.T_delta) annotation(Line(points = {{-38, 16}, {-8, 16}}, color = {0, 0, 127}));
-  connect(push.y, bike.T_phi) annotation(Line(points = {{-38, -50}, {-24, -50}, {-24, -16}, {-8, -16}}, color = {0, 0, 127}));
+  connect(bike.phi, rider.phi) annotation(Line(points = {{84, 15}, {92, 15}, {92, 55}, {-92, 55}, {-92, 1}, {-84, 1}}, color = {0, 0, 127}));
+  connect(rider.T, bike.T_delta) annotation(Line(points = {{-38, 1}, {-8, 1}}, color = {0, 0, 127}));
+  connect(push.y, bike.T_phi) annotation(Line(points = {{-38, -70}, {-24, -70}, {-24, -31}, {-8, -31}}, color = {0, 0, 127}));
   annotation(
     experiment(StartTime = 0, StopTime = 20, Tolerance = 1e-8, Interval = 0.01),
     Documentation(info = "<html>
