@@ -18,7 +18,8 @@ SOURCES = ["cosim", "modelica", "setup.py", "pyproject.toml", "README.md"]
 
 def _library_files() -> set[str]:
     return {str(p.relative_to(ROOT / "modelica")) for p in (ROOT / "modelica").rglob("*")
-            if p.is_file() and (p.suffix == ".mo" or p.name == "package.order")}
+            if p.is_file() and (p.suffix == ".mo" or p.name == "package.order"
+                                or (p.suffix == ".svg" and p.parent.name == "Images"))}
 
 
 @pytest.fixture(scope="module")

@@ -43,13 +43,13 @@ model WhippleLinear "Linearized Whipple bicycle, eq (24): M q'' + v C1 q' + (g K
   Bicycle.Linear.RearWheel rearWheel(w = w, c = c, lam = lam, g = g, v = v, r = rR, m = mR, Ixx = IRxx, Iyy = IRyy) "Rear wheel R"
     annotation(Placement(transformation(extent = {{-150, -20}, {-90, 40}})));
   Bicycle.Linear.RearFrame rearFrame(w = w, c = c, lam = lam, g = g, v = v, m = mB, x = xB, z = zB, Ixx = IBxx, Ixz = IBxz, Iyy = IByy, Izz = IBzz) "Rear frame B with rider"
-    annotation(Placement(transformation(extent = {{-80, 40}, {-40, 80}})));
+    annotation(Placement(transformation(extent = {{-70, 50}, {-30, 90}})));
   Bicycle.Linear.FrontFrame frontFrame(w = w, c = c, lam = lam, g = g, v = v, m = mH, x = xH, z = zH, Ixx = IHxx, Ixz = IHxz, Iyy = IHyy, Izz = IHzz) "Front frame H (fork and handlebar)"
-    annotation(Placement(transformation(extent = {{40, 40}, {80, 80}})));
+    annotation(Placement(transformation(extent = {{30, 50}, {70, 90}})));
   Bicycle.Linear.FrontWheel frontWheel(w = w, c = c, lam = lam, g = g, v = v, r = rF, m = mF, Ixx = IFxx, Iyy = IFyy) "Front wheel F"
     annotation(Placement(transformation(extent = {{90, -20}, {150, 40}})));
   Bicycle.Linear.Torques torques "Roll and steer torques"
-    annotation(Placement(transformation(extent = {{-30, 100}, {30, 160}})));
+    annotation(Placement(transformation(extent = {{-30, 110}, {30, 170}})));
   Bicycle.Linear.Coordinates coordinates "Roll and steer coordinates: give the states to the components, return the accelerations of eq (24)"
     annotation(Placement(transformation(extent = {{40, -120}, {-40, -40}})));
 
@@ -69,9 +69,9 @@ model WhippleLinear "Linearized Whipple bicycle, eq (24): M q'' + v C1 q' + (g K
   final parameter Bicycle.Units.FirstMomentOfMass C1_22 = rearWheel.C1_22 + rearFrame.C1_22 + frontFrame.C1_22 + frontWheel.C1_22 "Velocity-proportional matrix C1, element (delta, delta)";
 
   Bicycle.Interfaces.RealInput T_phi(final quantity = "Torque", final unit = "N.m") "Roll torque T_phi on the rear frame, positive tending to lean right"
-    annotation(Placement(transformation(extent = {{-220, 132}, {-200, 152}}), iconTransformation(extent = {{-140, -60}, {-100, -20}})));
+    annotation(Placement(transformation(extent = {{-220, 142}, {-200, 162}}), iconTransformation(extent = {{-140, -60}, {-100, -20}})));
   Bicycle.Interfaces.RealInput T_delta(final quantity = "Torque", final unit = "N.m") "Steer torque T_delta between rear frame and front frame, positive tending to steer right"
-    annotation(Placement(transformation(extent = {{-220, 108}, {-200, 128}}), iconTransformation(extent = {{-140, 20}, {-100, 60}})));
+    annotation(Placement(transformation(extent = {{-220, 118}, {-200, 138}}), iconTransformation(extent = {{-140, 20}, {-100, 60}})));
   Bicycle.Interfaces.RealOutput phi(final quantity = "Angle", final unit = "rad", displayUnit = "deg", start = phi0, fixed = true) "Roll angle phi of the rear frame, positive leaning right"
     annotation(Placement(transformation(extent = {{202, -64}, {218, -48}}), iconTransformation(extent = {{100, 65}, {120, 85}})));
   Bicycle.Interfaces.RealOutput delta(final quantity = "Angle", final unit = "rad", displayUnit = "deg", start = delta0, fixed = true) "Steer angle delta, positive steering right"
@@ -86,12 +86,12 @@ model WhippleLinear "Linearized Whipple bicycle, eq (24): M q'' + v C1 q' + (g K
     annotation(Placement(transformation(extent = {{202, 102}, {218, 118}}), iconTransformation(extent = {{100, -85}, {120, -65}})));
 equation
   connect(coordinates.frame, rearWheel.frame) annotation(Line(points = {{0, -40}, {0, -30}, {-120, -30}, {-120, -20}}, color = {0, 128, 128}, thickness = 0.5));
-  connect(coordinates.frame, rearFrame.frame) annotation(Line(points = {{0, -40}, {0, -30}, {-60, -30}, {-60, 40}}, color = {0, 128, 128}, thickness = 0.5));
-  connect(coordinates.frame, frontFrame.frame) annotation(Line(points = {{0, -40}, {0, -30}, {60, -30}, {60, 40}}, color = {0, 128, 128}, thickness = 0.5));
+  connect(coordinates.frame, rearFrame.frame) annotation(Line(points = {{0, -40}, {0, -30}, {-50, -30}, {-50, 50}}, color = {0, 128, 128}, thickness = 0.5));
+  connect(coordinates.frame, frontFrame.frame) annotation(Line(points = {{0, -40}, {0, -30}, {50, -30}, {50, 50}}, color = {0, 128, 128}, thickness = 0.5));
   connect(coordinates.frame, frontWheel.frame) annotation(Line(points = {{0, -40}, {0, -30}, {120, -30}, {120, -20}}, color = {0, 128, 128}, thickness = 0.5));
-  connect(coordinates.frame, torques.frame) annotation(Line(points = {{0, -40}, {0, 100}}, color = {0, 128, 128}, thickness = 0.5));
-  connect(T_phi, torques.T_phi) annotation(Line(points = {{-210, 142}, {-36, 142}}, color = {0, 0, 127}));
-  connect(T_delta, torques.T_delta) annotation(Line(points = {{-210, 118}, {-36, 118}}, color = {0, 0, 127}));
+  connect(coordinates.frame, torques.frame) annotation(Line(points = {{0, -40}, {0, 110}}, color = {0, 128, 128}, thickness = 0.5));
+  connect(T_phi, torques.T_phi) annotation(Line(points = {{-210, 152}, {-36, 152}}, color = {0, 0, 127}));
+  connect(T_delta, torques.T_delta) annotation(Line(points = {{-210, 128}, {-36, 128}}, color = {0, 0, 127}));
   // The states live here (they keep their names in the FMU); the coordinates give their accelerations.
   connect(phi, coordinates.phi) annotation(Line(points = {{210, -56}, {48, -56}}, color = {0, 0, 127}));
   connect(delta, coordinates.delta) annotation(Line(points = {{210, -72}, {48, -72}}, color = {0, 0, 127}));
@@ -107,7 +107,7 @@ equation
   annotation(
     Icon(graphics = {
       Text(extent = {{20, 96}, {100, 56}}, textString = "(24)", textColor = {64, 64, 64})}),
-    Diagram(coordinateSystem(extent = {{-200, -130}, {220, 170}})),
+    Diagram(coordinateSystem(extent = {{-220, -130}, {220, 190}})),
     experiment(StartTime = 0, StopTime = 5, Tolerance = 1e-8, Interval = 0.01),
     __Cosim(export = true),
     Documentation(info = "<html>

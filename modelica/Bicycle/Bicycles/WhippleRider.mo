@@ -85,7 +85,7 @@ model WhippleRider "Nonlinear Whipple bicycle with a leaning rider: the upper bo
   Bicycle.Mechanics.Ground ground(n = n, g = g, x0 = x0, y0 = y0, psi0 = psi0, phi0 = phi0, u_phi0 = u_phi0, theta_guess = theta_guess) "Flat ground: the rear frame's attitude and position, rolling constraints, Kane's equations"
     annotation(Placement(transformation(extent = {{-160, -110}, {160, -70}})));
   replaceable Bicycle.Wheels.Torus rearWheel(t = tR, n = n, k = 6, r = rR, m = mR, Ixx = IRxx, Iyy = IRyy, angle0 = thetaR0, spin0 = u_R0) constrainedby Bicycle.Wheels.PartialWheel(n = n, k = 6, r = rR, m = mR, Ixx = IRxx, Iyy = IRyy, angle0 = thetaR0, spin0 = u_R0) "Rear wheel R (spin angle thetaR, coordinate 6)"
-    annotation(Placement(transformation(extent = {{-130, -65}, {-70, -5}})));
+    annotation(Placement(transformation(extent = {{-130, -55}, {-70, 5}})));
   Bicycle.Mechanics.Frames.RearFrame rearFrame(n = n, w = w, c = c, rR = rR, xB = xB, zB = zB, mB = mB, IBxx = IBxx, IBxz = IBxz, IByy = IByy, IBzz = IBzz) "Rear frame B without the rider's upper body"
     annotation(Placement(transformation(extent = {{-80, 20}, {-40, 60}})));
   Bicycle.Mechanics.Frames.SteerAxis steer(n = n, k = 5, lam = lam, angle0 = delta0, omega0 = u_delta0) "Steer axis (steer angle delta, coordinate 5)"
@@ -93,7 +93,7 @@ model WhippleRider "Nonlinear Whipple bicycle with a leaning rider: the upper bo
   Bicycle.Mechanics.Frames.FrontFrame frontFrame(n = n, w = w, c = c, rF = rF, xH = xH, zH = zH, mH = mH, IHxx = IHxx, IHxz = IHxz, IHyy = IHyy, IHzz = IHzz) "Front frame H (fork and handlebar)"
     annotation(Placement(transformation(extent = {{80, 20}, {120, 60}})));
   replaceable Bicycle.Wheels.Torus frontWheel(t = tF, n = n, k = 3, rolling = true, r = rF, m = mF, Ixx = IFxx, Iyy = IFyy, angle0 = thetaF0) constrainedby Bicycle.Wheels.PartialWheel(n = n, k = 3, rolling = true, r = rF, m = mF, Ixx = IFxx, Iyy = IFyy, angle0 = thetaF0) "Front wheel F (spin angle thetaF; its rate is the dependent speed 3)"
-    annotation(Placement(transformation(extent = {{70, -65}, {130, -5}})));
+    annotation(Placement(transformation(extent = {{70, -55}, {130, 5}})));
   Bicycle.Mechanics.Parts.FixedTranslation toHip(n = n, rx = xU, rz = rR - hU) "Rear axle to the hip hinge axis (xU, hU above the ground)"
     annotation(Placement(transformation(origin = {-100, 90}, extent = {{-20, -20}, {20, 20}}, rotation = 90)));
   replaceable Bicycle.Mechanics.Rider.HipHinge hip(c = kU, d = cU, n = n, k = 7, angle0 = beta0, omega0 = u_beta0) constrainedby Bicycle.Mechanics.Rider.PartialHinge(n = n, k = 7, angle0 = beta0, omega0 = u_beta0) "Hip hinge (lean angle beta, coordinate 7; LockedHinge: the upper body held at its initial lean)"
@@ -103,13 +103,13 @@ model WhippleRider "Nonlinear Whipple bicycle with a leaning rider: the upper bo
 equation
   // The replaceable components repeat their constraining clause's modifiers (which apply to every
   // replacement, MLS 7.3.2) in the declaration: rumoca 0.10 applies only the latter.
-  connect(ground.frame_b, rearWheel.hub) annotation(Line(points = {{-150, -70}, {-150, 40}, {-100, 40}, {-100, -5}}, color = {95, 95, 95}, thickness = 0.5));
+  connect(ground.frame_b, rearWheel.hub) annotation(Line(points = {{-150, -70}, {-150, 40}, {-100, 40}, {-100, 5}}, color = {95, 95, 95}, thickness = 0.5));
   connect(ground.frame_b, rearFrame.frame_a) annotation(Line(points = {{-150, -70}, {-150, 40}, {-80, 40}}, color = {95, 95, 95}, thickness = 0.5));
-  connect(rearWheel.contact, ground.rearContact) annotation(Line(points = {{-100, -65}, {-100, -70}}, color = {140, 70, 20}, thickness = 0.5));
+  connect(rearWheel.contact, ground.rearContact) annotation(Line(points = {{-100, -55}, {-100, -70}}, color = {140, 70, 20}, thickness = 0.5));
   connect(rearFrame.frame_b, steer.frame_a) annotation(Line(points = {{-40, 40}, {-10, 40}}, color = {95, 95, 95}, thickness = 0.5));
   connect(steer.frame_b, frontFrame.frame_a) annotation(Line(points = {{30, 40}, {80, 40}}, color = {95, 95, 95}, thickness = 0.5));
-  connect(frontFrame.frame_b, frontWheel.hub) annotation(Line(points = {{100, 20}, {100, -5}}, color = {95, 95, 95}, thickness = 0.5));
-  connect(frontWheel.contact, ground.frontContact) annotation(Line(points = {{100, -65}, {100, -70}}, color = {140, 70, 20}, thickness = 0.5));
+  connect(frontFrame.frame_b, frontWheel.hub) annotation(Line(points = {{100, 20}, {100, 5}}, color = {95, 95, 95}, thickness = 0.5));
+  connect(frontWheel.contact, ground.frontContact) annotation(Line(points = {{100, -55}, {100, -70}}, color = {140, 70, 20}, thickness = 0.5));
   connect(T_delta, steer.tau_in) annotation(Line(points = {{10, 250}, {10, 64}}, color = {0, 0, 127}));
   connect(T_phi, ground.T_phi) annotation(Line(points = {{-210, -90}, {-165, -90}}, color = {0, 0, 127}));
   connect(ground.frame_b, toHip.frame_a) annotation(Line(points = {{-150, -70}, {-150, 40}, {-100, 40}, {-100, 70}}, color = {95, 95, 95}, thickness = 0.5));

@@ -36,6 +36,14 @@ paper's Figure 1, the ground at the bottom, the rear wheel left, the front wheel
 frame, steer axis and front frame between them, the rider's hip hinge and upper body above; in the
 examples the controllers and sources stand left of the bicycle.</p>
 <h4>How the nonlinear bicycle is assembled</h4>
+<p><img src=\"modelica://Bicycle/Resources/Images/Whipple.svg\" width=\"800\"
+alt=\"The diagram of Bicycle.Bicycles.Whipple: ground, rear wheel, rear frame, steer axis, front frame, front wheel\"/></p>
+<p>The diagram of <a href=\"modelica://Bicycle.Bicycles.Whipple\">Whipple</a> (drawn from its
+annotations by <code>cosim diagram</code>): the ground at the bottom carries the rear wheel, whose
+hub carries the rear frame; the steer axis joins the rear frame to the front frame, which carries
+the front wheel; both wheels' contacts go back to the ground, and the two torque inputs drive the
+steer axis and the roll of the rear frame. The diagrams of the other bicycles and of the examples
+are in <code>Resources/Images</code>.</p>
 <p>Each body's motion is described by its frame connector
 (<code>Mechanics.Interfaces.Frame_a</code>, <code>Frame_b</code>) as a function of the generalized
 speeds: orientation, position, angular velocity and velocity with their partial derivatives with
