@@ -6,7 +6,6 @@ from __future__ import annotations
 import functools
 import os
 import re
-import textwrap
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -14,6 +13,7 @@ import pytest
 from pymoca import parser
 
 from conftest import run_cli
+from test_pymoca_patches import _library
 from cosim.compiler.library import Library
 from cosim.diagram.annotations import Expression, Name, Record, parse_expression, parse_text, Source
 from cosim.diagram.graphics import Graphics, Line, Polygon, Text
@@ -22,15 +22,6 @@ from cosim.errors import ModelicaError, UnknownModelError
 
 SVG = "{http://www.w3.org/2000/svg}"
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def _library(root: Path, files: dict[str, str]) -> Library:
-    """Write ``files`` (path relative to ``root`` -> Modelica text) and parse the library."""
-    for name, text in files.items():
-        path = root / name
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(textwrap.dedent(text).lstrip(), encoding="utf-8")
-    return Library(root)
 
 
 # A library that uses every primitive, inheritance, %name / %par, flipped and rotated placements,
