@@ -910,29 +910,27 @@ class _ClassParser:
             return
         if token.kind == "ident" and token.text in STATEMENT_KEYWORDS:  # its header up to loop/then
             self.advance()
-            while not (self.at("loop") or self.at("then")):
-                if self.peek() is None:
-                    raise self.source.error(token, f"'{token.text}' without 'loop' or 'then'")
-                if self.peek().kind == "op" and self.peek().text in _OPEN:
-                    self.skip_group()
-                else:
-                    self.advance()
-            self.advance()
+            self._skip_past(token, ("loop", "then"))
             return
         if token.is_word("else"):
             self.advance()
             return
         if token.is_word("elseif") or token.is_word("elsewhen"):
-            while not self.at("then"):
-                if self.peek() is None:
-                    raise self.source.error(token, f"'{token.text}' without 'then'")
-                if self.peek().kind == "op" and self.peek().text in _OPEN:
-                    self.skip_group()
-                else:
-                    self.advance()
-            self.advance()
+            self._skip_past(token, ("then",))
             return
         self.statement_end()
+
+    def _skip_past(self, token, words: tuple) -> None:
+        """Skip the header of ``token``'s statement up to and including the first of ``words``
+        (brackets skipped whole)."""
+        while not any(self.at(w) for w in words):
+            if self.peek() is None:
+                raise self.source.error(token, f"'{token.text}' without " + " or ".join(f"'{w}'" for w in words))
+            if self.peek().kind == "op" and self.peek().text in _OPEN:
+                self.skip_group()
+            else:
+                self.advance()
+        self.advance()
 
     def element(self, cls: ClassDef, protected: bool) -> None:
         token = self.peek()
