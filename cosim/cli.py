@@ -8,8 +8,10 @@ Exit status of every command (also in ``cosim --help``):
 2     bad input or usage: one message ``cosim VERB: error: ...`` names the file, parameter, key
       or row; nothing was written under the final output name
 3     ``run``: the bicycle fell (the system's fall criterion); the result was written
-4     incomplete result: the solver failed part-way; the rows up to the failure were written to
-      ``NAME.incomplete.csv`` (``.npy``) and the message names the cause
+4     incomplete result: the solver failed part-way, an output turned non-finite, or an FMU from
+      elsewhere crashed, exited or hung (it runs in a guarded child process, see ``--timeout``); the
+      rows up to the failure were written to ``NAME.incomplete.csv`` (``.npy``) and the message
+      names the cause
 70    internal error (a bug): one line; ``COSIM_DEBUG=1`` shows the traceback
 130   interrupted (Ctrl-C)
 ====  ==========================================================================================
@@ -38,9 +40,11 @@ exit status:
   2    bad input or usage: one message names the file, parameter, key or row; nothing is
        written under the final output name
   3    run: the bicycle fell (the system's fall criterion); the result was written
-  4    incomplete result: the solver failed part-way; the rows up to the failure are written to
-       NAME.incomplete.csv (or .npy) beside the requested NAME.csv, and the message names the
-       cause (e.g. roll or steer angle near +-pi/2, the constraint residual growing)
+  4    incomplete result: the solver failed part-way, an output turned non-finite, or an FMU from
+       elsewhere crashed, exited or hung (such FMUs run in a guarded child process, see
+       --timeout); the rows up to the failure are written to NAME.incomplete.csv (or .npy) beside
+       the requested NAME.csv, and the message names the cause (e.g. roll or steer angle near
+       +-pi/2, the constraint residual growing, "the FMU crashed (SIGSEGV) during fmi2DoStep")
   70   internal error (a bug): one line; set COSIM_DEBUG=1 for the traceback
   130  interrupted"""
 
@@ -171,6 +175,25 @@ def _finite(text: str) -> float:
     return value
 
 
+def _timeout(text: str) -> float | None:
+    """``--timeout SECONDS``: finite and > 0, or 0 / none for no limit."""
+    if text.strip().lower() in ("0", "none"):
+        return None
+    value = _finite(text)
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"must be > 0 s (or 0 / none for no limit), got {text}")
+    return value
+
+
+def timeout_option(p: argparse.ArgumentParser, what: str) -> None:
+    """``--timeout`` of the verbs that call the binary of an FMU from elsewhere."""
+    from cosim.fmu.isolation import DEFAULT_TIMEOUT
+
+    p.add_argument("--timeout", type=_timeout, default=DEFAULT_TIMEOUT, metavar="SECONDS",
+                   help=f"an FMU not built by cosim runs in a guarded child process; it is stopped when {what} "
+                        f"for SECONDS (default {DEFAULT_TIMEOUT:g}; 0 or none: no limit)")
+
+
 class _FmiVersions(argparse.Action):
     """``--fmi-version 2 3`` (or repeated): the FMI versions to build. The option takes one or
     more values, so model names right after it (``cosim build --fmi-version 3 MODEL``) would be
@@ -264,7 +287,7 @@ def _cmd_validate(args) -> int:
     for target in args.targets:
         try:
             fmu = resolve_fmu(target, versions=ALL_FMI_VERSIONS)
-            report = validate_report(fmu)
+            report = validate_report(fmu, timeout=args.timeout or float("inf"))
         except CosimError as exc:
             unreadable += 1
             print(f"cosim validate: error: {exc}", file=sys.stderr)
@@ -337,7 +360,7 @@ def _cmd_simulate(args) -> int:
     outputs = [v.name for v in md.modelVariables if v.causality == "output"]
     try:
         result = simulate(fmu, args.stop_time, args.step, args.fmi_type, params, inputs,
-                          outputs=outputs or None, progress=sys.stderr.isatty())
+                          outputs=outputs or None, progress=sys.stderr.isatty(), timeout=args.timeout)
     except IncompleteResult as exc:
         return _write_incomplete(exc, output, args.plot, md.modelName, "simulate")
     write_result(result, output)
@@ -380,7 +403,8 @@ def _cmd_linearize(args) -> int:
     params = from_command_line(args.target, args.param, parameter_set=args.params, speed=args.speed,
                                input_hint="give its operating-point value with --input {name}=VALUE")
     inputs = _operating_point(args.target, args.input)
-    result = linearize(resolve_fmu(args.target, versions=ALL_FMI_VERSIONS), params, inputs or None)
+    result = linearize(resolve_fmu(args.target, versions=ALL_FMI_VERSIONS), params, inputs or None,
+                       timeout=args.timeout)
     steady = note = None
     if is_bicycle(result):  # a nonlinear bicycle: its exact lateral linearization (see the help)
         try:
@@ -448,7 +472,8 @@ def _linearize_sweep(args) -> int:
         raise ParameterError(f"--param {fs.parameter}: the speed parameter is set by --speeds")
     inputs = _operating_point(str(fmu), args.input) if args.input else {}
     try:
-        sweep = linearize_speeds(fmu, speeds, params, inputs or None, lock_hinge=args.lock_hinge)
+        sweep = linearize_speeds(fmu, speeds, params, inputs or None, lock_hinge=args.lock_hinge,
+                                 timeout=args.timeout)
     except NotSteadyMotion as exc:
         raise ParameterError(f"--lock-hinge: {exc}") from None
     if args.json:
@@ -509,7 +534,7 @@ def _cmd_run(args) -> int:
     _check_outputs(output, args.plot)  # before any build or run
     spec = load_system(args.system)
     try:
-        result = run_system(spec)
+        result = run_system(spec, timeout=args.timeout)
     except RunFailed as exc:  # an FMU failed a step: the rows before it are kept
         result = exc.result
     outcome = result.outcome
@@ -696,6 +721,7 @@ def parser() -> argparse.ArgumentParser:
                               "Every target is checked; a file that cannot be read as an FMU gets an error line "
                               "(exit 2), an FMU with problems lists them (exit 1).\n\n" + EXIT_CODES)
     v.add_argument("targets", nargs="+", help="FMU files or model names")
+    timeout_option(v, "one check has not ended")
     library_option(v)
     v.set_defaults(func=_cmd_validate)
 
@@ -711,6 +737,7 @@ def parser() -> argparse.ArgumentParser:
                    help="an input signal (repeatable): a CSV of time [s], value, or a step of VALUE at T0 [s]")
     s.add_argument("-o", "--output", default=None, help="result .csv or .npy (default: <model>.csv)")
     s.add_argument("--plot", default=None, help="save a plot of the result (PNG, PDF, SVG, ...)")
+    timeout_option(s, "it completes no step")
     library_option(s)
     s.set_defaults(func=_cmd_simulate)
 
@@ -732,6 +759,7 @@ def parser() -> argparse.ArgumentParser:
                      help="WhippleRider: lock the rider's hip hinge (exactly, by its reaction torque) in the "
                           "lateral linearization")
     lin.add_argument("--json", action="store_true", help="print A, B, C, D and the eigenvalues as JSON")
+    timeout_option(lin, "the linearization has not ended")
     library_option(lin)
     lin.set_defaults(func=_cmd_linearize)
 
@@ -752,6 +780,7 @@ def parser() -> argparse.ArgumentParser:
     run.add_argument("-o", "--output", default=None, help="result .csv or .npy (default: <system>.csv)")
     run.add_argument("--plot", default=None, help="save a plot of the recorded signals (PNG, PDF, SVG, ...)")
     run.add_argument("--allow-fall", action="store_true", help="exit 0 even if the bicycle falls")
+    timeout_option(run, "the system completes no communication step")
     library_option(run)
     run.set_defaults(func=_cmd_run)
 

@@ -7,6 +7,7 @@ from cosim.errors import FMUError, ParameterError
 from cosim.cosimulation import registry
 from cosim.cosimulation.component import Component, FMUComponent
 from cosim.cosimulation.system import SystemError_, SystemSpec, load_system
+from cosim.fmu.isolation import DEFAULT_TIMEOUT, built_here, can_isolate
 
 
 def python_block(name: str, block: str, parameters: dict, where: str = "system") -> Component:
@@ -60,7 +61,8 @@ def create_components(spec: SystemSpec, fmu_dir: str | Path | None = None) -> di
     return created
 
 
-def run_system(path_or_spec, fmu_dir: str | Path | None = None):
+def run_system(path_or_spec, fmu_dir: str | Path | None = None, isolate: bool | None = None,
+               timeout: float | None = DEFAULT_TIMEOUT):
     """Co-simulate a system: load the file, create its components (models built as needed) and run.
 
     Parameters
@@ -69,6 +71,12 @@ def run_system(path_or_spec, fmu_dir: str | Path | None = None):
         A system file (TOML) or a system already loaded (:func:`load_system`).
     fmu_dir : str or Path, optional
         Where models are built to FMUs (default: ``COSIM_FMU_DIR`` or ``./fmus``).
+    isolate : bool, optional
+        Run in a guarded child process (:mod:`cosim.cosimulation.isolated`), so that a binary that
+        crashes, calls ``exit`` or hangs ends the run with the rows so far instead of ending this
+        process. Default: when a component is an FMU not built by this project.
+    timeout : float or None
+        With ``isolate``: longest time [s] without a completed communication step; None: no limit.
 
     Returns
     -------
@@ -82,9 +90,19 @@ def run_system(path_or_spec, fmu_dir: str | Path | None = None):
     SystemError_
         For a bad system file, component, parameter or connection (nothing is run).
     RunFailed
-        If an FMU failed a step; ``exc.result`` holds the rows up to the failure.
+        If an FMU failed a step, or (isolated) an FMU's binary ended the process or stopped
+        answering; ``exc.result`` holds the rows up to the failure.
+    FMUProcessError
+        (isolated) An FMU's binary ended the process or stopped answering before the first row.
     """
+    from cosim.cosimulation.isolated import run_isolated_system
     from cosim.cosimulation.master import run_components
 
     spec = path_or_spec if isinstance(path_or_spec, SystemSpec) else load_system(path_or_spec)
-    return run_components(spec, create_components(spec, fmu_dir))
+    components = create_components(spec, fmu_dir)
+    foreign = [name for name, c in components.items() if isinstance(c, FMUComponent) and not built_here(c.fmu.path)]
+    if isolate is None:
+        isolate = bool(foreign) and can_isolate()
+    if isolate:
+        return run_isolated_system(spec, components, foreign, timeout)
+    return run_components(spec, components)

@@ -49,6 +49,9 @@ class RunFailed(SimulationError):
         super().__init__(result.outcome.message)
         self.result = result
 
+    def __reduce__(self):  # pickled from an isolated worker with its rows
+        return type(self), (self.result,)
+
 
 #: Largest recording one run keeps in memory [bytes].
 MAX_RECORD_BYTES = 2 * 1024**3
@@ -354,7 +357,14 @@ class System:
             raise SystemError_(f"{spec.path or spec.name}: recording {recorded} signals over {n_steps:,} "
                                f"steps would take {size / 1024**3:.1f} GiB; use a larger step or record fewer "
                                "signals ([system] record = [...])")
-        return grid, np.empty((n_steps + 1, 1 + recorded))
+        return grid, self.allocate((n_steps + 1, 1 + recorded), self.record[0])
+
+    @staticmethod
+    def allocate(shape: tuple[int, int], names) -> np.ndarray:
+        """The recording table: ``shape`` is (rows, 1 + recorded signals), ``names`` the recorded
+        signals. An isolated run records into memory its caller can read after a crash
+        (:mod:`cosim.cosimulation.isolated`)."""
+        return np.empty(shape)
 
     def _close_all(self) -> None:
         """Close every component; the first error of a close is raised after all were closed."""
@@ -502,14 +512,17 @@ def assemble(spec: SystemSpec, components: dict[str, Component]) -> System:
     return System(spec, components)
 
 
-def run_components(spec: SystemSpec, components: dict[str, Component]) -> RunResult:
-    """Assemble and run; components are closed afterwards."""
+def run_components(spec: SystemSpec, components: dict[str, Component], allocate=None) -> RunResult:
+    """Assemble and run; components are closed afterwards. ``allocate(shape)``, if given, makes the
+    recording table (see :attr:`System.allocate`)."""
     try:
         system = assemble(spec, components)
     except Exception:
         for comp in components.values():
             comp.close()
         raise
+    if allocate is not None:
+        system.allocate = allocate
     return system.run()
 
 

@@ -24,6 +24,7 @@ import numpy as np
 from fmpy.fmi1 import FMICallException
 
 from cosim.errors import FMUError, ParameterError, SimulationError
+from cosim.fmu.isolation import DEFAULT_TIMEOUT, built_here, can_isolate, run_isolated
 from cosim.fmu.access import (ALL_FMI_VERSIONS, FMU, get_continuous_states, get_state_derivatives,
                               set_continuous_states)
 
@@ -140,7 +141,8 @@ class _Point:
 
 
 def linearize(fmu_path: str | Path, parameters: dict | None = None, inputs: dict | None = None,
-              method: str = "auto") -> Linearization:
+              method: str = "auto", isolate: bool | None = None, timeout: float | None = DEFAULT_TIMEOUT
+              ) -> Linearization:
     """Linearize an FMU at its initial state (after initialization) and the given inputs.
 
     Parameters
@@ -155,6 +157,12 @@ def linearize(fmu_path: str | Path, parameters: dict | None = None, inputs: dict
         values).
     method : {'auto', 'directional', 'finite-differences'}
         'auto' uses directional derivatives where the FMU provides them.
+    isolate : bool, optional
+        Call the FMU's binary in a guarded child process (:mod:`cosim.fmu.isolation`): a crash,
+        ``exit`` or hang of the binary becomes an error instead of ending this process. Default:
+        for every FMU not built by this project.
+    timeout : float or None
+        With ``isolate``: longest time [s] the linearization may take; None: no limit.
 
     Returns
     -------
@@ -169,13 +177,24 @@ def linearize(fmu_path: str | Path, parameters: dict | None = None, inputs: dict
         The FMU cannot be opened, has no Model Exchange, or (``method='directional'``) no
         directional derivatives.
     SimulationError
-        The FMU refuses the initialization or a call at the operating point, or its directional and
-        adjoint derivatives disagree (the entry named).
+        The FMU refuses the initialization or a call at the operating point, its directional and
+        adjoint derivatives disagree (the entry named), an entry of A, B, C or D is not finite, or
+        (isolated) the FMU's process ended abnormally or stopped answering.
 
     See Also
     --------
     steady_motion : the exact lateral dynamics of a nonlinear bicycle about upright straight running.
     """
+    if isolate is None:
+        isolate = can_isolate() and not built_here(fmu_path)
+    if isolate:
+        return run_isolated(lambda worker: _linearize(fmu_path, parameters, inputs, method, worker.doing),
+                            what=str(fmu_path), timeout=timeout)
+    return _linearize(fmu_path, parameters, inputs, method)
+
+
+def _linearize(fmu_path, parameters, inputs, method, doing=lambda text: None) -> Linearization:
+    """:func:`linearize` in this process; ``doing`` is told each phase (for the isolated worker)."""
     parameters = dict(parameters or {})
     with FMU(fmu_path, versions=ALL_FMI_VERSIONS) as fmu:
         md = fmu.description
@@ -189,14 +208,32 @@ def linearize(fmu_path: str | Path, parameters: dict | None = None, inputs: dict
                            "differences (method 'auto' or 'finite-differences')")
         use_dd = method == "directional" or (method == "auto" and provided)
         structure = _Structure.of(fmu)
+        prefix = fmu.fmi_version[:1]
+        doing(f"fmi{prefix}Instantiate and the initialization")
         point = _Point(fmu, {**parameters, **(inputs or {})})
         try:
-            return _jacobians(fmu, md, point, use_dd, parameters, structure)
+            doing("the Jacobians (" + ("directional derivatives" if use_dd else "finite differences of "
+                                       f"fmi{prefix}GetDerivatives") + ")")
+            return _finite_matrices(fmu_path, _jacobians(fmu, md, point, use_dd, parameters, structure))
         except FMICallException as exc:  # an FMI call refused at the operating point
             point.fail(exc)
             raise SimulationError(f"{fmu_path}: linearization failed: {point.said(exc)}") from None
         finally:
             point.close()
+
+
+def _finite_matrices(fmu_path, lin: Linearization) -> Linearization:
+    """``lin`` if A, B, C and D are finite, else the first non-finite entry named."""
+    rows = {"A": lin.states, "B": lin.states, "C": lin.outputs, "D": lin.outputs}
+    columns = {"A": lin.states, "B": lin.inputs, "C": lin.states, "D": lin.inputs}
+    for name in "ABCD":
+        matrix = np.asarray(getattr(lin, name), float)
+        bad = np.argwhere(~np.isfinite(matrix))
+        if len(bad):
+            i, j = bad[0]
+            raise SimulationError(f"{fmu_path}: linearization failed: {name}[{i}, {j}] (d {rows[name][i]} / "
+                                  f"d {columns[name][j]}) is {matrix[i, j]} at the operating point")
+    return lin
 
 
 #: The variable types that are linearized (FMI 2 ``Real``, FMI 3 ``Float64``); inputs and outputs
@@ -910,7 +947,8 @@ class _FastPoint:
 
 
 def linearize_speeds(fmu_path: str | Path, speeds, parameters: dict | None = None, inputs: dict | None = None,
-                     lock_hinge: bool = False) -> SpeedSweep:
+                     lock_hinge: bool = False, isolate: bool | None = None,
+                     timeout: float | None = DEFAULT_TIMEOUT) -> SpeedSweep:
     """Linearize an FMU at each forward speed of ``speeds``: one Model Exchange instance,
     re-initialized per speed, exact directional derivatives; the lateral reduction
     (:func:`steady_motion`) of the nonlinear bicycles for all speeds in one vectorized pass.
@@ -930,6 +968,8 @@ def linearize_speeds(fmu_path: str | Path, speeds, parameters: dict | None = Non
         Operating-point input values [SI] (default: their start values).
     lock_hinge : bool
         WhippleRider: lock the rider's hinge in the reduction (see :func:`steady_motion`).
+    isolate, timeout
+        As for :func:`linearize`.
 
     Returns
     -------
@@ -949,6 +989,11 @@ def linearize_speeds(fmu_path: str | Path, speeds, parameters: dict | None = Non
     NotSteadyMotion
         ``lock_hinge`` for a model without the rider hinge.
     """
+    if isolate is None:
+        isolate = can_isolate() and not built_here(fmu_path)
+    if isolate:
+        return run_isolated(lambda worker: linearize_speeds(fmu_path, speeds, parameters, inputs, lock_hinge, False),
+                            what=str(fmu_path), timeout=timeout)
     from cosim.fmu.parameters import declarations, forward_speed, starts
 
     parameters = dict(parameters or {})

@@ -16,16 +16,20 @@ What the command promises (see ``cosim simulate --help``):
 """
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
 import math
+import os
 import re
 import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
 
 from cosim.errors import InputDataError, ParameterError, SimulationError
+from cosim.fmu.isolation import DEFAULT_TIMEOUT, FMUProcessError, built_here, can_isolate, run_isolated
 from cosim.outputs import read_text_file
 from cosim.fmu.parameters import split_assignment
 
@@ -55,6 +59,9 @@ class IncompleteResult(SimulationError):
     def __init__(self, message: str, result, time: float | None, cause: str):
         super().__init__(message)
         self.result, self.time, self.cause = result, time, cause
+
+    def __reduce__(self):  # pickled from an isolated worker with its rows
+        return type(self), (str(self), self.result, self.time, self.cause)
 
 
 def _variables(fmu: Path):
@@ -216,25 +223,35 @@ def input_signals(fmu: Path, specs: list[str], start_time: float, stop_time: flo
 
 class _Progress:
     """A one-line progress bar on stderr for runs that take a while; keeps FMPy's recorder so
-    that the rows computed before a solver failure can be recovered."""
+    that the rows computed before a solver failure can be recovered, and in an isolated worker
+    sends each new row to the caller before the next step."""
 
-    def __init__(self, start: float, stop: float, enabled: bool):
+    def __init__(self, start: float, stop: float, enabled: bool, worker=None):
         self.start, self.stop, self.enabled, self.last = start, stop, enabled, -1
         self.recorder = None
+        self.worker, self.sent = worker, 0
+        self.stream = sys.stderr
 
     def __call__(self, time, recorder):
         self.recorder = recorder
+        if self.worker is not None:
+            if self.sent == 0:
+                self.worker.send("dtype", recorder.cols)
+            rows = recorder.rows
+            if len(rows) > self.sent:
+                self.worker.send("rows", rows[self.sent:])
+                self.sent = len(rows)
         if self.enabled and self.stop > self.start:
             percent = int(100 * (time - self.start) / (self.stop - self.start))
             if percent != self.last:
                 self.last = percent
                 bar = "#" * (percent // 4)
-                print(f"\r[{bar:<25}] {percent:3d}%  t = {time:.3g} s", end="", file=sys.stderr, flush=True)
+                print(f"\r[{bar:<25}] {percent:3d}%  t = {time:.3g} s", end="", file=self.stream, flush=True)
         return True
 
     def close(self):
         if self.enabled and self.last >= 0:
-            print(file=sys.stderr)
+            print(file=self.stream)
 
     def rows(self):
         """What the recorder holds (None if no step finished)."""
@@ -287,7 +304,7 @@ def check_run(md, stop_time: float | None, step: float | None, fmi_type: str, st
 def simulate(fmu: str | Path, stop_time: float | None = None, step: float | None = None, fmi_type: str = "cs",
              parameters: dict | None = None, inputs: np.ndarray | None = None, start_time: float | None = None,
              relative_tolerance: float | None = None, outputs: list[str] | None = None,
-             progress: bool = False) -> np.ndarray:
+             progress: bool = False, isolate: bool | None = None, timeout: float | None = DEFAULT_TIMEOUT) -> np.ndarray:
     """Simulate an FMU with FMPy and return the result as a structured array (column ``time`` first).
 
     Parameters
@@ -304,6 +321,13 @@ def simulate(fmu: str | Path, stop_time: float | None = None, step: float | None
         Start values by variable name.
     inputs : structured array, optional
         Input signals as built by :func:`input_signals`.
+    isolate : bool, optional
+        Run the FMU's binary in a guarded child process (:mod:`cosim.fmu.isolation`), so that a
+        crash, ``exit`` or hang of the binary ends the run with the rows computed so far instead
+        of ending this process. Default: for every FMU not built by this project.
+    timeout : float or None
+        With ``isolate``: longest time [s] the FMU may go without completing a step (default
+        :data:`~cosim.fmu.isolation.DEFAULT_TIMEOUT`); None: no limit.
 
     Raises
     ------
@@ -312,52 +336,174 @@ def simulate(fmu: str | Path, stop_time: float | None = None, step: float | None
     ParameterError
         Settings refused by :func:`check_run`.
     IncompleteResult
-        The solver failed part-way (or the FMU ended the run early); carries the rows up to the
-        failure and the cause.
+        The solver failed part-way, the FMU ended the run early, its process ended abnormally or
+        stopped answering, or an output turned non-finite; carries the rows up to the failure
+        and the cause.
     SimulationError
         The FMU failed before the first step (nothing computed).
     """
-    from fmpy import simulate_fmu
-
-    from cosim.fmu.access import ALL_FMI_VERSIONS, FMU, FMULog
+    from cosim.fmu.access import ALL_FMI_VERSIONS, FMU
 
     fmu = Path(fmu)
     handle = FMU(fmu, versions=ALL_FMI_VERSIONS)  # FMPy's simulate_fmu runs FMI 2 and FMI 3 alike
     md = handle.description
     t0, t1 = check_run(md, stop_time, step, fmi_type, start_time, parameters)
-    kind = "cs" if fmi_type == "cs" else "me"
-    if kind == "me":
-        _guard_cvode_cleanup()
-    log = FMULog()
-    instance = handle.instantiate(kind, name=md.modelName, log=log)
-    bar = _Progress(t0, t1, progress)
-    # The worst FMI status seen decides which calls the clean-up may still make; FMPy itself
-    # calls fmi2Terminate at the end of a run that succeeds.
-    state = {"status": 0, "terminated": False}
+    run = _Run(handle, t0, t1, step, "cs" if fmi_type == "cs" else "me", dict(parameters or {}), inputs,
+               relative_tolerance, outputs, progress)
+    if isolate is None:
+        isolate = can_isolate() and not built_here(fmu)
+    result = _run_isolated(run, timeout) if isolate else run(None)
+    return _finite(fmu, md, result, t1)
+
+
+class _Run:
+    """One simulation with FMPy, run here or in an isolated worker (``worker`` not None: rows and
+    the FMI call in progress are reported to the caller as they come)."""
+
+    def __init__(self, handle, t0, t1, step, kind, parameters, inputs, relative_tolerance, outputs, progress):
+        self.handle, self.t0, self.t1, self.step, self.kind = handle, t0, t1, step, kind
+        self.parameters, self.inputs, self.relative_tolerance = parameters, inputs, relative_tolerance
+        self.outputs, self.progress = outputs, progress
+        self.prefix = "fmi3" if handle.is_fmi3 else "fmi2"
+
+    def stepping(self) -> str:
+        """The calls between two rows."""
+        return f"{self.prefix}DoStep" if self.kind == "cs" else \
+            f"the integration ({self.prefix}GetDerivatives and the other calls of CVode)"
+
+    def __call__(self, worker) -> np.ndarray:
+        from fmpy import simulate_fmu
+
+        from cosim.fmu.access import FMULog
+
+        handle, md, fmu, t1 = self.handle, self.handle.description, self.handle.path, self.t1
+        if self.kind == "me":
+            _guard_cvode_cleanup()
+        log = FMULog()
+        if worker is not None:
+            worker.doing(f"{self.prefix}Instantiate")
+        instance = handle.instantiate(self.kind, name=md.modelName, log=log)
+        bar = _Progress(self.t0, t1, self.progress, worker)
+        if worker is not None:
+            worker.doing(f"the initialization ({self.prefix}EnterInitializationMode .. ExitInitializationMode)")
+            _report_after(instance, "exitInitializationMode", lambda: worker.doing(self.stepping()))
+        # The worst FMI status seen decides which calls the clean-up may still make; FMPy itself
+        # calls fmi2Terminate at the end of a run that succeeds.
+        state = {"status": 0, "terminated": False}
+        quiet = _solver_output_hidden(bar) if self.kind == "me" else contextlib.nullcontext()
+        try:
+            with quiet:
+                result = simulate_fmu(
+                    handle.unzipdir, start_time=self.t0, stop_time=t1, output_interval=self.step,
+                    fmi_type="CoSimulation" if self.kind == "cs" else "ModelExchange",
+                    start_values=self.parameters, input=self.inputs, relative_tolerance=self.relative_tolerance,
+                    output=self.outputs, step_finished=bar, validate=False, model_description=md,
+                    fmu_instance=instance,
+                )
+            state["terminated"] = True
+        except Exception as exc:  # FMPy raises FMICallException, RuntimeError (CVode), bare Exception
+            state["status"] = int(getattr(exc, "status", 0) or 0)
+            raise _failure(fmu, md, exc, log, bar.rows(), t1) from None
+        finally:
+            bar.close()
+            if worker is not None:
+                worker.doing(f"the clean-up ({self.prefix}Terminate, {self.prefix}FreeInstance)")
+            _release(instance, state["status"], state["terminated"])
+        result = np.asarray(result)
+        if result.size and result["time"][-1] < t1 - 1e-9 * max(1.0, abs(t1)):
+            # The FMU ended the run itself (fmi2Discard + fmi2Terminated): FMPy returns what it has.
+            said = log.last_error()
+            cause = _cause(md, result)
+            text = f"{cause} (solver: {_first_clause(said)})" if cause and said else \
+                cause or said or "the FMU ended the run early"
+            raise IncompleteResult(f"{fmu}: the simulation stopped at t = {result['time'][-1]:.6g} s of "
+                                   f"{t1:g} s: {text}", result, float(result["time"][-1]), cause or text)
+        return result
+
+
+@contextlib.contextmanager
+def _solver_output_hidden(bar: "_Progress"):
+    """Keep CVode's own printing off the terminal while it integrates: SUNDIALS writes warnings to
+    the C stdout and errors to the C stderr, and an FMU call refused inside FMPy's right-hand-side
+    callback raises in a ctypes callback, which Python prints as a traceback each time CVode
+    retries. The failure still ends the run with one message (CVode's error is in the exception
+    FMPy raises). The progress bar keeps the real stderr."""
+    for stream in (sys.stdout, sys.stderr):
+        stream.flush()
+    saved = {fd: os.dup(fd) for fd in (1, 2)}
+    previous_hook = sys.unraisablehook
+    stream = bar.stream
     try:
-        result = simulate_fmu(
-            handle.unzipdir, start_time=t0, stop_time=t1, output_interval=step,
-            fmi_type="CoSimulation" if kind == "cs" else "ModelExchange",
-            start_values=dict(parameters or {}), input=inputs, relative_tolerance=relative_tolerance,
-            output=outputs, step_finished=bar, validate=False, model_description=md, fmu_instance=instance,
-        )
-        state["terminated"] = True
-    except Exception as exc:  # FMPy raises FMICallException, RuntimeError (CVode), bare Exception
-        state["status"] = int(getattr(exc, "status", 0) or 0)
-        raise _failure(fmu, md, exc, log, bar.rows(), t1) from None
+        with tempfile.TemporaryFile() as sink:
+            for fd in saved:
+                os.dup2(sink.fileno(), fd)
+            sys.unraisablehook = lambda unraisable: None
+            bar.stream = os.fdopen(os.dup(saved[2]), "w")
+            try:
+                yield
+            finally:
+                bar.stream.close()
+                bar.stream = stream
     finally:
-        bar.close()
-        _release(instance, state["status"], state["terminated"])
-    result = np.asarray(result)
-    if result.size and result["time"][-1] < t1 - 1e-9 * max(1.0, abs(t1)):
-        # The FMU ended the run itself (fmi2Discard + fmi2Terminated): FMPy returns what it has.
-        said = log.last_error()
-        cause = _cause(md, result)
-        text = f"{cause} (solver: {_first_clause(said)})" if cause and said else \
-            cause or said or "the FMU ended the run early"
-        raise IncompleteResult(f"{fmu}: the simulation stopped at t = {result['time'][-1]:.6g} s of "
-                               f"{t1:g} s: {text}", result, float(result["time"][-1]), cause or text)
-    return result
+        sys.unraisablehook = previous_hook
+        for fd, copy in saved.items():
+            os.dup2(copy, fd)
+            os.close(copy)
+
+
+def _report_after(instance, method: str, report) -> None:
+    """Call ``report()`` after each return of ``instance.method`` (FMPy calls it by attribute)."""
+    call = getattr(instance, method)
+
+    def reported(*args, **kwargs):
+        value = call(*args, **kwargs)
+        report()
+        return value
+
+    setattr(instance, method, reported)
+
+
+def _run_isolated(run: _Run, timeout: float | None) -> np.ndarray:
+    """``run`` in a guarded worker process; a fault of the binary keeps the rows it streamed."""
+    received: dict = {"dtype": None, "rows": []}
+
+    def on_message(kind, payload):
+        if kind == "dtype":
+            received["dtype"] = payload
+        elif kind == "rows":
+            received["rows"].extend(payload)
+
+    fmu, md = run.handle.path, run.handle.description
+    try:
+        return run_isolated(run, what=str(fmu), timeout=timeout, on_message=on_message)
+    except FMUProcessError as exc:
+        rows = np.array(received["rows"], dtype=np.dtype(received["dtype"])) if received["dtype"] else None
+        stepping = exc.doing == run.stepping()
+        if rows is None or len(rows) == 0:
+            raise SimulationError(f"{fmu}: simulation failed before the first step: the FMU {exc.what} "
+                                  f"during {exc.doing}") from None
+        last = float(rows["time"][-1])
+        during = f"{exc.doing} from t = {last:.6g} s" if stepping else exc.doing
+        cause = f"the FMU {exc.what} during {during}"
+        raise IncompleteResult(f"{fmu}: {cause}", rows, last, cause) from None
+
+
+def _finite(fmu: Path, md, result: np.ndarray, t1: float) -> np.ndarray:
+    """``result`` if every recorded value is finite; else the rows before the first non-finite one
+    as an IncompleteResult naming the variable and the time."""
+    names = [n for n in result.dtype.names if n != "time"]
+    if not names or not len(result):
+        return result
+    table = np.column_stack([result[n] for n in names])
+    bad = ~np.isfinite(table)
+    if not bad.any():
+        return result
+    row, column = np.argwhere(bad)[0]
+    when = float(result["time"][row])
+    cause = f"output {names[column]} is {table[row, column]} at t = {when:.6g} s"
+    rows = result[:row]
+    raise IncompleteResult(f"{fmu}: the simulation stopped at t = {when:.6g} s of {t1:g} s: {cause}", rows,
+                           when, cause)
 
 
 def _guard_cvode_cleanup() -> None:

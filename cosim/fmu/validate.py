@@ -16,31 +16,27 @@ Dynamic checks: :data:`cosim.fmu.validate_checks.CHECKS` (token, state machine, 
 derivatives against central differences, FMU state round trips, FMI 3 ``fmi3DoStep`` out-arguments,
 short ME and CS runs), with their criteria and tolerances documented there.
 
-A crash of the binary does not end ``cosim validate``: the dynamic checks run in a forked child
-process, which reports each check's findings through a pipe as soon as the check ends. If the child
-dies by a signal (or exits) inside a check, that check gets the problem "the binary crashed (SIGSEGV)
-in <the call it was making>" and a new child continues with the next check; a check that does not
-answer within :data:`CHECK_TIMEOUT` s is ended (SIGKILL) and reported the same way. Without
-``os.fork`` (Windows) the checks run in this process, unprotected.
+A crash of the binary does not end ``cosim validate``: the dynamic checks run in a guarded child
+process (:mod:`cosim.fmu.isolation`), which reports each check's findings as soon as the check
+ends. If the child dies by a signal (or exits, or kills its parent) inside a check, that check gets
+the problem "the binary crashed (SIGSEGV) in <the call it was making>" and a new child continues
+with the next check; a check that does not answer within :data:`CHECK_TIMEOUT` s is stopped and
+reported the same way. Without ``os.fork`` (Windows) the checks run in this process, unprotected.
 """
 from __future__ import annotations
 
-import json
 import os
-import select
-import signal
-import time
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from cosim.compiler.fmu import MANIFEST
 from cosim.fmu.access import ALL_FMI_VERSIONS, FMU
+from cosim.fmu.isolation import FMUProcessError, Worker, run_isolated
 from cosim.fmu.validate_checks import CHECKS, Check, Session, run_check
 
 #: Longest time one dynamic check may take [s] before its process is ended (a binary that hangs).
-CHECK_TIMEOUT = 120.0
-_CHILD_FAILED = 70  # exit status of a child whose own (Python) code failed, not the binary
+CHECK_TIMEOUT = 60.0
 
 
 @dataclass
@@ -124,103 +120,54 @@ STATIC_CHECKS = (("fmpy", _fmpy_problems), ("archive", _archive_problems), ("bin
 
 # -- the dynamic checks in a child process ------------------------------------------------------
 
-def _child(session: Session, checks: tuple[Check, ...], start: int, fd: int) -> None:
-    """Run ``checks[start:]``, writing one JSON line per event to ``fd``."""
-    out = os.fdopen(fd, "w", buffering=1)
-
-    def send(message: dict) -> None:
-        out.write(json.dumps(message) + "\n")
-        out.flush()
-
-    # The FMU's own prints (printf, FMPy's default messages) are not validate's output, nor is a
-    # fault handler's dump of this child's Python stack (pytest enables one) when the binary crashes.
-    import faulthandler
-
-    faulthandler.disable()
+def _checks_from(session: Session, checks: tuple[Check, ...], start: int, worker: Worker) -> None:
+    """In the worker: run ``checks[start:]``, reporting the start and findings of each."""
+    # The FMU's own prints (printf, FMPy's default messages) are not validate's output.
     devnull = os.open(os.devnull, os.O_WRONLY)
     os.dup2(devnull, 1)
     os.dup2(devnull, 2)
     for index in range(start, len(checks)):
-        send({"start": index})
-        findings = run_check(checks[index], session, progress=lambda text: send({"doing": text}))
-        send({"done": index, "problems": findings.problems, "skipped": findings.skipped,
-              "stop": findings.stop_reason})
+        worker.send("start", index)
+        findings = run_check(checks[index], session, progress=worker.doing)
+        worker.send("done", {"index": index, "problems": findings.problems, "skipped": findings.skipped,
+                             "stop": findings.stop_reason})
         if findings.stop_reason:
             break
-    out.close()
-
-
-def _ended(status: int) -> str:
-    if os.WIFSIGNALED(status):
-        number = os.WTERMSIG(status)
-        try:
-            name = signal.Signals(number).name
-        except ValueError:
-            name = f"signal {number}"
-        return f"the binary crashed ({name})"
-    if os.WEXITSTATUS(status) == _CHILD_FAILED:
-        return "internal error of cosim validate (the check's process failed)"
-    return f"the process running the check exited (status {os.WEXITSTATUS(status)}: the binary called exit?)"
 
 
 def _run_isolated(session: Session, checks: tuple[Check, ...], report: ValidationReport,
                   timeout: float = CHECK_TIMEOUT) -> None:
-    """Run the checks in forked children: one child runs them all unless one crashes or hangs; then
-    that check gets the problem and a new child goes on with the next one."""
+    """Run the checks in guarded child processes (:func:`cosim.fmu.isolation.run_isolated`): one
+    runs them all unless one crashes; then that check gets the problem and a new child goes on
+    with the next one; so does a check that does not answer within ``timeout`` s (stopped)."""
     start = 0
     while start < len(checks):
-        read, write = os.pipe()
-        pid = os.fork()
-        if pid == 0:  # the child: never returns into the caller's code
-            code = 0
-            try:
-                os.close(read)
-                _child(session, checks, start, write)
-            except BaseException:
-                code = _CHILD_FAILED
-            finally:
-                os._exit(code)
-        os.close(write)
-        current, doing, buffer = None, "", b""
-        deadline = time.monotonic() + timeout
-        timed_out = False
-        with os.fdopen(read, "rb", buffering=0) as pipe:
-            while True:
-                ready, _, _ = select.select([pipe], [], [], max(0.0, deadline - time.monotonic()))
-                if not ready:
-                    timed_out = True
-                    os.kill(pid, signal.SIGKILL)
-                    break
-                chunk = pipe.read(65536)
-                if not chunk:
-                    break
-                buffer += chunk
-                *lines, buffer = buffer.split(b"\n")
-                for line in lines:
-                    message = json.loads(line)
-                    if "start" in message:
-                        current, doing = message["start"], ""
-                        deadline = time.monotonic() + timeout
-                    elif "doing" in message:
-                        doing = message["doing"]
-                    else:
-                        report.add(checks[message["done"]].name, message["problems"], message["skipped"])
-                        current = None
-                        start = message["done"] + 1
-                        if message["stop"]:
-                            _skip_rest(checks[start:], message["stop"], report)
-                            start = len(checks)
-        _, status = os.waitpid(pid, 0)
-        if current is None and start >= len(checks):
+        current = {"index": None}
+
+        def on_message(kind, payload):
+            nonlocal start
+            if kind == "start":
+                current["index"] = payload
+            elif kind == "done":
+                report.add(checks[payload["index"]].name, payload["problems"], payload["skipped"])
+                current["index"] = None
+                start = payload["index"] + 1
+                if payload["stop"]:
+                    _skip_rest(checks[start:], payload["stop"], report)
+                    start = len(checks)
+
+        try:
+            run_isolated(lambda worker: _checks_from(session, checks, start, worker), what=str(session.fmu.path),
+                         timeout=None if timeout == float("inf") else timeout, on_message=on_message)
             return
-        failed = current if current is not None else start
-        during = f" in {doing}" if doing else ""
-        if timed_out:
-            why = f"no answer within {timeout:g} s{during}; the check was stopped"
-        else:
-            why = _ended(status) + during
-        report.add(checks[failed].name, [why])
-        start = failed + 1
+        except FMUProcessError as exc:
+            failed = current["index"] if current["index"] is not None else start
+            during = f" in {exc.doing}" if exc.doing and exc.doing != "loading the binary" else ""
+            if exc.what.startswith("gave no answer"):
+                report.add(checks[failed].name, [f"no answer within {timeout:g} s{during}; the check was stopped"])
+            else:
+                report.add(checks[failed].name, [f"the binary {exc.what}{during}"])
+            start = failed + 1
 
 
 def _skip_rest(checks, reason: str, report: ValidationReport) -> None:
