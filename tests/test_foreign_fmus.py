@@ -213,3 +213,19 @@ def test_no_worker_outlives_the_command(folder):
             pass
     assert left == [], left
 
+
+
+def test_fmi3_crash_in_do_step_keeps_the_rows(folder):
+    """The same for an FMI 3.0 FMU: the Reference FMU VanDerPol with a segfault in fmi3DoStep."""
+    from reference_fmus import reference_fmu
+
+    crash = ("    ASSERT_STATE(DoStep);\n",
+             "    ASSERT_STATE(DoStep);\n"
+             "    if (currentCommunicationPoint >= 0.5) { volatile int *volatile p = 0; *p = 1; }\n")
+    fmu = reference_fmu("VanDerPol", folder / "fmi3", edits={"fmi3Functions.c": [crash]}, fmu_name="crashing")
+    out = folder / "vdp.csv"
+    status, _, stderr = cosim(["simulate", fmu, "--stop-time", "1", "--step", "0.1", "-o", out], folder, False)
+    assert status == 4
+    one_error_line(stderr, status, "crashed (SIGSEGV) during fmi3DoStep from t = 0.5 s")
+    kept = read_rows(out.with_name(out.stem + ".incomplete.csv"))
+    assert len(kept) == 6 and kept[-1, 0] == 0.5
