@@ -322,13 +322,15 @@ def _write_incomplete(exc, output: Path, plot_path: str | None, title: str, verb
 
 def _cmd_simulate(args) -> int:
     from cosim.fmu.access import ALL_FMI_VERSIONS, read_fmu
-    from cosim.fmu.parameters import from_command_line
+    from cosim.fmu.parameters import declarations, from_command_line
     from cosim.fmu.simulate import IncompleteResult, check_run, input_signals, plot, simulate, write_result
-    from cosim.fmu.target import resolve_fmu
+    from cosim.fmu.target import is_fmu_path, resolve_fmu
 
+    # a model first: an unknown one is named before its result file; an FMU is read for --param only
+    declared = None if is_fmu_path(args.target) else declarations(args.target)
     output = Path(args.output) if args.output else _default_result(args.target)
     _check_outputs(output, args.plot)  # before any build or run
-    params = from_command_line(args.target, args.param, parameter_set=args.params)
+    params = from_command_line(args.target, args.param, parameter_set=args.params, declared=declared)
     check_run(None, args.stop_time, args.step, args.fmi_type, parameters=params)
     fmu = resolve_fmu(args.target, versions=ALL_FMI_VERSIONS)  # FMI 2.0 and 3.0 (FMPy runs both)
     md = read_fmu(fmu, ALL_FMI_VERSIONS)
@@ -348,12 +350,13 @@ def _cmd_simulate(args) -> int:
     return EXIT_OK
 
 
-def _operating_point(target: str, assignments: list[str]) -> dict:
-    """``--input NAME=VALUE`` of linearize: input values of the operating point."""
+def _operating_point(target: str, assignments: list[str], declared: dict | None = None) -> dict:
+    """``--input NAME=VALUE`` of linearize: input values of the operating point (``declared``:
+    the target's declarations, read if not given)."""
     from cosim.fmu.parameters import declarations, split_assignment
     from cosim.fmu.simulate import finite_number
 
-    declared = declarations(target)
+    declared = declarations(target) if declared is None else declared
     inputs = {}
     for text in assignments:
         name, raw = split_assignment(text, "--input")
@@ -368,7 +371,7 @@ def _operating_point(target: str, assignments: list[str]) -> dict:
 def _cmd_linearize(args) -> int:
     from cosim.fmu.access import ALL_FMI_VERSIONS
     from cosim.fmu.linearize import NotSteadyMotion, is_bicycle, linearize, steady_motion
-    from cosim.fmu.parameters import from_command_line
+    from cosim.fmu.parameters import declarations, from_command_line
     from cosim.fmu.target import resolve_fmu
 
     if args.speeds is not None:
@@ -377,9 +380,11 @@ def _cmd_linearize(args) -> int:
         return _linearize_sweep(args)
     if args.matrices:
         raise ParameterError("--matrices applies to a sweep (--speeds) only; the single-speed output has them")
+    declared = declarations(args.target)  # a model's are those of its FMU: checked before it is built
     params = from_command_line(args.target, args.param, parameter_set=args.params, speed=args.speed,
-                               input_hint="give its operating-point value with --input {name}=VALUE")
-    inputs = _operating_point(args.target, args.input)
+                               input_hint="give its operating-point value with --input {name}=VALUE",
+                               declared=declared)
+    inputs = _operating_point(args.target, args.input, declared)
     result = linearize(resolve_fmu(args.target, versions=ALL_FMI_VERSIONS), params, inputs or None)
     steady = note = None
     if is_bicycle(result):  # a nonlinear bicycle: its exact lateral linearization (see the help)
@@ -433,20 +438,21 @@ def _linearize_sweep(args) -> int:
     speeds = parse_speeds(args.speeds)
     if not speeds:
         raise ParameterError(f"--speeds {args.speeds}: no speeds")
-    fmu = resolve_fmu(args.target, versions=ALL_FMI_VERSIONS)
-    declared = declarations(str(fmu))
-    fs = forward_speed(str(fmu), declared)
+    declared = declarations(args.target)  # a model's are those of its FMU: checked before it is built
+    fs = forward_speed(args.target, declared)
     hint = "give its operating-point value with --input {name}=VALUE"
-    params = from_command_line(str(fmu), args.param, parameter_set=args.params, input_hint=hint, declared=declared)
+    params = from_command_line(args.target, args.param, parameter_set=args.params, input_hint=hint,
+                               declared=declared)
     for v in (min(speeds), max(speeds)):  # the speeds' declared bounds (an interval: the extremes decide)
         try:
-            from_command_line(str(fmu), args.param, parameter_set=args.params, input_hint=hint, speed=v,
+            from_command_line(args.target, args.param, parameter_set=args.params, input_hint=hint, speed=v,
                               declared=declared, report=lambda message: None)
         except ParameterError as exc:
             raise ParameterError(f"--speeds {args.speeds}: {exc}") from None
     if fs.parameter in params:
         raise ParameterError(f"--param {fs.parameter}: the speed parameter is set by --speeds")
-    inputs = _operating_point(str(fmu), args.input) if args.input else {}
+    inputs = _operating_point(args.target, args.input, declared) if args.input else {}
+    fmu = resolve_fmu(args.target, versions=ALL_FMI_VERSIONS)
     try:
         sweep = linearize_speeds(fmu, speeds, params, inputs or None, lock_hinge=args.lock_hinge)
     except NotSteadyMotion as exc:
