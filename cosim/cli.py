@@ -47,17 +47,22 @@ exit status:
 FMU_FOLDER = """\
 where FMUs go: commands given a model name build it first (incrementally) into ./fmus of the
 working directory, or into the folder named by the environment variable COSIM_FMU_DIR; the
-Modelica library ships with the package (--library DIR or COSIM_MODELICA_PATH name another)."""
+Modelica library ships with the package (--library DIR or COSIM_MODELICA_PATH add folders of your
+own packages, searched before it)."""
 
-ENVIRONMENT = """\
+ENVIRONMENT = f"""\
 environment variables:
   COSIM_FMU_DIR        folder where model names are built to FMUs (default: ./fmus)
-  COSIM_MODELICA_PATH  Modelica library folder used to resolve model names (default: the one
-                       shipped with the package); --library DIR of a command overrides it
+  COSIM_MODELICA_PATH  folders of your own Modelica packages (several separated by '{os.pathsep}'),
+                       searched in order before the library shipped with the package, which
+                       is always searched last; a top-level package is taken from the first
+                       folder that holds it (as MODELICAPATH: your own Bicycle package hides
+                       the shipped one); --library DIR of a command takes its place
   COSIM_DEBUG          1: an internal error prints its traceback (default: one line)
   XDG_CACHE_HOME       cache folder (default: ~/.cache): pymoca's parse cache and the library
                        index cosim/library-index-*.json (what `list` and `info MODEL` print,
-                       rebuilt when a .mo file or the compiler changes; safe to delete)"""
+                       and the parameters each model's FMU declares; rebuilt when a .mo file
+                       of any library folder or the compiler changes; safe to delete)"""
 
 RESULTS = """\
 results: -o NAME.csv writes CSV (a header row, then one row per output time); -o NAME.npy a
@@ -288,9 +293,16 @@ def _default_result(target: str, suffix: str = ".csv") -> Path:
 
     if is_fmu_path(target):
         return Path(Path(target).stem + suffix)
-    from cosim.compiler.description import model_identifier
-
-    return Path(model_identifier(target) + suffix)
+    name = target.replace(".", "_") + suffix  # as cosim.compiler.description.model_identifier
+    try:
+        limit = os.pathconf(".", "PC_NAME_MAX")
+    except (OSError, ValueError):
+        limit = 255
+    # the result is written to a temporary .NAME.partial-XXXXXXXX.csv first
+    if len(os.fsencode(name)) + 18 > limit:
+        raise ParameterError(f"the model name is too long for a result file named after it ({name[:40]}...): "
+                             "give one with -o FILE")
+    return Path(name)
 
 
 def _check_outputs(output: Path, plot_path: str | None) -> None:
@@ -606,18 +618,20 @@ LIBRARY_VARIABLE = "COSIM_MODELICA_PATH"
 def library_option(p: argparse.ArgumentParser) -> None:
     """``--library DIR`` of every verb that resolves model names (see :func:`use_library`)."""
     p.add_argument("--library", default=None, metavar="DIR",
-                   help=f"Modelica library folder that model names are resolved in (default: ${LIBRARY_VARIABLE}, "
-                        "else the library shipped with the package)")
+                   help=f"folder of your own Modelica packages (several: separated by '{os.pathsep}'), searched "
+                        "before the library shipped with the package, which model names always resolve in "
+                        f"too (default: ${LIBRARY_VARIABLE}); the first folder holding a top-level package wins")
 
 
 @contextlib.contextmanager
 def use_library(path: str | None):
-    """Resolve model names in the library at ``path`` while the command runs.
+    """Resolve model names in the folders ``path`` and the shipped library while the command runs.
 
-    The one place where ``--library`` takes effect: it becomes ``COSIM_MODELICA_PATH``, which
-    :func:`cosim.compiler.library.library_path` reads wherever a model is resolved (``build``,
-    ``resolve_fmu``, parameter declarations, system files, matrix builds and worker processes).
-    The variable is restored afterwards, so an in-process caller of :func:`main` sees no change.
+    The one place where ``--library`` takes effect: its folders (and the shipped library, last)
+    become ``COSIM_MODELICA_PATH``, which :func:`cosim.compiler.library.library_paths` reads
+    wherever a model is resolved (``build``, ``resolve_fmu``, parameter declarations, system
+    files, matrix builds and worker processes). The variable is restored afterwards, so an
+    in-process caller of :func:`main` sees no change.
 
     Raises
     ------
