@@ -51,17 +51,22 @@ exit status:
 FMU_FOLDER = """\
 where FMUs go: commands given a model name build it first (incrementally) into ./fmus of the
 working directory, or into the folder named by the environment variable COSIM_FMU_DIR; the
-Modelica library ships with the package (--library DIR or COSIM_MODELICA_PATH name another)."""
+Modelica library ships with the package (--library DIR or COSIM_MODELICA_PATH add folders of your
+own packages, searched before it)."""
 
-ENVIRONMENT = """\
+ENVIRONMENT = f"""\
 environment variables:
   COSIM_FMU_DIR        folder where model names are built to FMUs (default: ./fmus)
-  COSIM_MODELICA_PATH  Modelica library folder used to resolve model names (default: the one
-                       shipped with the package); --library DIR of a command overrides it
+  COSIM_MODELICA_PATH  folders of your own Modelica packages (several separated by '{os.pathsep}'),
+                       searched in order before the library shipped with the package, which
+                       is always searched last; a top-level package is taken from the first
+                       folder that holds it (as MODELICAPATH: your own Bicycle package hides
+                       the shipped one); --library DIR of a command takes its place
   COSIM_DEBUG          1: an internal error prints its traceback (default: one line)
   XDG_CACHE_HOME       cache folder (default: ~/.cache): pymoca's parse cache and the library
                        index cosim/library-index-*.json (what `list` and `info MODEL` print,
-                       rebuilt when a .mo file or the compiler changes; safe to delete)"""
+                       and the parameters each model's FMU declares; rebuilt when a .mo file
+                       of any library folder or the compiler changes; safe to delete)"""
 
 RESULTS = """\
 results: -o NAME.csv writes CSV (a header row, then one row per output time); -o NAME.npy a
@@ -311,9 +316,16 @@ def _default_result(target: str, suffix: str = ".csv") -> Path:
 
     if is_fmu_path(target):
         return Path(Path(target).stem + suffix)
-    from cosim.compiler.description import model_identifier
-
-    return Path(model_identifier(target) + suffix)
+    name = target.replace(".", "_") + suffix  # as cosim.compiler.description.model_identifier
+    try:
+        limit = os.pathconf(".", "PC_NAME_MAX")
+    except (OSError, ValueError):
+        limit = 255
+    # the result is written to a temporary .NAME.partial-XXXXXXXX.csv first
+    if len(os.fsencode(name)) + 18 > limit:
+        raise ParameterError(f"the model name is too long for a result file named after it ({name[:40]}...): "
+                             "give one with -o FILE")
+    return Path(name)
 
 
 def _check_outputs(output: Path, plot_path: str | None) -> None:
@@ -345,13 +357,15 @@ def _write_incomplete(exc, output: Path, plot_path: str | None, title: str, verb
 
 def _cmd_simulate(args) -> int:
     from cosim.fmu.access import ALL_FMI_VERSIONS, read_fmu
-    from cosim.fmu.parameters import from_command_line
+    from cosim.fmu.parameters import declarations, from_command_line
     from cosim.fmu.simulate import IncompleteResult, check_run, input_signals, plot, simulate, write_result
-    from cosim.fmu.target import resolve_fmu
+    from cosim.fmu.target import is_fmu_path, resolve_fmu
 
+    # a model first: an unknown one is named before its result file; an FMU is read for --param only
+    declared = None if is_fmu_path(args.target) else declarations(args.target)
     output = Path(args.output) if args.output else _default_result(args.target)
     _check_outputs(output, args.plot)  # before any build or run
-    params = from_command_line(args.target, args.param, parameter_set=args.params)
+    params = from_command_line(args.target, args.param, parameter_set=args.params, declared=declared)
     check_run(None, args.stop_time, args.step, args.fmi_type, parameters=params)
     fmu = resolve_fmu(args.target, versions=ALL_FMI_VERSIONS)  # FMI 2.0 and 3.0 (FMPy runs both)
     md = read_fmu(fmu, ALL_FMI_VERSIONS)
@@ -371,12 +385,13 @@ def _cmd_simulate(args) -> int:
     return EXIT_OK
 
 
-def _operating_point(target: str, assignments: list[str]) -> dict:
-    """``--input NAME=VALUE`` of linearize: input values of the operating point."""
+def _operating_point(target: str, assignments: list[str], declared: dict | None = None) -> dict:
+    """``--input NAME=VALUE`` of linearize: input values of the operating point (``declared``:
+    the target's declarations, read if not given)."""
     from cosim.fmu.parameters import declarations, split_assignment
     from cosim.fmu.simulate import finite_number
 
-    declared = declarations(target)
+    declared = declarations(target) if declared is None else declared
     inputs = {}
     for text in assignments:
         name, raw = split_assignment(text, "--input")
@@ -391,7 +406,7 @@ def _operating_point(target: str, assignments: list[str]) -> dict:
 def _cmd_linearize(args) -> int:
     from cosim.fmu.access import ALL_FMI_VERSIONS
     from cosim.fmu.linearize import NotSteadyMotion, is_bicycle, linearize, steady_motion
-    from cosim.fmu.parameters import from_command_line
+    from cosim.fmu.parameters import declarations, from_command_line
     from cosim.fmu.target import resolve_fmu
 
     if args.speeds is not None:
@@ -400,9 +415,11 @@ def _cmd_linearize(args) -> int:
         return _linearize_sweep(args)
     if args.matrices:
         raise ParameterError("--matrices applies to a sweep (--speeds) only; the single-speed output has them")
+    declared = declarations(args.target)  # a model's are those of its FMU: checked before it is built
     params = from_command_line(args.target, args.param, parameter_set=args.params, speed=args.speed,
-                               input_hint="give its operating-point value with --input {name}=VALUE")
-    inputs = _operating_point(args.target, args.input)
+                               input_hint="give its operating-point value with --input {name}=VALUE",
+                               declared=declared)
+    inputs = _operating_point(args.target, args.input, declared)
     result = linearize(resolve_fmu(args.target, versions=ALL_FMI_VERSIONS), params, inputs or None,
                        timeout=args.timeout)
     steady = note = None
@@ -457,20 +474,21 @@ def _linearize_sweep(args) -> int:
     speeds = parse_speeds(args.speeds)
     if not speeds:
         raise ParameterError(f"--speeds {args.speeds}: no speeds")
-    fmu = resolve_fmu(args.target, versions=ALL_FMI_VERSIONS)
-    declared = declarations(str(fmu))
-    fs = forward_speed(str(fmu), declared)
+    declared = declarations(args.target)  # a model's are those of its FMU: checked before it is built
+    fs = forward_speed(args.target, declared)
     hint = "give its operating-point value with --input {name}=VALUE"
-    params = from_command_line(str(fmu), args.param, parameter_set=args.params, input_hint=hint, declared=declared)
+    params = from_command_line(args.target, args.param, parameter_set=args.params, input_hint=hint,
+                               declared=declared)
     for v in (min(speeds), max(speeds)):  # the speeds' declared bounds (an interval: the extremes decide)
         try:
-            from_command_line(str(fmu), args.param, parameter_set=args.params, input_hint=hint, speed=v,
+            from_command_line(args.target, args.param, parameter_set=args.params, input_hint=hint, speed=v,
                               declared=declared, report=lambda message: None)
         except ParameterError as exc:
             raise ParameterError(f"--speeds {args.speeds}: {exc}") from None
     if fs.parameter in params:
         raise ParameterError(f"--param {fs.parameter}: the speed parameter is set by --speeds")
-    inputs = _operating_point(str(fmu), args.input) if args.input else {}
+    inputs = _operating_point(args.target, args.input, declared) if args.input else {}
+    fmu = resolve_fmu(args.target, versions=ALL_FMI_VERSIONS)
     try:
         sweep = linearize_speeds(fmu, speeds, params, inputs or None, lock_hinge=args.lock_hinge,
                                  timeout=args.timeout)
@@ -625,18 +643,20 @@ LIBRARY_VARIABLE = "COSIM_MODELICA_PATH"
 def library_option(p: argparse.ArgumentParser) -> None:
     """``--library DIR`` of every verb that resolves model names (see :func:`use_library`)."""
     p.add_argument("--library", default=None, metavar="DIR",
-                   help=f"Modelica library folder that model names are resolved in (default: ${LIBRARY_VARIABLE}, "
-                        "else the library shipped with the package)")
+                   help=f"folder of your own Modelica packages (several: separated by '{os.pathsep}'), searched "
+                        "before the library shipped with the package, which model names always resolve in "
+                        f"too (default: ${LIBRARY_VARIABLE}); the first folder holding a top-level package wins")
 
 
 @contextlib.contextmanager
 def use_library(path: str | None):
-    """Resolve model names in the library at ``path`` while the command runs.
+    """Resolve model names in the folders ``path`` and the shipped library while the command runs.
 
-    The one place where ``--library`` takes effect: it becomes ``COSIM_MODELICA_PATH``, which
-    :func:`cosim.compiler.library.library_path` reads wherever a model is resolved (``build``,
-    ``resolve_fmu``, parameter declarations, system files, matrix builds and worker processes).
-    The variable is restored afterwards, so an in-process caller of :func:`main` sees no change.
+    The one place where ``--library`` takes effect: its folders (and the shipped library, last)
+    become ``COSIM_MODELICA_PATH``, which :func:`cosim.compiler.library.library_paths` reads
+    wherever a model is resolved (``build``, ``resolve_fmu``, parameter declarations, system
+    files, matrix builds and worker processes). The variable is restored afterwards, so an
+    in-process caller of :func:`main` sees no change.
 
     Raises
     ------

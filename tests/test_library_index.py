@@ -1,4 +1,4 @@
-"""The library index (issue 14): `cosim list`, `cosim info MODEL` and the up-to-date check of a
+"""The library index: `cosim list`, `cosim info MODEL` and the up-to-date check of a
 built model answer without parsing the library (no pymoca, no CasADi imported), the index is
 rebuilt when a ``.mo`` file changes, a damaged index is ignored, and what the index answers is
 exactly what parsing answers.
@@ -67,9 +67,17 @@ sys.exit(main(sys.argv[1:]))
 """
 
 
+#: A package Bicycle of the test library: it hides the shipped one (the first folder holding a
+#: top-level package wins), so that these tests index their small library only, not the shipped
+#: library that is always searched after it.
+HIDE_SHIPPED = 'within;\npackage Bicycle "hides the shipped library"\nend Bicycle;\n'
+
+
 def small_library(tmp_path: Path, files: dict[str, str]) -> Path:
     package = tmp_path / "lib" / "Small"
     package.mkdir(parents=True)
+    (tmp_path / "lib" / "Bicycle").mkdir()
+    (tmp_path / "lib" / "Bicycle" / "package.mo").write_text(HIDE_SHIPPED, encoding="utf-8")
     (package / "package.mo").write_text(PACKAGE, encoding="utf-8")
     (package / "package.order").write_text("".join(f"{name}\n" for name in files), encoding="utf-8")
     for name, text in files.items():

@@ -1,15 +1,19 @@
-"""The variants shown in Bicycle.UsersGuide.Variants build as written and do what the guide says."""
+"""The recipe of Bicycle.UsersGuide.Variants works as printed: its package file, saved into a folder
+of one's own, builds and simulates with the commands printed there (``--library FOLDER`` adds the
+folder to the shipped library), and the variants do what the guide says."""
 from __future__ import annotations
 
 import html
 import re
+import shlex
 from pathlib import Path
 
 import pytest
 
-from conftest import variant_library
+from conftest import cli_in_process
 from cosim.analytic.parameters import load_parameters
-from cosim.compiler.build import build_model
+from cosim.compiler.build import DEFAULT_OUTPUT, build_model
+from cosim.compiler.library import Library
 
 ROOT = Path(__file__).resolve().parents[1]
 GUIDE = ROOT / "modelica" / "Bicycle" / "UsersGuide" / "Variants.mo"
@@ -17,19 +21,42 @@ GUIDE = ROOT / "modelica" / "Bicycle" / "UsersGuide" / "Variants.mo"
 pytestmark = pytest.mark.slow
 
 
-def _examples() -> dict[str, str]:
-    """Model name -> Modelica text of each <pre> block of the guide."""
+def _blocks() -> list[str]:
+    """The text of each <pre> block of the guide, as a reader sees it."""
     text = GUIDE.read_text().replace('\\"', '"')
-    blocks = [html.unescape(b).strip() for b in re.findall(r"<pre>(.*?)</pre>", text, re.S)]
-    return {re.match(r"model (\w+)", b).group(1): b for b in blocks}
+    return [html.unescape(b).strip() for b in re.findall(r"<pre>(.*?)</pre>", text, re.S)]
+
+
+def _package() -> tuple[str, str]:
+    """(package name, Modelica text of the file) of the guide's package block."""
+    block = next(b for b in _blocks() if b.startswith("package "))
+    return re.match(r"package (\w+)", block).group(1), block
+
+
+def _commands() -> list[list[str]]:
+    """The guide's ``cosim ...`` command lines, split into arguments (without ``cosim``)."""
+    block = next(b for b in _blocks() if b.startswith("cosim "))
+    return [shlex.split(line)[1:] for line in block.splitlines()]
 
 
 @pytest.fixture(scope="module")
-def built(tmp_path_factory):
-    examples = _examples()
-    library = variant_library(tmp_path_factory.mktemp("guide"), examples, package="GuideVariants")
-    out = tmp_path_factory.mktemp("fmus")
-    return {name: build_model(f"GuideVariants.{name}", out, library).fmu for name in examples}
+def folder(tmp_path_factory) -> Path:
+    """FOLDER of the guide, holding the package file the guide prints (``FOLDER/Mine.mo``)."""
+    name, text = _package()
+    where = tmp_path_factory.mktemp("guide")
+    file = re.search(r"<code>FOLDER/(\w+\.mo)</code>", GUIDE.read_text()).group(1)
+    assert file == f"{name}.mo"  # the file name the guide gives is the package's (Modelica's layout)
+    (where / file).write_text(text + "\n", encoding="utf-8")
+    return where
+
+
+@pytest.fixture(scope="module")
+def built(folder):
+    name, text = _package()
+    library = Library(folder)  # the shipped library is searched after the folder
+    models = re.findall(r"^  model (\w+)", text, re.M)
+    # into the session's COSIM_FMU_DIR, where the guide's commands find them up to date
+    return {m: build_model(f"{name}.{m}", DEFAULT_OUTPUT, library).fmu for m in models}
 
 
 def _start(fmu, name):
@@ -39,7 +66,25 @@ def _start(fmu, name):
 
 
 def test_guide_shows_the_two_variants():
-    assert set(_examples()) == {"WhippleRollerRear", "AstromBicycle"}
+    name, text = _package()
+    assert name == "Mine"
+    assert re.findall(r"^  model (\w+)", text, re.M) == ["WhippleRollerRear", "AstromBicycle"]
+    assert [c[:2] for c in _commands()] == [["build", "Mine.WhippleRollerRear"], ["simulate", "Mine.WhippleRollerRear"]]
+
+
+def test_commands_of_the_guide_build_and_simulate(folder, tmp_path):
+    """The printed commands, FOLDER replaced by the folder: the variant extends the shipped
+    Bicycle.Bicycles.Whipple, which is found after the user's folder."""
+    for args in _commands():
+        args = [str(folder) if a == "FOLDER" else a for a in args]
+        status, out, err = cli_in_process(args, tmp_path)
+        assert status == 0, (args, err)
+    assert (DEFAULT_OUTPUT / "Mine_WhippleRollerRear.fmu").is_file()  # the session's COSIM_FMU_DIR
+    rows = (tmp_path / "Mine_WhippleRollerRear.csv").read_text().splitlines()
+    header = rows[0].split(",")
+    phi = [float(r.split(",")[header.index("phi")]) for r in rows[1:]]
+    assert phi[0] == pytest.approx(0.05, abs=1e-12)  # --param phi0=0.05 of the guide took effect
+    assert len(phi) > 100
 
 
 def test_roller_variant_runs_on_the_crowned_roller(built):

@@ -192,7 +192,7 @@ def build_model(model_name: str, output: str | Path = DEFAULT_OUTPUT, library: L
     output : path, optional
         Folder of the FMU (default: ``$COSIM_FMU_DIR``, else ``./fmus`` of the working directory).
     library : Library, optional
-        Default: ``load_library()`` (``$COSIM_MODELICA_PATH``, else the shipped library).
+        Default: ``load_library()`` (the folders of ``$COSIM_MODELICA_PATH`` and the shipped library).
     force : bool
         Rebuild even if up to date.
     fmi_version : {"2", "3"}
@@ -224,6 +224,7 @@ def build_versions(model_name: str, output: str | Path = DEFAULT_OUTPUT, library
     library = library or load_library()
     entry = library.entry(model_name)
     targets = {v: fmu_path(model_name, output, v) for v in versions}
+    _check_file_name(model_name, targets[versions[0]])
     for target in targets.values():
         if target.is_dir():
             raise OutputError(f"cannot write the FMU '{target}': a folder of that name is in the way")
@@ -232,6 +233,32 @@ def build_versions(model_name: str, output: str | Path = DEFAULT_OUTPUT, library
             locks.enter_context(_build_lock(targets[version]))
         locks.enter_context(fewer_collections())
         return _build_locked(model_name, targets, library, entry, force, started)
+
+
+#: The most characters the files written beside an FMU add to its name (the temporary
+#: ``.NAME.fmu.XXXXXXXX.partial`` of :func:`cosim.compiler.fmu.pack`, the lock ``.NAME.fmu.lock``).
+_NAME_MARGIN = 18
+
+
+def _check_file_name(model_name: str, target: Path) -> None:
+    """Refuse a model whose FMU file name (the model name with ``_`` for ``.``, see
+    :func:`fmu_path`) is longer than the output folder's file system allows, before any work.
+
+    Raises
+    ------
+    BuildError
+        Naming the model, the length and the limit.
+    """
+    folder = next((f for f in [target.parent, *target.parents] if f.is_dir()), Path("/"))
+    try:
+        limit = os.pathconf(folder, "PC_NAME_MAX")
+    except (OSError, ValueError):
+        limit = 255  # the common limit (ext4, XFS, btrfs, APFS, NTFS)
+    length = len(os.fsencode(target.name))
+    if length + _NAME_MARGIN > limit:
+        raise BuildError(f"model name '{model_name}' is too long for an FMU file: its name '{target.name}' has "
+                         f"{length} bytes, at most {limit - _NAME_MARGIN} fit in {folder} (with the temporary "
+                         "and lock files beside it); give the model or its packages shorter names")
 
 
 def _up_to_date(manifest: dict | None, version: str, key: str, value: str) -> bool:
@@ -465,7 +492,8 @@ def build(models: list[str] | None = None, output: str | Path = DEFAULT_OUTPUT, 
         Parallel builds (>= 1); worker processes die with the calling process. They start the
         models whose last builds took longest first (:mod:`cosim.compiler.schedule`).
     library_path : path, optional
-        Modelica library folder (default: ``$COSIM_MODELICA_PATH``, else the shipped library).
+        Modelica library folder(s), searched before the shipped library (default:
+        ``$COSIM_MODELICA_PATH``).
     force : bool
         Rebuild even if up to date.
     fmi_versions : sequence of {"2", "3"}

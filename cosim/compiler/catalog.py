@@ -71,8 +71,8 @@ def summarize(name: str, library: Library | None = None) -> ModelSummary:
     declared type (Real, Integer or Boolean, also behind a derived type such as
     ``Bicycle.Units.Angle``), unit, description, ``min``/``max`` and, for parameters, value.
 
-    Without ``library``, the model of the default library (``$COSIM_MODELICA_PATH``, else the
-    shipped one) is taken from the library index if it is there and up to date (no parse, no
+    Without ``library``, the model of the default library (the folders of ``$COSIM_MODELICA_PATH``
+    and the shipped one) is taken from the library index if it is there and up to date (no parse, no
     pymoca or CasADi), else flattened and added to the index.
 
     Raises
@@ -88,7 +88,12 @@ def summarize(name: str, library: Library | None = None) -> ModelSummary:
     from cosim.compiler.flatten import flatten  # pymoca and CasADi: only where the library is parsed
 
     entry = library.entry(name)
-    flat = flatten(library, name)
+    return _summary(entry, flatten(library, name))
+
+
+def _summary(entry, flat) -> ModelSummary:
+    """The :class:`ModelSummary` of the library entry ``entry`` flattened to ``flat``."""
+    name = entry.name
     values = {v.symbol.name(): v.value for v in flat.casadi.parameters}
     summary = ModelSummary(name, entry.description, entry.exported, entry.experiment)
     for decl in flat.declarations.values():
@@ -124,8 +129,8 @@ def catalog(library: Library | None = None, exported_only: bool = False,
     Parameters
     ----------
     library : Library, optional
-        A parsed library. Default: the library of ``$COSIM_MODELICA_PATH`` (else the shipped
-        one), answered from its index (:func:`load_index`) unless a file or the compiler changed
+        A parsed library. Default: the folders of ``$COSIM_MODELICA_PATH`` and the shipped
+        library, answered from its index (:func:`load_index`) unless a file or the compiler changed
         since the index was written, without importing pymoca or CasADi.
     exported_only : bool
         Only the models that `cosim build` exports.
@@ -228,6 +233,11 @@ def _read_index(file: Path, key: str) -> dict | None:
                 return None
             if "summary" in record:
                 ModelSummary.from_dict(record["summary"])
+                if not isinstance(record.get("declarations", {}), dict):
+                    return None
+                for declared in record.get("declarations", {}).values():
+                    if not all(isinstance(d, dict) and isinstance(d["name"], str) for d in declared):
+                        return None
             elif "broken_file" not in record and not isinstance(record.get("problem"), str):
                 return None
         return index
@@ -260,14 +270,19 @@ def load_index(path=None) -> dict:
     file, key = index_key(path)
     index = _read_index(file, key)
     if index is None or not index["complete"]:
+        # what a partial index knows of single models' FMUs (fmu_declarations) is kept
+        known = {r["name"]: r["declarations"] for r in (index or {}).get("models", []) if "declarations" in r}
         index = {**_records(load_library(path)), "complete": True}
+        for record in index["models"]:
+            if record["name"] in known and "summary" in record:
+                record["declarations"] = known[record["name"]]
         _write_index(file, key, index)
     return index
 
 
 def _index_summary(name: str) -> ModelSummary | None:
-    """The summary of ``name`` from the index of the default library (``$COSIM_MODELICA_PATH``,
-    else the shipped one); if the index lacks it, the model alone is parsed and summarized and
+    """The summary of ``name`` from the index of the default library (``$COSIM_MODELICA_PATH``
+    and the shipped one); if the index lacks it, the model alone is parsed and summarized and
     its summary added to the index (so that `cosim info MODEL` after an edit costs one model, not
     the whole library). None where the parse path must decide: no such model, a partial class,
     a model that cannot be flattened (it raises the error there), an unusable library folder."""
@@ -286,6 +301,122 @@ def _index_summary(name: str) -> ModelSummary | None:
     index["models"].append({"name": name, "exported": summary.exported, "summary": summary.to_dict()})
     _write_index(file, key, index)
     return summary
+
+
+# --------------------------------------------------------------------------- what a user may set
+# The variables a user may set before a run (``--param``, system files, matrix specs) are those
+# of the model's FMU. For an FMU file they are read from its modelDescription.xml; for a model
+# name from the modelDescription.xml that `cosim build` would write (the same description as the
+# C tables, cosim.compiler.description), read by the same reader and kept in the library index:
+# one rule (settable_role) over one description, before anything is built.
+
+#: What :func:`settable_role` calls a calculated parameter (listed so that it can be refused by name).
+CALCULATED = "calculated parameter"
+#: A state's start value (``initial = "exact"``), and one that is the guess of the initial equations.
+START_VALUE, START_GUESS = "start value", "start value (guess of the initial equations)"
+
+
+def settable_role(causality: str, variability: str, initial: str | None, state_output: bool = False) -> str | None:
+    """What a variable of a model description (FMI 2 or 3) is to a user who sets values before
+    initialization, or None where it is neither settable nor a parameter.
+
+    * ``parameter``, ``input``: the FMI causality (inputs are signals, refused as constants);
+    * :data:`CALCULATED`: a calculated parameter (a ``final`` parameter, or one bound to an
+      expression of others): computed by the FMU, never set;
+    * :data:`START_VALUE`: a continuous local variable with an exact start value (the states of
+      the FMUs built here), or an output that is a state (``state_output``) with one;
+    * :data:`START_GUESS`: a continuous variable with ``initial = "approx"`` (a state solved from
+      the initial equations: its start value is the guess of the Newton solve).
+    """
+    if causality in ("parameter", "input"):
+        return causality
+    if causality == "calculatedParameter":
+        return CALCULATED
+    if causality in ("local", "output") and variability == "continuous":
+        if initial == "approx":
+            return START_GUESS
+        if initial == "exact" and (causality == "local" or state_output):
+            return START_VALUE
+    return None
+
+
+def model_description(name: str, fmi_version: str = "2", library: Library | None = None) -> bytes:
+    """The modelDescription.xml (FMI ``fmi_version``: "2" or "3") of the FMU that `cosim build`
+    makes of the model ``name``, made as the build makes it (flattened, made explicit, described),
+    without generating or compiling code. The GUID is left empty.
+
+    Raises
+    ------
+    UnknownModelError, ModelicaError, ModelStructureError, ParameterError
+        As :func:`cosim.compiler.build.build_model` would for the model.
+    """
+    return _model_description(library or load_library(), name, fmi_version)[1]
+
+
+def _model_description(library: Library, name: str, fmi_version: str):
+    """``(summary, modelDescription.xml)`` of the model ``name`` (:func:`summarize`,
+    :func:`model_description`) from one flattening."""
+    from cosim.compiler.description import describe  # pymoca and CasADi: only here
+    from cosim.compiler.flatten import fewer_collections, flatten
+    from cosim.compiler.model_description import model_description_xml
+    from cosim.compiler.ode import make_explicit
+
+    entry = library.entry(name)
+    with fewer_collections():
+        flat = flatten(library, name)
+        summary = _summary(entry, flat)
+        info = describe(entry, flat, make_explicit(flat))
+    return summary, model_description_xml(info, "cosim", fmi_version)
+
+
+def _index_record(name: str):
+    """``(index file, key, index, record of name)`` of the default library; None where absent."""
+    try:
+        file, key = index_key()
+    except CosimError:  # e.g. a library folder that does not exist: reported by the parse
+        return None, None, None, None
+    index = _read_index(file, key)
+    record = next((r for r in index["models"] if r["name"] == name), None) if index else None
+    return file, key, index, record
+
+
+def indexed_declarations(name: str, fmi_version: str) -> list[dict] | None:
+    """What :func:`fmu_declarations` stored in the library index for the model ``name`` of the
+    default library and FMI ``fmi_version``, None if the index does not hold it (no parse)."""
+    record = _index_record(name)[3]
+    return record.get("declarations", {}).get(fmi_version) if record is not None else None
+
+
+def fmu_declarations(name: str, fmi_version: str, read: Callable[[bytes], list[dict]],
+                     refresh: bool = False) -> list[dict]:
+    """``read(xml)`` of the :func:`model_description` of the model ``name`` of the default library
+    (``$COSIM_MODELICA_PATH`` and the shipped library), kept in the library index: once the index
+    holds it (:func:`indexed_declarations`), no parse, no pymoca, no CasADi. ``read`` turns the
+    XML into JSON-ready records of the settable variables (see
+    :func:`cosim.fmu.parameters.model_declarations`). ``refresh``: made and stored anew even if
+    the index holds them (records its reader cannot use).
+
+    Raises
+    ------
+    UnknownModelError, ModelicaError, ModelStructureError, ParameterError
+        As :func:`model_description`.
+    """
+    file, key, index, record = _index_record(name)
+    if record is not None and fmi_version in record.get("declarations", {}) and not refresh:
+        return record["declarations"][fmi_version]
+    summary, xml = _model_description(load_library(), name, fmi_version)
+    declared = read(xml)
+    if file is not None:
+        index = index or {"models": [], "errors": [], "complete": False}
+        if record is None:
+            if index["complete"]:  # a complete index names every model: this one cannot be summarized
+                return declared
+            record = {"name": name, "exported": summary.exported, "summary": summary.to_dict()}
+            index["models"].append(record)
+        if "summary" in record:
+            record.setdefault("declarations", {})[fmi_version] = declared
+            _write_index(file, key, index)
+    return declared
 
 
 # --------------------------------------------------------------------------- singular configurations

@@ -37,6 +37,7 @@ class Declaration:
     max: float | None = None
     fixed: bool | str | None = None  # None: not given; "expression": given, but not a literal
     owner: str | None = None  # the class that declares the variable
+    final: bool = False  # declared or modified ``final``: its value cannot be changed
     # A top-level variable's declaration equation that is a plain reference (``delta = steer.angle``):
     # the referenced name; None otherwise (see ode.py, states named by their top-level alias).
     binding: str | None = None
@@ -501,7 +502,7 @@ def _nested_der(node) -> str | None:
 
 def _unsupported(library: Library, flat_tree, model_name: str) -> ModelicaError | None:
     """A message for a construct of the flat model that the compiler does not support (events,
-    algorithm sections, String variables, Integer states, der(der(x))), else None."""
+    algorithm sections, String variables and parameters, Integer states, der(der(x))), else None."""
     from pymoca import ast
 
     flat_class = flat_tree.classes[model_name]
@@ -530,9 +531,16 @@ def _unsupported(library: Library, flat_tree, model_name: str) -> ModelicaError 
                       f"for der({nested}) (e.g. v = der({nested}); ... der(v) ...)")
     for name, symbol in flat_class.symbols.items():
         variability = set(symbol.prefixes) & {"parameter", "constant"}
-        if str(symbol.type) == "String" and not variability:
-            return refuse(rf"\bString\b[^;]*\b{re.escape(name.rsplit('.', 1)[-1])}\b",
-                          f"String variable '{name}' is not supported (only String parameters and constants)")
+        if str(symbol.type) == "String" and variability != {"constant"}:
+            # an FMU built here has Real, Integer and Boolean variables only: a String parameter
+            # could be neither listed nor set, so it is refused rather than dropped without a word
+            short = re.escape(name.rsplit(".", 1)[-1])
+            if "parameter" in variability:
+                return refuse(rf"\bparameter\b[^;]*\b{short}\b",
+                              f"String parameter '{name}' is not supported: the FMUs built here have Real, "
+                              "Integer and Boolean variables only (a String constant is allowed)")
+            return refuse(rf"\bString\b[^;]*\b{short}\b",
+                          f"String variable '{name}' is not supported (only String constants)")
         if "discrete" in symbol.prefixes:
             return refuse(r"\bdiscrete\b", f"discrete variable '{name}' is not supported: {continuous}")
     return None
@@ -645,6 +653,7 @@ def _flatten(library: Library, model_name: str) -> FlatModel:
             min=_literal(symbol.min),
             max=_literal(symbol.max),
             fixed=fixed,
+            final=bool(getattr(symbol, "final", False)),
             owner=owner,
             binding=binding,
         )

@@ -35,27 +35,51 @@ CLASS_KEYWORDS = r"(?:model|block|class|connector|record|package|function|type|o
 
 
 def library_path(path: str | os.PathLike | None = None) -> Path:
-    """The folder that holds the top-level Modelica packages.
+    """One folder that holds top-level Modelica packages, checked.
 
-    Taken from ``path``, else the environment variable ``COSIM_MODELICA_PATH``, else the
-    library that ships with the package (``modelica/`` of the source tree).
+    Taken from ``path``, else the environment variable ``COSIM_MODELICA_PATH`` (one folder),
+    else the library that ships with the package (``modelica/`` of the source tree).
+
+    Raises
+    ------
+    ModelicaError
+        If the folder does not exist or is a file.
     """
     chosen = path or os.environ.get("COSIM_MODELICA_PATH") or DEFAULT_LIBRARY
     chosen = Path(chosen).resolve()
-    if chosen.is_file():
+    if _is_file(chosen):
         raise ModelicaError(f"{chosen}: is a file; the Modelica library must be a folder of packages")
-    if not chosen.is_dir():
+    if not _is_dir(chosen):
         raise ModelicaError(f"{chosen}: Modelica library folder not found")
     return chosen
 
 
-def library_paths(path=None) -> list[Path]:
-    """The folders that hold the top-level Modelica packages (like ``MODELICAPATH``).
+def _is_file(path: Path) -> bool:
+    """``path.is_file()``, False where the name cannot be a file at all (too long, a NUL byte)."""
+    try:
+        return path.is_file()
+    except (OSError, ValueError):
+        return False
 
-    ``path`` is one folder, several folders joined by ``os.pathsep`` (``modelica:tests/oracle``)
-    or a list of folders; None takes ``COSIM_MODELICA_PATH`` (which may list several folders the
-    same way), else the library that ships with the package. Each folder is checked as in
-    :func:`library_path`; a folder named twice counts once.
+
+def _is_dir(path: Path) -> bool:
+    """``path.is_dir()``, False where the name cannot be a folder at all (too long, a NUL byte)."""
+    try:
+        return path.is_dir()
+    except (OSError, ValueError):
+        return False
+
+
+def library_paths(path=None) -> list[Path]:
+    """The folders searched for top-level Modelica packages, in order (like ``MODELICAPATH``):
+    the user's folders, then the library that ships with the package, always last.
+
+    ``path`` is one folder, several folders joined by ``os.pathsep`` (``mine:tests/oracle``) or a
+    list of folders; None takes ``COSIM_MODELICA_PATH`` (which may list several folders the same
+    way), else only the shipped library. Each folder is checked as in :func:`library_path`; a
+    folder named twice counts once (the shipped library named among the user's folders still
+    comes last). A top-level package (``Bicycle``) is taken from the first folder that holds it:
+    a user's ``Bicycle`` hides the shipped one (see :func:`library_files`).
 
     Raises
     ------
@@ -63,13 +87,13 @@ def library_paths(path=None) -> list[Path]:
         If a folder does not exist or is a file.
     """
     if path is None:
-        path = os.environ.get("COSIM_MODELICA_PATH") or DEFAULT_LIBRARY
+        path = os.environ.get("COSIM_MODELICA_PATH") or ""
     items = list(path) if isinstance(path, (list, tuple)) else [path]
     parts = [part for item in items for part in
              (str(item).split(os.pathsep) if isinstance(item, str) else [item]) if str(part).strip()]
-    if not parts:
-        raise ModelicaError("no Modelica library folder given")
-    return list(dict.fromkeys(library_path(part) for part in parts))
+    shipped = DEFAULT_LIBRARY.resolve()
+    folders = [folder for folder in dict.fromkeys(library_path(part) for part in parts) if folder != shipped]
+    return folders + [shipped]
 
 
 @dataclass
@@ -242,18 +266,20 @@ class Library:
     Parameters
     ----------
     path : path-like, list of path-like, optional
-        Folder that contains the top-level packages, or several such folders (a list, or joined by
-        ``os.pathsep``), e.g. the shipped library and a folder of test packages that use it
-        (default: :func:`library_paths`).
+        Folder that contains top-level packages, or several such folders (a list, or joined by
+        ``os.pathsep``), e.g. a folder of packages that use the shipped library; the shipped
+        library is always searched after them (see :func:`library_paths`; default: only
+        ``COSIM_MODELICA_PATH`` and the shipped library).
 
     Attributes
     ----------
     path : Path
         The first folder (where a class name that is found nowhere is reported).
     paths : list of Path
-        Every folder, in the order given.
+        Every folder, in search order (the shipped library last).
     files : list of Path
-        Every ``.mo`` file of the library.
+        Every ``.mo`` file of the library (without those of a top-level package that an earlier
+        folder holds too, see :func:`library_files`).
     errors : dict of Path to ModelicaError
         The files that could not be read or parsed, with their error (``file:line:col``).
     """
@@ -265,9 +291,9 @@ class Library:
         self.path = self.paths[0]
         self._roots = library_files(self.paths)  # file -> the library folder it lies in
         self.files = list(self._roots)
-        if not self.files:
-            raise ModelicaError(f"{os.pathsep.join(map(str, self.paths))}: no .mo files in the Modelica "
-                                "library folder")
+        empty = next((folder for folder in self.paths if not any(folder.rglob("*.mo"))), None)
+        if empty is not None:  # most likely the wrong folder was named
+            raise ModelicaError(f"{empty}: no .mo files in the Modelica library folder")
         self.errors: dict[Path, ModelicaError] = {}
         self.tree = ast.Tree()
         defined: dict[str, Path] = {}  # class name -> the file that defines it
@@ -367,7 +393,7 @@ class Library:
             for root in self.paths:
                 stem = root.joinpath(*parts[:n])
                 for candidate in (stem.with_suffix(".mo"), stem / "package.mo"):
-                    if candidate.is_file():
+                    if candidate in self._roots:  # a file of the library (not one hidden by an earlier folder)
                         return candidate
         return self.path
 
@@ -477,12 +503,28 @@ class Library:
 # not its parse: these functions read the files only (no pymoca, no CasADi is imported).
 
 def library_files(paths: list[Path]) -> dict[Path, Path]:
-    """Every ``.mo`` file of the library folders ``paths`` (sorted per folder) -> its folder; a
-    folder nested in another listed folder counts as part of the outer one."""
+    """Every ``.mo`` file of the library folders ``paths`` (sorted per folder) -> its folder.
+
+    As with ``MODELICAPATH`` (Modelica Language Specification, section 13.3.3), a top-level class
+    (a package folder ``Name/`` or a file ``Name.mo``) is taken from the first folder that holds
+    it: the files of the same top-level class in later folders are left out, so a user's folder
+    with its own ``Bicycle`` package hides the shipped one as a whole. A folder nested in another
+    listed folder counts as part of the outer one.
+    """
     roots: dict[Path, Path] = {}
+    taken: set[str] = set()  # the top-level classes of the folders before
     for root in paths:
+        found = set()
         for file in sorted(p for p in root.rglob("*.mo") if p.is_file()):
-            roots.setdefault(file, root)
+            if file in roots:
+                continue
+            parts = file.relative_to(root).parts
+            top = parts[0] if len(parts) > 1 else file.stem
+            if top in taken:
+                continue
+            found.add(top)
+            roots[file] = root
+        taken |= found
     return roots
 
 

@@ -192,8 +192,14 @@ def _make_explicit(flat: FlatModel) -> ExplicitModel:
         numbers = _numbers(v.value, v.symbol.numel())
         const_values += [ca.SX(n) for n in numbers] if numbers is not None else ca.vertsplit(tr([v.value]))
 
-    tunable = [v for v in m.parameters if _numbers(v.value, v.symbol.numel()) is not None]
-    calculated = [v for v in m.parameters if _numbers(v.value, v.symbol.numel()) is None]
+    # Tunable: a parameter with a number for its value that is not final (a final parameter's
+    # value cannot be changed, in Modelica as in the FMU: it is a calculated parameter there).
+    def is_tunable(v) -> bool:
+        declaration = flat.declarations.get(v.symbol.name())
+        return _numbers(v.value, v.symbol.numel()) is not None and not (declaration and declaration.final)
+
+    tunable = [v for v in m.parameters if is_tunable(v)]
+    calculated = [v for v in m.parameters if not is_tunable(v)]
     p, csym = pick(tunable), pick(calculated)
 
     # Calculated parameters as expressions of the tunable ones (bindings may chain).

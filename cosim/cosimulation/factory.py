@@ -24,32 +24,68 @@ def python_block(name: str, block: str, parameters: dict, where: str = "system")
         raise SystemError_(f"{where}: component '{name}' ({block}): {exc}") from None
 
 
-def create_components(spec: SystemSpec, fmu_dir: str | Path | None = None) -> dict[str, Component]:
-    """Component objects for every entry of the system (models are built into ``fmu_dir``, as
-    FMI 2.0 or 3.0 FMUs by their ``fmi_version``; FMU files may be either)."""
-    from cosim.compiler.build import DEFAULT_OUTPUT, build_model
-    from cosim.compiler.library import load_library
+def check_parameters(spec: SystemSpec) -> dict[str, dict]:
+    """The parameter values of every FMU and model component of ``spec``, checked against what
+    its FMU declares (:func:`cosim.fmu.parameters.declarations`: for a model, the FMU it is
+    built as, read without building it) and converted to the declared types: component name ->
+    values. Nothing is built.
+
+    Raises
+    ------
+    SystemError_
+        Naming the system file, the component and the parameter (unknown, calculated, an input,
+        of the wrong type or out of range), or an FMU file that does not exist.
+    FMUError
+        An FMU file that cannot be read, with the component named.
+    UnknownModelError, ModelicaError, ModelStructureError
+        A model that is not in the library or cannot be built.
+    """
     from cosim.fmu.parameters import check, declarations
 
     where = str(spec.path or spec.name)
+    checked = {}
+    for name, entry in spec.components.items():
+        if entry.kind == "python":
+            continue
+        if entry.kind == "fmu" and not Path(entry.source).is_file():
+            raise SystemError_(f"{where}: component '{name}': FMU '{entry.source}' not found")
+        try:
+            declared = declarations(entry.source, entry.fmi_version) if entry.kind == "model" \
+                else declarations(str(entry.source))
+            checked[name] = check(entry.parameters, declared, input_hint="connect it, e.g. to a Step or Pulse block")
+        except ParameterError as exc:
+            raise SystemError_(f"{where}: component '{name}': {exc}") from None
+        except FMUError as exc:
+            raise FMUError(f"{where}: component '{name}': {exc}") from None
+    return checked
+
+
+def create_components(spec: SystemSpec, fmu_dir: str | Path | None = None) -> dict[str, Component]:
+    """Component objects for every entry of the system (models are built into ``fmu_dir``, as
+    FMI 2.0 or 3.0 FMUs by their ``fmi_version``; FMU files may be either). Every component's
+    parameters are checked (:func:`check_parameters`) before any model is built."""
+    from cosim.compiler.build import DEFAULT_OUTPUT, build_model
+    from cosim.compiler.library import load_library
+
+    where = str(spec.path or spec.name)
+    values = check_parameters(spec)
     created: dict[str, Component] = {}
     try:
+        # the Python blocks first: their names and parameters are checked before any build too
+        blocks = {name: python_block(name, entry.source, entry.parameters, where)
+                  for name, entry in spec.components.items() if entry.kind == "python"}
+        created.update(blocks)
         for name, entry in spec.components.items():
-            if entry.kind == "python":
-                created[name] = python_block(name, entry.source, entry.parameters, where)
-                continue
             if entry.kind == "model":
                 # FMI 2 builds go to OUTPUT/NAME.fmu, FMI 3 ones to OUTPUT/fmi3/NAME.fmu
                 fmu = build_model(entry.source, fmu_dir or DEFAULT_OUTPUT, load_library(),
                                   fmi_version=entry.fmi_version).fmu
-            else:
+            elif entry.kind == "fmu":
                 fmu = Path(entry.source)
-                if not fmu.is_file():
-                    raise SystemError_(f"{where}: component '{name}': FMU '{fmu}' not found")
+            else:
+                continue
             try:
-                values = check(entry.parameters, declarations(str(fmu)),
-                               input_hint="connect it, e.g. to a Step or Pulse block")
-                created[name] = FMUComponent(name, fmu, values)
+                created[name] = FMUComponent(name, fmu, values[name])
             except ParameterError as exc:
                 raise SystemError_(f"{where}: component '{name}': {exc}") from None
             except FMUError as exc:
@@ -58,7 +94,7 @@ def create_components(spec: SystemSpec, fmu_dir: str | Path | None = None) -> di
         for comp in created.values():
             comp.close()
         raise
-    return created
+    return {name: created[name] for name in spec.components}  # in the order of the system file
 
 
 def run_system(path_or_spec, fmu_dir: str | Path | None = None, isolate: bool | None = None,

@@ -14,11 +14,14 @@ import math
 import numbers
 import sys
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 
+from cosim.compiler.catalog import CALCULATED, START_GUESS, START_VALUE, settable_role
 from cosim.errors import ParameterError
 from cosim.fmu.target import is_fmu_path
 
+#: The roles (:attr:`Declared.causality`) of start values of states.
+START_ROLES = (START_VALUE, START_GUESS)
 #: The solver parameter every FMU built by this package has (see the module docstring).
 FIXED_STEP_PARAMETER = "solver.fixedStepSize"
 _BOOLEAN_WORDS = {"true": True, "false": False, "1": True, "0": False}
@@ -29,7 +32,9 @@ class Declared:
     """What a model says about one parameter or input."""
 
     name: str
-    causality: str  # parameter, input, "start value" or "start value (guess of the initial equations)"
+    # parameter, input, "calculated parameter", "start value" or "start value (guess of the initial
+    # equations)": see cosim.compiler.catalog.settable_role
+    causality: str
     type: str = "Real"  # Real, Integer, Boolean, String or Enumeration
     unit: str | None = None
     min: float | None = None
@@ -54,66 +59,126 @@ def split_assignment(text: str, option: str = "--param") -> tuple[str, str]:
     return name.strip(), value.strip()
 
 
-def _solver_parameter() -> Declared:
-    return Declared(FIXED_STEP_PARAMETER, "parameter", "Real", "s", 0.0, None)
+def declarations(target: str, fmi_version: str = "2") -> dict[str, Declared]:
+    """What a user may set of an FMU file or a model: its parameters, inputs (named, to be refused
+    as constants), start values of states, and calculated parameters (named, to be refused).
 
+    The same for a model name as for its built FMU: an FMU file's come from its
+    modelDescription.xml (:func:`fmu_declarations`), a model's from the modelDescription.xml
+    `cosim build` makes of it (:func:`model_declarations`, nothing is built), both by
+    :func:`described`.
 
-def declarations(target: str) -> dict[str, Declared]:
-    """Settable variables of an FMU file (from modelDescription.xml) or a model (from its source).
+    Parameters
+    ----------
+    target : str
+        FMU file or model name.
+    fmi_version : {"2", "3"}
+        For a model name: the FMI version of the FMU it is built as (an FMU file has its own).
 
     Raises
     ------
     FMUError
         If ``target`` is an FMU file that cannot be read (see :func:`cosim.fmu.access.read_fmu`).
-    UnknownModelError, ModelicaError
-        If ``target`` is a model name that is not in the library or does not parse.
+    UnknownModelError, ModelicaError, ModelStructureError
+        If ``target`` is a model name that is not in the library or cannot be built.
     """
     if is_fmu_path(target):
-        from cosim.fmu.access import READABLE_FMI_VERSIONS, read_fmu
+        return fmu_declarations(target)
+    return model_declarations(target, fmi_version)
 
-        # Only the model description is read here (FMI 2 or 3): the verb that runs the FMU decides
-        # which FMI versions it runs, and refuses the others when it opens the FMU.
-        md = read_fmu(target, READABLE_FMI_VERSIONS)
 
-        def number(value):
-            try:
-                return None if value in (None, "") else float(value)
-            except (TypeError, ValueError):
-                return None
+def fmu_declarations(path) -> dict[str, Declared]:
+    """:func:`described` of the modelDescription.xml of an FMU file (FMI 2 or 3).
 
-        # Parameters, inputs, and states with an exact start value or a start value that is the guess
-        # of the initial equations' Newton solve (initial = "approx"): settable before initialization.
-        def role(v):
-            if v.causality in ("parameter", "input"):
-                return v.causality
-            return "start value" if v.initial == "exact" else "start value (guess of the initial equations)"
+    Raises
+    ------
+    FMUError
+        If the file cannot be read (see :func:`cosim.fmu.access.read_fmu`).
+    """
+    from cosim.fmu.access import READABLE_FMI_VERSIONS, read_fmu
 
-        # An output that is a continuous state with an exact start value (foreign FMUs, e.g. the
-        # Reference FMUs' VanDerPol x0, x1) is a start value too; other outputs are computed.
-        state_outputs = {d.variable.derivative.name for d in md.derivatives
-                         if d.variable.derivative is not None and d.variable.derivative.causality == "output"}
-        found = {v.name: Declared(v.name, role(v), FMI3_TYPES.get(v.type, v.type),
-                                  getattr(v, "unit", None), number(getattr(v, "min", None)),
-                                  number(getattr(v, "max", None)), number(getattr(v, "start", None)),
-                                  INTEGER_RANGES.get(v.type))
-                 for v in md.modelVariables
-                 if v.causality in ("parameter", "input")
-                 or (v.causality in ("local", "output") and v.variability == "continuous"
-                     and (v.initial == "approx" or (v.causality == "local" and v.initial == "exact")
-                          or (v.name in state_outputs and v.initial == "exact")))}
-        solver = found.get(FIXED_STEP_PARAMETER)
-        if solver is not None and solver.min is None:  # a step size is never negative
-            solver.min = 0.0
-        return found
-    from cosim.compiler.catalog import summarize
+    # Only the model description is read here (FMI 2 or 3): the verb that runs the FMU decides
+    # which FMI versions it runs, and refuses the others when it opens the FMU.
+    return described(read_fmu(path, READABLE_FMI_VERSIONS))
 
-    summary = summarize(target)
-    found = {s.name: Declared(s.name, "parameter", getattr(s, "type", None) or "Real", s.unit, s.min, s.max,
-                              float(s.value) if isinstance(s.value, (int, float)) else None)
-             for s in summary.parameters}
-    found.update({s.name: Declared(s.name, "input", getattr(s, "type", None) or "Real", s.unit, s.min, s.max)
-                  for s in summary.inputs})
-    found[FIXED_STEP_PARAMETER] = _solver_parameter()  # every FMU built here has it
+
+def model_declarations(name: str, fmi_version: str = "2") -> dict[str, Declared]:
+    """:func:`described` of the modelDescription.xml that `cosim build` makes of the model
+    ``name`` (FMI ``fmi_version``) without building it: the declarations its FMU will have.
+
+    From the library index where it holds them, else from the model's FMU where that is built
+    and up to date (:func:`cosim.fmu.target.built_fmu`), else made by the compiler and kept in
+    the index (:func:`cosim.compiler.catalog.fmu_declarations`): a parse once, then none.
+
+    Raises
+    ------
+    UnknownModelError, ModelicaError, ModelStructureError
+        If the model is not in the library or cannot be built.
+    """
+    from cosim.compiler.catalog import fmu_declarations as described_by_compiler
+    from cosim.compiler.catalog import indexed_declarations
+    from cosim.fmu.target import built_fmu
+
+    version = str(fmi_version)
+    records = indexed_declarations(name, version)
+    if records is not None:
+        try:
+            return _from_records(records)
+        except (TypeError, KeyError):  # written by another version of this module: made anew below
+            pass
+    else:
+        fmu = built_fmu(name, fmi_version=version)
+        if fmu is not None:
+            return fmu_declarations(fmu)
+    return _from_records(described_by_compiler(name, version, _read_description, refresh=records is not None))
+
+
+def _from_records(records: list[dict]) -> dict[str, Declared]:
+    """The declarations of :func:`_read_description`'s records (as stored in the library index)."""
+    return {d["name"]: Declared(**{**d, "range": tuple(d["range"]) if d.get("range") else None}) for d in records}
+
+
+def _read_description(xml: bytes) -> list[dict]:
+    """The :func:`described` variables of a modelDescription.xml text, JSON-ready."""
+    import io
+    import zipfile
+
+    from fmpy.model_description import read_model_description
+
+    archive = io.BytesIO()
+    with zipfile.ZipFile(archive, "w") as z:  # FMPy reads a file object as an FMU archive
+        z.writestr("modelDescription.xml", xml)
+    archive.seek(0)
+    md = read_model_description(archive, validate=False)  # written by the compiler, not a user's file
+    return [asdict(d) for d in described(md).values()]
+
+
+def described(md) -> dict[str, Declared]:
+    """The variables a user may name before a run, from a model description (FMPy's
+    ``ModelDescription``, FMI 2 or 3), by :func:`cosim.compiler.catalog.settable_role`: the
+    parameters and inputs, the calculated parameters, and the start values of states that the
+    FMU lets be set (``initial = "exact"`` or ``"approx"``)."""
+
+    def number(value):
+        try:
+            return None if value in (None, "") else float(value)
+        except (TypeError, ValueError):
+            return None
+
+    # An output that is a continuous state with an exact start value (foreign FMUs, e.g. the
+    # Reference FMUs' VanDerPol x0, x1) is a start value too; other outputs are computed.
+    state_outputs = {d.variable.derivative.name for d in md.derivatives
+                     if d.variable.derivative is not None and d.variable.derivative.causality == "output"}
+    found = {}
+    for v in md.modelVariables:
+        role = settable_role(v.causality, v.variability, v.initial, v.name in state_outputs)
+        if role is not None:
+            found[v.name] = Declared(v.name, role, FMI3_TYPES.get(v.type, v.type), getattr(v, "unit", None),
+                                     number(getattr(v, "min", None)), number(getattr(v, "max", None)),
+                                     number(getattr(v, "start", None)), INTEGER_RANGES.get(v.type))
+    solver = found.get(FIXED_STEP_PARAMETER)
+    if solver is not None and solver.min is None:  # a step size is never negative
+        solver.min = 0.0
     return found
 
 
@@ -153,6 +218,29 @@ def _convert(name: str, raw, d: Declared):
 SIMULATE_INPUT_HINT = "give it with --input {name}=FILE.csv or --input {name}=step:T0:VALUE"
 
 
+def settable(name: str, declared: dict[str, Declared], input_hint: str | None = SIMULATE_INPUT_HINT) -> Declared:
+    """The declaration of ``name`` if a value may be given for it before a run: a parameter or a
+    start value (see :func:`check`, which checks the value too).
+
+    Raises
+    ------
+    ParameterError
+        Naming the parameter: unknown, an input (``input_hint`` says how inputs are given), or a
+        calculated parameter.
+    """
+    d = declared.get(name)
+    if d is None:
+        known = ", ".join(n for n, v in declared.items() if v.causality == "parameter" and "." not in n)
+        raise ParameterError(f"unknown parameter '{name}'; top-level parameters are: {known}")
+    if d.causality == "input":
+        how = f"; {input_hint.format(name=name)}" if input_hint else ""
+        raise ParameterError(f"'{name}' is an input, not a parameter{how}")
+    if d.causality == CALCULATED:
+        raise ParameterError(f"parameter '{name}' is a calculated parameter (final, or bound to an expression "
+                             "of other parameters) and cannot be set")
+    return d
+
+
 def check(values: dict, declared: dict[str, Declared], input_hint: str | None = SIMULATE_INPUT_HINT) -> dict:
     """Validate values by name against declarations; returns them converted to the declared types.
 
@@ -169,18 +257,13 @@ def check(values: dict, declared: dict[str, Declared], input_hint: str | None = 
     Raises
     ------
     ParameterError
-        Naming the parameter: unknown, an input (inputs are not constants), not a number or not
-        a whole number for an Integer, non-finite, or outside ``min``/``max``.
+        Naming the parameter: unknown, an input (inputs are not constants), a calculated
+        parameter, not a number or not a whole number for an Integer, non-finite, or outside
+        ``min``/``max``.
     """
     checked = {}
     for name, raw in values.items():
-        d = declared.get(name)
-        if d is None:
-            known = ", ".join(n for n, v in declared.items() if v.causality == "parameter" and "." not in n)
-            raise ParameterError(f"unknown parameter '{name}'; top-level parameters are: {known}")
-        if d.causality == "input":
-            how = f"; {input_hint.format(name=name)}" if input_hint else ""
-            raise ParameterError(f"'{name}' is an input, not a parameter{how}")
+        d = settable(name, declared, input_hint)
         value = _convert(name, raw, d)
         unit = f" {d.unit}" if d.unit else ""
         if isinstance(value, (int, float)) and not isinstance(value, bool):
@@ -226,13 +309,7 @@ def from_command_line(target: str, assignments: list[str], extra: dict | None = 
     declared = declarations(target) if declared is None else declared
     if speed is not None:
         fs = forward_speed(target, declared)
-        known = {**starts(declared), **values}
-        if fs.wheel_radius and fs.wheel_radius not in known and not is_fmu_path(target):
-            # a default given by an expression (e.g. a record's value): the built FMU has the number
-            from cosim.fmu.target import resolve_fmu
-
-            known = {**starts(declarations(str(resolve_fmu(target)))), **values}
-        values.update(fs.values(speed, known))
+        values.update(fs.values(speed, {**starts(declared), **values}))
     return check(values, declared, input_hint)
 
 

@@ -1,21 +1,29 @@
 """Commands take a model name or an FMU file: this turns either into an FMU path."""
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
 from pathlib import Path
 
 
 def is_fmu_path(target: str) -> bool:
-    """A target is an FMU file if it ends in ``.fmu`` or names an existing file (else a model)."""
-    return target.endswith(".fmu") or Path(target).is_file()
+    """A target is an FMU file if it ends in ``.fmu`` or names an existing file (else a model).
+    A text that cannot name a file (longer than the system allows, a NUL character) is a model
+    name: the library then says whether there is such a model."""
+    if target.endswith(".fmu"):
+        return True
+    try:
+        return Path(target).is_file()
+    except (OSError, ValueError):
+        return False
 
 
 def resolve_fmu(target: str, output: str | Path | None = None, versions: tuple[str, ...] | None = None) -> Path:
     """The FMU of ``target``: the file itself, or the model built (if needed) into ``output``.
 
-    Model names are resolved in the Modelica library named by ``COSIM_MODELICA_PATH`` (which the
-    command line's ``--library DIR`` sets), else in the library shipped with the package.
+    Model names are resolved in the folders named by ``COSIM_MODELICA_PATH`` (which the command
+    line's ``--library DIR`` sets) and in the library shipped with the package, searched last.
 
     Parameters
     ----------
@@ -50,18 +58,33 @@ def resolve_fmu(target: str, output: str | Path | None = None, versions: tuple[s
         # FMUError naming the file and the problem if it is not a usable FMU
         read_fmu(path, SUPPORTED_FMI_VERSIONS if versions is None else versions)
         return path
-    from cosim.compiler.library import fmu_up_to_date
-
-    # The up-to-date check without cosim.compiler.build: importing it (pymoca, CasADi) and parsing
-    # the library would cost seconds before a simulation of an FMU that is already built.
     folder = Path(output) if output is not None else default_output()
-    fmu = folder.absolute() / f"{target.replace('.', '_')}.fmu"  # as cosim.compiler.build.fmu_path
-    if fmu.is_file() and fmu_up_to_date(target, fmu):
+    fmu = built_fmu(target, folder)
+    if fmu is not None:
         return fmu
     from cosim.compiler.build import build_model
     from cosim.compiler.library import load_library
 
     return build_model(target, folder, load_library()).fmu
+
+
+def built_fmu(model: str, output: str | Path | None = None, fmi_version: str = "2") -> Path | None:
+    """The FMU of the model ``model`` in ``output`` (default: :func:`default_output`) if it is
+    there and up to date (:func:`cosim.compiler.library.fmu_up_to_date`), else None.
+
+    The check needs neither cosim.compiler.build nor a parse of the library: importing it
+    (pymoca, CasADi) and parsing would cost seconds before a simulation of an FMU that is
+    already built."""
+    from cosim.compiler.library import fmu_up_to_date
+
+    folder = (Path(output) if output is not None else default_output()).absolute()
+    if str(fmi_version) == "3":
+        folder = folder / "fmi3"  # as cosim.compiler.build.fmu_path
+    fmu = folder / f"{model.replace('.', '_')}.fmu"
+    with contextlib.suppress(OSError, ValueError):  # a name too long for a file: the build says so
+        if fmu.is_file() and fmu_up_to_date(model, fmu, fmi_version=str(fmi_version)):
+            return fmu
+    return None
 
 
 def default_output() -> Path:

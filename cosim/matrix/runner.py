@@ -1,7 +1,8 @@
 """Running a matrix: build the FMUs once, dispatch the cases, persist, check, report.
 
 Everything the user can get wrong is refused before any work, each with one message: the spec
-(types, ranges, expressions, the number of cases), the output folder (not writable, a file in
+(types, ranges, expressions, the number of cases, the names of parameters and start values that
+its model and FMU components do not declare), the output folder (not writable, a file in
 the way, or already holding results without ``resume``/``force``) and an unreachable scheduler.
 """
 from __future__ import annotations
@@ -12,7 +13,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from cosim.errors import OutputError
+from cosim.errors import OutputError, ParameterError
 from cosim.matrix.spec import MAX_CASES, Case, MatrixSpec, SpecError, load_spec
 from cosim.matrix.store import RESULTS, ResultStore, has_results
 
@@ -46,6 +47,52 @@ class MatrixResult:
     @property
     def exit_code(self) -> int:
         return 0 if self.passed else 1
+
+
+def check_names(cases: list[Case], where: str) -> None:
+    """Every parameter, ``initial`` state and tuned parameter that a case names for a model or
+    FMU component is one its FMU declares (:func:`cosim.fmu.parameters.declarations`: for a
+    model, the FMU it is built as, read without building it), before anything is built. The
+    values are checked when each case runs (a case with a value outside its declared range
+    fails, the others run).
+
+    Raises
+    ------
+    SpecError
+        Naming the spec, the study, the component and the name: unknown, an input, a calculated
+        parameter, or an ``initial`` entry that is not a state's start value.
+    """
+    from cosim.fmu.parameters import START_ROLES, declarations, settable
+
+    declared: dict[str, dict] = {}
+    seen: set[tuple] = set()
+    hint = "connect it, e.g. to a Step or Pulse block"
+    for case in cases:
+        components = case.system.get("components", {})
+        names = {c: [("parameters", n) for n in e.get("parameters", {})] for c, e in components.items()}
+        for c, states in case.initial.items():
+            names.setdefault(c, []).extend(("initial", n) for n in states)
+        for target in case.tune:
+            c, _, n = target.partition(".")
+            names.setdefault(c, []).append(("tune", n))
+        for c, items in names.items():
+            entry = components.get(c, {})
+            source = entry.get("model") or entry.get("fmu")
+            if source is None:
+                continue  # a Python block checks its own parameters
+            for key, name in items:
+                if (source, key, name) in seen:
+                    continue
+                seen.add((source, key, name))
+                if source not in declared:
+                    declared[source] = declarations(str(source))
+                try:
+                    d = settable(name, declared[source], hint)
+                    if key == "initial" and d.causality not in START_ROLES:
+                        raise ParameterError(f"'{name}' is not a state start value that can be set (use "
+                                             "parameters for parameters)")
+                except ParameterError as exc:
+                    raise SpecError(f"{where}: study '{case.study}': component '{c}' {key}: {exc}") from None
 
 
 def build_fmus(cases: list[Case], fmu_dir: str | Path | None, jobs: int = 1) -> dict:
@@ -138,6 +185,7 @@ def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = Non
     try:
         _import_plugins(spec)
         cases = spec.cases()
+        check_names(cases, str(spec.path or spec.name))
         fmu_paths = build_fmus(cases, fmu_dir, workers)
         store = ResultStore(directory, resume, retry_failed=resume and not keep_failed)
         try:

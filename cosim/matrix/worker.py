@@ -110,10 +110,6 @@ class ReusableFMUComponent(FMUComponent):
 
     def __init__(self, name: str, path: str | Path):
         super().__init__(name, path, {})
-        md = self.fmu.description
-        self._settable = {v.name for v in md.modelVariables
-                          if v.causality in ("parameter", "input")
-                          or (v.variability not in ("constant", "fixed") and v.initial in ("exact", "approx"))}
         from cosim.fmu.parameters import declarations
 
         self._declared = declarations(str(path))
@@ -141,10 +137,12 @@ class ReusableFMUComponent(FMUComponent):
         return checked
 
     def configure(self, parameters: dict, initial: dict) -> None:
+        from cosim.fmu.parameters import START_ROLES
+
         values = self._check(parameters)
         for var in initial:
             declared = self._declared.get(var)
-            if var not in self._settable or (declared is not None and declared.causality in ("parameter", "input")):
+            if declared is None or declared.causality not in START_ROLES:
                 raise SimulationError(f"{self.name}: '{var}' is not a state start value that can be set "
                                       "(use parameters for parameters)")
         self.parameters = {**values, **{k: float(v) for k, v in initial.items()}}
