@@ -20,9 +20,14 @@ model AstromBicycle \"the paper's bicycle with a rigid rider\"
   extends Bicycle.Bicycles.Whipple(redeclare package Data = Bicycle.Records.Astrom2005, c = 0.06);
 end AstromBicycle;
 </pre>
-<p>A new data set is a TOML file in <code>cosim/params/</code>; <code>python -m cosim.analytic.records</code>
-writes its record. The rider's hinge is replaceable too:
+<p>A new data set is a TOML file in <code>cosim/params/</code>, from which the project's records are
+generated: <code>python -m cosim.analytic.records --check</code> says whether every record is current,
+and the same command without <code>--check</code> writes them. The rider's hinge is replaceable too:
 <code>extends Bicycle.Bicycles.WhippleRider(redeclare Bicycle.Mechanics.Rider.LockedHinge hip)</code>
-fixes the upper body to the rear frame. Build any of these with <code>cosim build MODEL --library FOLDER</code>.</p>
+fixes the upper body to the rear frame.</p>
+<p>To build such a model, save it in a folder of its own, one file per class named after the class,
+e.g. the first model above as <code>variants/WhippleRollerRear.mo</code>, and name the folder as a
+library (this library stays available):
+<code>cosim build WhippleRollerRear --library variants</code>.</p>
 </html>"));
 end Variants;
