@@ -694,7 +694,7 @@ def parser() -> argparse.ArgumentParser:
                               "set/serialize round trips bit-identical), cs-step (FMI 3: earlyReturn and\n"
                               "lastSuccessfulTime of fmi3DoStep), me-run and cs-run (a short run, finite values).\n"
                               "A problem is what the FMI 2.0/3.0 standard rules out (\"must\", \"shall\"): a wrong\n"
-                              "derivative, a state not restored, a forbidden out-argument, a crash or hang; a\n"
+                              "derivative, a state not restored, earlyReturn where not allowed, a crash or hang; a\n"
                               "warning is what it allows or leaves undefined but a robust FMU avoids (a forbidden\n"
                               "call accepted, a wrong token accepted, a legal call failing, a failed short run).\n"
                               "Each problem and warning is one line naming its check; checks the FMU does not\n"
