@@ -458,7 +458,8 @@ def test_first_example_writes_nothing_into_the_working_directory(runs, example):
 # -- the extractor itself -----------------------------------------------------------------------
 
 def test_python_block_is_found_under_its_heading():
-    text = "# t\n\n## Other\n```python\nwrong = 1\n```\n\n## A first example\n\ntext\n\n```python\nx = 1\n```\n\n## Next\n"
+    text = ("# t\n\n## Other\n```python\nwrong = 1\n```\n\n"
+            "## A first example\n\ntext\n\n```python\nx = 1\n```\n\n## Next\n")
     assert python_example(text) == "x = 1"
     with pytest.raises(AssertionError, match="has no ```python block"):
         python_example("## A first example\n\nno code\n\n## Next\n```python\ny = 2\n```\n")
