@@ -27,7 +27,9 @@ Problems and warnings
       so) is a warning naming the call, and ends that check; as do non-finite values and a short run
       that fails (the standard asks for neither finite values nor a successful run). A status outside
       the standard's enumeration is a problem; so is a crash or a hang of the binary (a calling sequence
-      the state machine allows must be supported), reported by the runner.
+      the state machine allows must be supported), reported by the runner, which does not tell a
+      crash in one of the state-machine check's forbidden calls (behaviour FMI 2 leaves undefined)
+      from one in a legal call.
     - Directional and adjoint derivatives are the FMU's partial derivatives, which FMI 2 allows the FMU
       to compute "by numerical differentiation": a difference larger than numerical differentiation
       explains (:data:`DERIVATIVE_WRONG`) is a problem, one beyond the accuracy of exact derivatives
