@@ -298,13 +298,16 @@ def _cmd_validate(args) -> int:
             print(f"cosim validate: error: {exc}", file=sys.stderr)
             continue
         what = f"FMI {report.fmi_version}, {len(report.checks)} checks"
+        warned = f", {len(report.warnings)} warning(s)" if report.warnings else ""
         if report.problems:
             failed += 1
-            print(f"{fmu}: {len(report.problems)} problem(s) ({what})")
+            print(f"{fmu}: {len(report.problems)} problem(s){warned} ({what})")
             for p in report.problems:
                 print(f"  - {p}")
         else:
-            print(f"{fmu}: valid ({what})")
+            print(f"{fmu}: valid{warned} ({what})")
+        for w in report.warnings:  # allowed by the standard, avoided by a robust FMU: not a problem
+            print(f"  warning: {w}")
         for s in report.skipped:  # what does not apply to this FMU: not a problem, but not checked
             print(f"  skipped: {s}")
     return EXIT_BAD_INPUT if unreadable else (EXIT_CHECK_FAILED if failed else EXIT_OK)
@@ -735,11 +738,16 @@ def parser() -> argparse.ArgumentParser:
                               "1e-6), adjoint-derivatives (FMI 3: v^T(Ju) = (J^T v)^T u to 1e-12), fmu-state (get/\n"
                               "set/serialize round trips bit-identical), cs-step (FMI 3: earlyReturn and\n"
                               "lastSuccessfulTime of fmi3DoStep), me-run and cs-run (a short run, finite values).\n"
-                              "Each problem is one line naming its check; checks the FMU does not declare\n"
-                              "are listed as skipped. A crash of the binary is reported as a problem of the check\n"
-                              "it happened in (the checks run in a child process).\n\n"
+                              "A problem is what the FMI 2.0/3.0 standard rules out (\"must\", \"shall\"): a wrong\n"
+                              "derivative, a state not restored, earlyReturn where not allowed, a crash or hang; a\n"
+                              "warning is what it allows or leaves undefined but a robust FMU avoids (a forbidden\n"
+                              "call accepted, a wrong token accepted, a legal call failing, a failed short run).\n"
+                              "Each problem and warning is one line naming its check; checks the FMU does not\n"
+                              "declare are listed as skipped. A crash of the binary is reported as a problem of\n"
+                              "the check it happened in (the checks run in a child process).\n\n"
                               "Every target is checked; a file that cannot be read as an FMU gets an error line "
-                              "(exit 2), an FMU with problems lists them (exit 1).\n\n" + EXIT_CODES)
+                              "(exit 2), an FMU with problems lists them (exit 1); warnings alone exit 0.\n\n"
+                              + EXIT_CODES)
     v.add_argument("targets", nargs="+", help="FMU files or model names")
     timeout_option(v, "one check has not ended")
     library_option(v)

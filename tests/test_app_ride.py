@@ -118,7 +118,7 @@ def test_demo_runs_to_its_end_and_meets_its_expectation(page, name, tmp_path):
     shot = _screenshot_folder(tmp_path) / f"app-demo-{name}.png"
     page.screenshot(path=str(shot), full_page=True)
     assert shot.stat().st_size > 10_000
-    # the ride alone (3-D view and plots): the README's pictures are of these
+    # the ride alone (3-D view and plots): the pictures of docs/app.md are of these
     ride_shot = shot.with_name(f"app-demo-{name}-ride.png")
     page.locator("#ride-layout").screenshot(path=str(ride_shot))
     assert ride_shot.stat().st_size > 10_000

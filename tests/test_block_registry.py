@@ -225,11 +225,11 @@ def test_every_block_parameter_is_typed_and_has_a_default():
             assert str(p.annotation).split("|")[0].strip() in ("float", "int", "str"), f"{name}.{key}"
 
 
-def test_readme_names_every_block_and_its_twin():
-    """The README's block list is checked against the registry, so it cannot fall behind."""
+def test_docs_name_every_block_and_its_twin():
+    """The block list of docs/cosimulation.md is checked against the registry, so it cannot fall behind."""
     from pathlib import Path
 
-    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    text = (Path(__file__).resolve().parents[1] / "docs" / "cosimulation.md").read_text()
     for name, cls in registry.registered().items():
         assert f"`{name}`" in text, name
         assert cls.twin.rsplit(".", 1)[-1] in text, (name, cls.twin)

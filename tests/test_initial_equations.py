@@ -203,11 +203,12 @@ def test_fmu_with_initial_equations_is_valid(built):
     from fmpy import read_model_description
     from fmpy.validation import validate_fmu
 
-    from cosim.fmu.validate import validate
+    from cosim.fmu.validate import validate_report
 
     for fmu in (built[name] for name in ("Circle", "Pair", "Steady")):  # Log does not initialize
         assert validate_fmu(str(fmu)) == [], fmu
-        assert validate(fmu) == [], fmu
+        report = validate_report(fmu)
+        assert (report.problems, report.warnings) == ([], []), fmu
     variables = {v.name: v for v in read_model_description(str(built["Circle"])).modelVariables}
     assert (variables["theta"].initial, float(variables["theta"].start)) == ("approx", 0.3)
     assert variables["omega"].initial == "exact"

@@ -338,7 +338,7 @@ def for_twin(model: str) -> type[Block] | None:
 
 
 def markdown() -> str:
-    """The blocks as one Markdown line each: name, twin, inputs -> outputs, summary (for the README)."""
+    """The blocks as one Markdown line each: name, twin, inputs -> outputs, summary (for the documentation)."""
     lines = []
     for name, cls in registered().items():
         arrow = f"{', '.join(cls.inputs) or '()'} -> {', '.join(cls.outputs)}"

@@ -1,5 +1,8 @@
 """`cosim validate`: FMPy's static validation plus checks that call the FMU's binary (FMI 2.0 and 3.0);
-every problem is listed, one line each, starting with the name of the check that found it.
+every problem and every warning is listed, one line each, starting with the name of the check that found
+it. A problem is what the FMI standard rules out ("must", "shall"); a warning is what it allows or leaves
+undefined but a robust FMU avoids (see :mod:`cosim.fmu.validate_checks` for how each finding is classed).
+An FMU with warnings only is valid.
 
 Static checks (:data:`STATIC_CHECKS`, the archive and its XML only):
 
@@ -46,7 +49,11 @@ class ValidationReport:
     Attributes
     ----------
     problems : list of str
-        One line per problem, ``"<check>: <what>"`` (empty: the FMU is valid).
+        One line per problem, ``"<check>: <what>"`` (empty: the FMU is valid): what the FMI standard
+        rules out.
+    warnings : list of str
+        One line per warning, ``"<check>: <what>"``: what the standard allows or leaves undefined but a
+        robust FMU avoids (the FMU is valid all the same).
     skipped : list of str
         Checks or parts of checks that do not apply to this FMU, ``"<check>: <why>"``.
     checks : list of str
@@ -58,15 +65,17 @@ class ValidationReport:
     problems: list[str] = field(default_factory=list)
     skipped: list[str] = field(default_factory=list)
     checks: list[str] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
 
     @property
     def valid(self) -> bool:
         return not self.problems
 
-    def add(self, check: str, problems=(), skipped=()) -> None:
+    def add(self, check: str, problems=(), skipped=(), warnings=()) -> None:
         if check not in self.checks:
             self.checks.append(check)
         self.problems += [f"{check}: {p}" for p in problems]
+        self.warnings += [f"{check}: {w}" for w in warnings]
         self.skipped += [f"{check}: {s}" for s in skipped]
 
 
@@ -130,7 +139,7 @@ def _checks_from(session: Session, checks: tuple[Check, ...], start: int, worker
         worker.send("start", index)
         findings = run_check(checks[index], session, progress=worker.doing)
         worker.send("done", {"index": index, "problems": findings.problems, "skipped": findings.skipped,
-                             "stop": findings.stop_reason})
+                             "warnings": findings.warnings, "stop": findings.stop_reason})
         if findings.stop_reason:
             break
 
@@ -149,7 +158,8 @@ def _run_isolated(session: Session, checks: tuple[Check, ...], report: Validatio
             if kind == "start":
                 current["index"] = payload
             elif kind == "done":
-                report.add(checks[payload["index"]].name, payload["problems"], payload["skipped"])
+                report.add(checks[payload["index"]].name, payload["problems"], payload["skipped"],
+                           payload["warnings"])
                 current["index"] = None
                 start = payload["index"] + 1
                 if payload["stop"]:
@@ -178,7 +188,7 @@ def _skip_rest(checks, reason: str, report: ValidationReport) -> None:
 def _run_in_process(session: Session, checks: tuple[Check, ...], report: ValidationReport) -> None:
     for index, check in enumerate(checks):
         findings = run_check(check, session)
-        report.add(check.name, findings.problems, findings.skipped)
+        report.add(check.name, findings.problems, findings.skipped, findings.warnings)
         if findings.stop_reason:
             _skip_rest(checks[index + 1:], findings.stop_reason, report)
             return

@@ -28,7 +28,7 @@ import numpy as np
 
 MODEL = "Bicycle.Bicycles.InvertedPendulum"
 MARGIN = 0.02  # |max Re| below this (1/s) is marginal: too slow to classify from a finite co-simulation
-DEFAULT_TAUS = (0.0, 0.06, 0.08, 0.09, 0.1, 0.8)  # s: the rows of the README table
+DEFAULT_TAUS = (0.0, 0.06, 0.08, 0.09, 0.1, 0.8)  # s: the rows of the table in docs/cosimulation.md
 
 
 @dataclass

@@ -39,7 +39,7 @@ examples the controllers and sources stand left of the bicycle.</p>
 <p><img src=\"modelica://Bicycle/Resources/Images/Whipple.svg\" width=\"800\"
 alt=\"The diagram of Bicycle.Bicycles.Whipple: ground, rear wheel, rear frame, steer axis, front frame, front wheel\"/></p>
 <p>The diagram of <a href=\"modelica://Bicycle.Bicycles.Whipple\">Whipple</a> (drawn from its
-annotations by <code>cosim diagram</code>): the ground at the bottom carries the rear wheel, whose
+annotations by <code>cosim diagram Bicycle.Bicycles.Whipple</code>): the ground at the bottom carries the rear wheel, whose
 hub carries the rear frame; the steer axis joins the rear frame to the front frame, which carries
 the front wheel; both wheels' contacts go back to the ground, and the two torque inputs drive the
 steer axis and the roll of the rear frame. The diagrams of the other bicycles and of the examples
