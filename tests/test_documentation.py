@@ -301,8 +301,11 @@ def _compile_modelica(step: Step, folder: Path):
     from cosim.compiler.flatten import flatten
     from cosim.compiler.ode import make_explicit
 
-    name = re.search(r"(?:model|block|class|package|connector|record)\s+(\w+)", step.text).group(1)
+    kind, name = re.search(r"(model|block|class|package|connector|record)\s+(\w+)", step.text).groups()
     library = variant_library(folder, {name: step.text}, package="Documented")
+    if kind == "package":  # a package of variants: each of its models
+        return [make_explicit(flatten(library, f"Documented.{name}.{model}"))
+                for model in re.findall(r"^\s+model (\w+)", step.text, re.M)]
     return make_explicit(flatten(library, f"Documented.{name}"))
 
 

@@ -1,5 +1,5 @@
 """The recipe of Bicycle.UsersGuide.Variants works as printed: its package file, saved into a folder
-of one's own, builds and simulates with the commands printed there (``--library FOLDER`` adds the
+of one's own, builds and simulates with the commands printed there (``--library variants`` adds the
 folder to the shipped library), and the variants do what the guide says."""
 from __future__ import annotations
 
@@ -17,6 +17,7 @@ from cosim.compiler.library import Library
 
 ROOT = Path(__file__).resolve().parents[1]
 GUIDE = ROOT / "modelica" / "Bicycle" / "UsersGuide" / "Variants.mo"
+FOLDER = "variants"  # the folder of one's own the guide names
 
 pytestmark = pytest.mark.slow
 
@@ -34,17 +35,18 @@ def _package() -> tuple[str, str]:
 
 
 def _commands() -> list[list[str]]:
-    """The guide's ``cosim ...`` command lines, split into arguments (without ``cosim``)."""
-    block = next(b for b in _blocks() if b.startswith("cosim "))
-    return [shlex.split(line)[1:] for line in block.splitlines()]
+    """The guide's ``cosim ...`` commands (inline code), split into arguments (without ``cosim``)."""
+    text = GUIDE.read_text().replace('\\"', '"')
+    return [shlex.split(html.unescape(c))[1:] for c in re.findall(r"<code>(cosim [^<]*)</code>", text)]
 
 
 @pytest.fixture(scope="module")
 def folder(tmp_path_factory) -> Path:
-    """FOLDER of the guide, holding the package file the guide prints (``FOLDER/Mine.mo``)."""
+    """The guide's folder (``variants``), holding the package file the guide prints (``variants/Mine.mo``)."""
     name, text = _package()
-    where = tmp_path_factory.mktemp("guide")
-    file = re.search(r"<code>FOLDER/(\w+\.mo)</code>", GUIDE.read_text()).group(1)
+    where = tmp_path_factory.mktemp("guide") / FOLDER
+    where.mkdir()
+    file = re.search(rf"<code>{FOLDER}/(\w+\.mo)</code>", GUIDE.read_text()).group(1)
     assert file == f"{name}.mo"  # the file name the guide gives is the package's (Modelica's layout)
     (where / file).write_text(text + "\n", encoding="utf-8")
     return where
@@ -73,10 +75,10 @@ def test_guide_shows_the_two_variants():
 
 
 def test_commands_of_the_guide_build_and_simulate(folder, tmp_path):
-    """The printed commands, FOLDER replaced by the folder: the variant extends the shipped
+    """The printed commands, run beside the folder: the variant extends the shipped
     Bicycle.Bicycles.Whipple, which is found after the user's folder."""
     for args in _commands():
-        args = [str(folder) if a == "FOLDER" else a for a in args]
+        args = [str(folder) if a == FOLDER else a for a in args]
         status, out, err = cli_in_process(args, tmp_path)
         assert status == 0, (args, err)
     assert (DEFAULT_OUTPUT / "Mine_WhippleRollerRear.fmu").is_file()  # the session's COSIM_FMU_DIR
