@@ -74,6 +74,12 @@ the file has several) or --input NAME=step:T0:VALUE. Every FMU built here has th
 solver.fixedStepSize [s] (default 0: error-controlled Dormand-Prince 5(4); > 0: fixed steps of that
 size in Co-Simulation; refused with --fmi-type me, where FMPy's CVode integrates).
 
+time grid: without --step the output (communication) step is the FMU's DefaultExperiment
+stepSize (the model's experiment(Interval=...), 0.01 s for the bicycles of the library), or
+0.01 s (100 rows per second) if it declares none, whatever the stop time: a longer run has more
+rows, never coarser ones. A run of more than 10,000,000 rows is refused with one message (give a
+larger --step or a shorter --stop-time).
+
 {RESULTS}
 
 {FMU_FOLDER}
@@ -702,7 +708,9 @@ def parser() -> argparse.ArgumentParser:
     s = sub.add_parser("simulate", help="simulate an FMU or model", formatter_class=raw, epilog=SIMULATE_EPILOG)
     s.add_argument("target", help="FMU file or model name (built first if needed)")
     s.add_argument("--stop-time", type=_finite, required=True, help="stop time [s]")
-    s.add_argument("--step", type=_finite, default=None, help="output / communication interval [s], > 0")
+    s.add_argument("--step", type=_finite, default=None,
+                   help="output / communication interval [s], > 0 (default: the FMU's DefaultExperiment "
+                        "stepSize, else 0.01 s; see 'time grid')")
     s.add_argument("--fmi-type", choices=("cs", "me"), default="cs",
                    help="FMI interface: cs = Co-Simulation (the FMU's own solver, default), "
                         "me = Model Exchange (FMPy's CVode)")
