@@ -1,6 +1,7 @@
 """The time grid of `cosim simulate` and :func:`cosim.simulate`: the default communication step
 (the FMU's DefaultExperiment stepSize, else DEFAULT_STEP, whatever the stop time), a run too long
-for it refused with one message, a long step on a model at rest."""
+for it refused with one message, a long step on a model at rest; and inputs that change at the
+start time acting from the start (Co-Simulation and Model Exchange)."""
 from __future__ import annotations
 
 import re
@@ -12,6 +13,7 @@ import pytest
 from conftest import cli_in_process, run_cli
 
 MODEL = "Bicycle.Bicycles.SelfStabilizing"  # input T; DefaultExperiment stepSize 0.01 s
+RIDER = "Bicycle.Bicycles.WhippleRider"  # input T_beta, the rider's lean torque
 
 
 def _with_experiment(fmu, folder, experiment: str | None):
@@ -94,5 +96,42 @@ def test_help_states_the_default_step_and_the_row_limit():
     text = " ".join(run_cli("simulate", "--help").stdout.split())
     for phrase in ("without --step the output (communication) step is the FMU's DefaultExperiment stepSize",
                    f"or {DEFAULT_STEP:g} s (100 rows per second) if it declares none, whatever the stop time",
-                   f"A run of more than {MAX_ROWS:,} rows is refused"):
+                   f"A run of more than {MAX_ROWS:,} rows is refused", "--input NAME=FILE.npy"):
         assert phrase in text, phrase
+
+
+# --------------------------------------------------------------------------- inputs at the start time
+
+STEP = 0.01  # communication step [s]
+START_CASES = {  # model, input, value, stop time [s]
+    "self-stabilizing-T": (MODEL, "T", 1.0, 1.0),
+    "whipple-rider-T_beta": (RIDER, "T_beta", 5.0, 1.0),
+}
+
+
+def _run(fmu, fmi_type, name, source, stop):
+    from cosim.fmu.simulate import input_signals, simulate
+
+    signals = input_signals(fmu, [f"{name}={source}"], 0.0, stop)
+    outputs = ["phi", "delta"] + (["beta"] if name == "T_beta" else [])
+    return simulate(fmu, stop, STEP, fmi_type, inputs=signals, outputs=outputs, relative_tolerance=1e-10)
+
+
+@pytest.mark.parametrize("fmi_type", ["cs", "me"])
+@pytest.mark.parametrize("case", list(START_CASES))
+def test_step_at_the_start_time_acts_from_the_start(fmus, tmp_path, case, fmi_type):
+    """``step:0:VALUE``, and a CSV whose value jumps at t = 0, give the result of a CSV that holds
+    VALUE from t = 0, to 1e-12 (rad); a step one communication step later does not (its final
+    roll angle more than 1e-6 rad apart: what the step at 0 gave when it acted one step late)."""
+    model, name, value, stop = START_CASES[case]
+    fmu = fmus[model]
+    (tmp_path / "hold.csv").write_text(f"time,{name}\n0,{value!r}\n10,{value!r}\n")
+    (tmp_path / "jump.csv").write_text(f"time,{name}\n0,0\n0,{value!r}\n10,{value!r}\n")
+    hold = _run(fmu, fmi_type, name, tmp_path / "hold.csv", stop)
+    for source in (f"step:0:{value!r}", tmp_path / "jump.csv"):
+        run = _run(fmu, fmi_type, name, source, stop)
+        np.testing.assert_array_equal(run["time"], hold["time"])
+        for signal in hold.dtype.names[1:]:
+            np.testing.assert_allclose(run[signal], hold[signal], rtol=0, atol=1e-12, err_msg=f"{source}: {signal}")
+    late = _run(fmu, fmi_type, name, f"step:{STEP!r}:{value!r}", stop)
+    assert abs(late["phi"][-1] - hold["phi"][-1]) > 1e-6
