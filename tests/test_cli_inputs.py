@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from conftest import cli_in_process, run_cli
+from cosim.fmu.simulate import input_signals
 
 MODEL = "Bicycle.Bicycles.SelfStabilizing"
 PADE = "Bicycle.Rider.PadeDelay"  # its order n is an Integer parameter
@@ -147,8 +148,6 @@ def test_reading_inputs_takes_time_linear_in_the_rows(fmus, tmp_path, kind):
     """`input_signals`, what `simulate --input` runs, on 2e5 rows takes at most 30 times as long
     as on 2e4 rows (linear: about 10; quadratic: about 100), both measured here, best of 3; and
     gives FMPy's array of every row."""
-    from cosim.fmu.simulate import input_signals
-
     files = {rows: _input_files(tmp_path, rows)[kind] for rows in (20_000, 200_000)}
     best = {}
     for rows, path in files.items():

@@ -10,7 +10,9 @@ import zipfile
 import numpy as np
 import pytest
 
+import cosim
 from conftest import cli_in_process, run_cli
+from cosim.fmu.simulate import DEFAULT_STEP, MAX_ROWS, input_signals, simulate
 
 MODEL = "Bicycle.Bicycles.SelfStabilizing"  # input T; DefaultExperiment stepSize 0.01 s
 RIDER = "Bicycle.Bicycles.WhippleRider"  # input T_beta, the rider's lean torque
@@ -48,9 +50,6 @@ DEFAULT_STEP_CASES = {  # FMU -> (DefaultExperiment element or "as built", stop 
 def test_default_step_is_the_experiment_interval_whatever_the_stop_time(fmus, tmp_path, case):
     """Rows are the FMU's DefaultExperiment stepSize apart (else DEFAULT_STEP = 0.01 s), to
     1e-9 of the step, from the start to the stop time; the Python API takes the same step."""
-    import cosim
-    from cosim.fmu.simulate import DEFAULT_STEP
-
     experiment, stop, spacing = DEFAULT_STEP_CASES[case]
     assert experiment is not None or spacing == DEFAULT_STEP
     fmu = fmus[MODEL] if experiment == "as built" else _with_experiment(fmus[MODEL], tmp_path, experiment)
@@ -91,8 +90,6 @@ def test_long_step_on_a_model_at_rest_runs_to_the_stop_time(fmus, tmp_path, fmi_
 
 
 def test_help_states_the_default_step_and_the_row_limit():
-    from cosim.fmu.simulate import DEFAULT_STEP, MAX_ROWS
-
     text = " ".join(run_cli("simulate", "--help").stdout.split())
     for phrase in ("without --step the output (communication) step is the FMU's DefaultExperiment stepSize",
                    f"or {DEFAULT_STEP:g} s (100 rows per second) if it declares none, whatever the stop time",
@@ -110,8 +107,6 @@ START_CASES = {  # model, input, value, stop time [s]
 
 
 def _run(fmu, fmi_type, name, source, stop):
-    from cosim.fmu.simulate import input_signals, simulate
-
     signals = input_signals(fmu, [f"{name}={source}"], 0.0, stop)
     outputs = ["phi", "delta"] + (["beta"] if name == "T_beta" else [])
     return simulate(fmu, stop, STEP, fmi_type, inputs=signals, outputs=outputs, relative_tolerance=1e-10)
