@@ -77,11 +77,23 @@ status is 4; NAME.csv is not written."""
 
 SIMULATE_EPILOG = f"""\
 parameters: --param NAME=VALUE sets a parameter (or a state's start value) of the FMU; Integer
-parameters take whole numbers, Boolean ones true/false. Inputs are not parameters: give them with
---input NAME=FILE.csv (a header row, then rows of time [s], value; a column named NAME is used if
-the file has several) or --input NAME=step:T0:VALUE. Every FMU built here has the parameter
+parameters take whole numbers, Boolean ones true/false. Every FMU built here has the parameter
 solver.fixedStepSize [s] (default 0: error-controlled Dormand-Prince 5(4); > 0: fixed steps of that
 size in Co-Simulation; refused with --fmi-type me, where FMPy's CVode integrates).
+
+inputs are not parameters: give them with --input NAME=FILE.csv (a header row, then rows of
+time [s], value; a column named NAME is used if the file has several), --input NAME=FILE.npy
+(numpy.save of a structured array with the fields time [s] and NAME, or of a two-column float
+array of time [s], value) or --input NAME=step:T0:VALUE. Values between rows are interpolated
+linearly, a repeated time is a jump, and the first and last values hold before and after the
+rows; a jump or step at the start time acts from the start. Every value is checked (file, row
+and column named); reading time and memory grow in proportion to the rows.
+
+time grid: without --step the output (communication) step is the FMU's DefaultExperiment
+stepSize (the model's experiment(Interval=...), 0.01 s for the bicycles of the library), or
+0.01 s (100 rows per second) if it declares none, whatever the stop time: a longer run has more
+rows, never coarser ones. A run of more than 10,000,000 rows is refused with one message (give a
+larger --step or a shorter --stop-time).
 
 {RESULTS}
 
@@ -756,13 +768,16 @@ def parser() -> argparse.ArgumentParser:
     s = sub.add_parser("simulate", help="simulate an FMU or model", formatter_class=raw, epilog=SIMULATE_EPILOG)
     s.add_argument("target", help="FMU file or model name (built first if needed)")
     s.add_argument("--stop-time", type=_finite, required=True, help="stop time [s]")
-    s.add_argument("--step", type=_finite, default=None, help="output / communication interval [s], > 0")
+    s.add_argument("--step", type=_finite, default=None,
+                   help="output / communication interval [s], > 0 (default: the FMU's DefaultExperiment "
+                        "stepSize, else 0.01 s; see 'time grid')")
     s.add_argument("--fmi-type", choices=("cs", "me"), default="cs",
                    help="FMI interface: cs = Co-Simulation (the FMU's own solver, default), "
                         "me = Model Exchange (FMPy's CVode)")
     _parameter_options(s)
-    s.add_argument("--input", action="append", default=[], metavar="NAME=FILE.csv|NAME=step:T0:VALUE",
-                   help="an input signal (repeatable): a CSV of time [s], value, or a step of VALUE at T0 [s]")
+    s.add_argument("--input", action="append", default=[], metavar="NAME=FILE.csv|FILE.npy|step:T0:VALUE",
+                   help="an input signal (repeatable): a CSV or .npy of time [s], value, or a step of VALUE "
+                        "at T0 [s] (see 'inputs')")
     s.add_argument("-o", "--output", default=None, help="result .csv or .npy (default: <model>.csv)")
     s.add_argument("--plot", default=None, help="save a plot of the result (PNG, PDF, SVG, ...)")
     timeout_option(s, "it completes no step")

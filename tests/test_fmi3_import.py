@@ -20,6 +20,7 @@ import pytest
 from lxml import etree
 
 from conftest import cli_in_process, run_cli
+from cosim.fmu.simulate import default_step
 from reference_fmus import REFERENCE_MODELS, SOURCES, reference_fmu
 
 #: cosim simulate against FMPy's own simulate_fmu on the same FMU (issue 15: <= 1e-9).
@@ -72,8 +73,10 @@ def case_id(case) -> str:
 @pytest.mark.parametrize("case", CASES, ids=[case_id(c) for c in CASES])
 def test_simulate_equals_fmpy(reference, tmp_path, case):
     """`cosim simulate` of a Reference FMU gives FMPy's own simulate_fmu result on it (same
-    interface, interval, parameters and input), every output at every time to 1e-9."""
-    from fmpy import simulate_fmu
+    interface, interval, output step, parameters and input), every output at every time to 1e-9.
+    The output step is cosim's default (the FMU's DefaultExperiment stepSize), given to FMPy,
+    whose own default grows with the stop time and prefers an FMI 3 fixedInternalStepSize."""
+    from fmpy import read_model_description, simulate_fmu
 
     name, kind, params, step_input = case
     fmu, stop = reference[name], STOP[name]
@@ -90,7 +93,8 @@ def test_simulate_equals_fmpy(reference, tmp_path, case):
     ours = read_csv(tmp_path / "out.csv")
     theirs = simulate_fmu(str(fmu), fmi_type="CoSimulation" if kind == "cs" else "ModelExchange",
                           stop_time=stop, start_values={k: float(v) for k, v in (p.split("=") for p in params)},
-                          input=signals, output=outputs_of(name))
+                          input=signals, output=outputs_of(name),
+                          output_interval=default_step(read_model_description(str(fmu)))[0])
     # every output FMPy records (not Binary ones), in FMPy's order (its recorder groups them by type)
     assert ours.dtype.names == theirs.dtype.names
     assert set(ours.dtype.names) == {"time", *outputs_of(name)} - {"Binary_output"}

@@ -3,8 +3,10 @@
 What the command promises (see ``cosim simulate --help``):
 
 - the FMU is opened through :func:`cosim.fmu.access.read_fmu` (one message for a damaged file);
-- inputs from CSV files are checked cell by cell (file, line and column named for a cell that is
-  not a finite number);
+- inputs from CSV and NPY files are checked value by value (file, row and column named for a
+  value that is not a finite number), in time and memory linear in the rows; a jump or step at
+  the start time acts from the start (:func:`merge_signals`);
+- without ``--step`` the communication step is :func:`default_step`, whatever the stop time;
 - results are written under a temporary name and renamed (:mod:`cosim.outputs`): ``.csv`` (a
   header row, then one row per output time) or ``.npy`` (a NumPy structured array);
 - when the solver fails part-way, the rows computed up to the failure are kept: they are written
@@ -37,6 +39,13 @@ from cosim.fmu.parameters import split_assignment
 RESULT_FORMATS = {".csv": "CSV text with a header row", ".npy": "a NumPy structured array for numpy.load"}
 #: Most output rows one command records (a guard against ``--stop-time 1e9 --step 1e-6``).
 MAX_ROWS = 10_000_000
+#: Communication step [s] of a run without ``--step`` whose FMU declares no DefaultExperiment
+#: stepSize (see :func:`default_step`): 100 rows per second of model time, the ``Interval`` every
+#: bicycle of the library declares. It resolves the bicycles' fastest mode, the castering of the
+#: front wheel (time constant 0.07 s at 5 m/s, 0.04 s at 10 m/s for the benchmark bicycle of
+#: Meijaard et al. 2007), and the weave (period 1.4 s at 5 m/s, 0.6 s at 10 m/s); a step that
+#: does not grow with the stop time keeps the rows of a long run as close as those of a short one.
+DEFAULT_STEP = 0.01
 #: Where a result that stopped early goes: ``out.csv`` -> ``out.incomplete.csv``.
 INCOMPLETE_TAG = "incomplete"
 
@@ -85,6 +94,13 @@ def finite_number(text: str, where: str) -> float:
     return value
 
 
+def read_input(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """Time [s] and value columns of the input file of ``--input NAME=FILE``: ``.npy`` by
+    :func:`read_input_npy`, any other suffix as CSV by :func:`read_input_csv`."""
+    path = Path(path)
+    return read_input_npy(path, name) if path.suffix.lower() == ".npy" else read_input_csv(path, name)
+
+
 def read_input_csv(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
     """Time [s] and value columns of an input CSV file, every cell checked.
 
@@ -92,6 +108,11 @@ def read_input_csv(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
     named ``name`` if the header has one (e.g. a result CSV of an earlier run), else the second
     of exactly two columns. Blank lines and lines starting with ``#`` are skipped. Times must
     not decrease; a repeated time stamp marks a jump.
+
+    Time and memory grow linearly with the file: numpy's parser reads a file of plain numbers;
+    a file it refuses, or whose numbers break a rule, is read again row by row by the checked
+    reader, which names the first problem (or accepts what only numpy's parser refused, such as
+    comment lines between the rows).
 
     Raises
     ------
@@ -102,6 +123,44 @@ def read_input_csv(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
     """
     label = f"--input {name}: {path}"
     text = read_text_file(path, InputDataError, label, encoding="utf-8-sig")
+    columns = _parse_plain_csv(text, name, label)
+    return columns if columns is not None else _read_csv_checked(text, name, label)
+
+
+def _parse_plain_csv(text: str, name: str, label: str) -> tuple[np.ndarray, np.ndarray] | None:
+    """The time and value columns by numpy's parser, or None where the checked reader must decide:
+    comments or quotes after the header, a cell numpy does not parse, a row of another length,
+    a value that is not finite, a time that decreases, no data rows."""
+    buffer = io.StringIO(text)
+    reader = csv.reader(buffer)
+    try:
+        for row in reader:
+            cells = [c.strip() for c in row]
+            if any(cells) and not cells[0].startswith("#"):
+                header, column = _input_header(cells, name, f"{label}:{reader.line_num}")
+                break
+        else:
+            return None
+    except csv.Error:
+        return None
+    # The csv reader takes the text line by line: the buffer stands at the line after the header.
+    rest = buffer.tell()
+    if text.find("#", rest) >= 0 or text.find('"', rest) >= 0 or not text[rest:].strip():
+        return None
+    try:
+        data = np.loadtxt(buffer, delimiter=",", comments=None, dtype=np.float64, ndmin=2)
+    except ValueError:
+        return None
+    if data.shape[1] != len(header):
+        return None
+    times, values = data[:, 0], data[:, column]
+    if not (np.isfinite(times).all() and np.isfinite(values).all() and (np.diff(times) >= 0).all()):
+        return None
+    return np.ascontiguousarray(times), np.ascontiguousarray(values)
+
+
+def _read_csv_checked(text: str, name: str, label: str) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`read_input_csv` row by row, every cell checked (one pass)."""
     reader = csv.reader(io.StringIO(text))
     header: list[str] | None = None
     column = 1
@@ -154,6 +213,71 @@ def _input_header(cells: list[str], name: str, where: str) -> tuple[list[str], i
                          f"two (time,value) or a column named '{name}'")
 
 
+def read_input_npy(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """Time [s] and value columns of an input ``.npy`` file (:func:`numpy.save`), every value checked.
+
+    The file holds either a structured one-dimensional array with a field ``time`` [s] and a
+    field named ``name`` (e.g. a ``.npy`` result of an earlier run) -- or, if ``time`` and one
+    other field are all it has, that field --, or a two-dimensional float array of two columns,
+    time [s] and value. Times must not decrease; a repeated time stamp marks a jump.
+
+    Raises
+    ------
+    InputDataError
+        Naming the file for one that is not a ``.npy`` file or holds another kind of array, and
+        the row (counted from 1) and the field or column of the first value that is not a finite
+        number or of a time that decreases.
+    """
+    label = f"--input {name}: {path}"
+    try:
+        with open(path, "rb") as f:
+            magic = f.read(6)
+            f.seek(0)
+            array = np.load(f, allow_pickle=False) if magic == b"\x93NUMPY" else None
+    except OSError as exc:
+        raise InputDataError(f"{label}: cannot read the file: {exc.strerror or exc}") from None
+    except (ValueError, EOFError) as exc:  # a damaged header, truncated data, an object array
+        raise InputDataError(f"{label}: not a readable .npy file: {' '.join(str(exc).split())}") from None
+    if array is None:
+        raise InputDataError(f"{label}: not a NumPy .npy file (it does not start with the .npy magic "
+                             "string; numpy.save writes one)")
+    expected = (f"expected a structured array with fields 'time' and '{name}' or a two-column float array "
+                "of time [s] and value")
+    if array.dtype.names is not None and array.ndim == 1:
+        fields = array.dtype.names
+        others = [f for f in fields if f != "time"]
+        if "time" not in fields or (name not in fields and len(others) != 1):
+            raise InputDataError(f"{label}: the array has the fields {', '.join(fields)}; {expected}")
+        value_field = name if name in fields else others[0]
+        columns = [(array["time"], "field 'time'"), (array[value_field], f"field '{value_field}'")]
+    elif array.dtype.names is None and array.ndim == 2 and array.shape[1] == 2:
+        columns = [(array[:, 0], "column 1 (time)"), (array[:, 1], f"column 2 ({name})")]
+    else:
+        raise InputDataError(f"{label}: an array of shape {array.shape} and type {array.dtype}; {expected}")
+    if len(array) == 0:
+        raise InputDataError(f"{label}: the array has no rows")
+    checked = []
+    for values, what in columns:
+        if values.ndim != 1:
+            raise InputDataError(f"{label}: {what} holds an array of shape {values.shape[1:]} per row, "
+                                 "not one number")
+        if values.dtype.kind not in "biuf":
+            raise InputDataError(f"{label}: {what} holds {values.dtype} values, not real numbers")
+        values = np.asarray(values, dtype=np.float64)
+        bad = np.flatnonzero(~np.isfinite(values))
+        if bad.size:
+            raise InputDataError(f"{label}: row {bad[0] + 1}, {what}: {values[bad[0]]} is not a finite number "
+                                 "(NaN and infinity are not accepted; rows counted from 1)")
+        checked.append(np.ascontiguousarray(values))
+    times, values = checked
+    back = np.flatnonzero(np.diff(times) < 0)
+    if back.size:
+        i = back[0] + 1
+        raise InputDataError(f"{label}: row {i + 1}, {columns[0][1]}: time {times[i]:g} s is before the "
+                             f"previous row's {times[i - 1]:g} s (times must not decrease; rows counted from 1)")
+    return times, values
+
+
 def _step_signal(name: str, source: str, base: float, start_time: float, stop_time: float):
     parts = source.split(":")
     if len(parts) != 3:
@@ -165,17 +289,23 @@ def _step_signal(name: str, source: str, base: float, start_time: float, stop_ti
 
 
 def input_signals(fmu: Path, specs: list[str], start_time: float, stop_time: float) -> np.ndarray | None:
-    """Build FMPy's structured input array from ``NAME=FILE.csv`` or ``NAME=step:T0:VALUE``.
+    """Build FMPy's structured input array from ``NAME=FILE.csv``, ``NAME=FILE.npy`` or
+    ``NAME=step:T0:VALUE``.
 
-    A CSV file is read by :func:`read_input_csv`; values between rows are interpolated
-    linearly, a repeated time marks a jump.
+    A file is read by :func:`read_input`; values between rows are interpolated linearly, a
+    repeated time marks a jump (the value before and the value after it), and before the first
+    and after the last row the first and the last value hold. The array starts at
+    ``start_time`` with the value each signal has right after it: a jump at the start time (a
+    step at T0 = the start time, or a file whose value jumps there) acts from the start, as a
+    file holding the new value from the start would. Time and memory grow linearly with the
+    rows of the files.
 
     Raises
     ------
     ParameterError
         For an unknown input, an input given twice or a malformed step.
     InputDataError
-        For a CSV file that is missing or has a bad cell (file, line and column named).
+        For a file that is missing or has a bad value (file, row and column named).
     """
     if not specs:
         return None
@@ -199,24 +329,42 @@ def input_signals(fmu: Path, specs: list[str], start_time: float, stop_time: flo
             if not path.is_file():
                 raise InputDataError(f"--input {name}: file '{source}' not found"
                                      + (" (it is a directory)" if path.is_dir() else ""))
-            signals[name] = read_input_csv(path, name)
-    times = np.unique(np.concatenate([t for t, _ in signals.values()]))
-    rows = []
-    for t in times:
-        # At a time where a signal jumps (repeated time stamp) emit its left and its right value.
-        def value(ts, vs, side):
-            if np.any(ts == t):
-                return vs[np.searchsorted(ts, t, side="left") if side == "left" else
-                          np.searchsorted(ts, t, side="right") - 1]
-            return np.interp(t, ts, vs)
+            signals[name] = read_input(path, name)
+    return merge_signals(signals, start_time)
 
-        left = [value(ts, vs, "left") for ts, vs in signals.values()]
-        right = [value(ts, vs, "right") for ts, vs in signals.values()]
-        rows.append((t, *left))
-        if left != right:
-            rows.append((t, *right))
+
+def merge_signals(signals: dict[str, tuple[np.ndarray, np.ndarray]], start_time: float) -> np.ndarray:
+    """FMPy's structured input array (``time`` first) of signals given as (times [s], values).
+
+    The rows are the start time and every time stamp of any signal after it; where a signal
+    jumps (a repeated time stamp) two rows of that time carry the values before and after the
+    jump. At the start time each signal has the value right after it (a jump there acts from
+    the start: FMPy applies the first row's values at the start, also in Model Exchange's
+    initialization, and handles no input event at the start time itself). Vectorized: time and
+    memory grow linearly with the rows (and a sort of the time stamps).
+    """
+    stamps = np.unique(np.concatenate([t for t, _ in signals.values()]))
+    grid = np.concatenate([[start_time], stamps[stamps > start_time]])
+    before, after = [], []
+    for times, values in signals.values():
+        first = np.searchsorted(times, grid, side="left")
+        last = np.searchsorted(times, grid, side="right") - 1
+        stamped = last >= first  # the signal has a row at this time: its first and last value there
+        between = np.interp(grid, times, values)  # holds the end values outside the signal's times
+        before.append(np.where(stamped, values[np.minimum(first, len(times) - 1)], between))
+        after.append(np.where(stamped, values[np.maximum(last, 0)], between))
+    before, after = np.array(before), np.array(after)
+    before[:, 0] = after[:, 0]  # the start row: the values right after the start time
+    jump = np.any(before != after, axis=0)
+    index = np.repeat(np.arange(len(grid)), 1 + jump)
+    right = np.zeros(len(index), dtype=bool)
+    right[np.cumsum(1 + jump) - 1] = jump  # the second of the two rows of a jump
     dtype = [("time", np.float64)] + [(n, np.float64) for n in signals]
-    return np.array(rows, dtype=dtype)
+    rows = np.empty(len(index), dtype=dtype)
+    rows["time"] = grid[index]
+    for k, name in enumerate(signals):
+        rows[name] = np.where(right, after[k][index], before[k][index])
+    return rows
 
 
 # --------------------------------------------------------------------------- running
@@ -267,17 +415,38 @@ def _interval(md, start_time: float | None, stop_time: float | None) -> tuple[fl
     return t0, t1
 
 
+def default_step(md) -> tuple[float, str]:
+    """The communication step [s] of a run without ``--step``, and where it comes from.
+
+    The FMU's DefaultExperiment stepSize (the model's ``experiment(Interval=...)``) if it
+    declares a positive one, else :data:`DEFAULT_STEP`. It does not depend on the stop time:
+    a longer run has more rows, never coarser ones (:func:`check_run` refuses more than
+    :data:`MAX_ROWS`).
+    """
+    experiment = md.defaultExperiment
+    try:
+        declared = float(experiment.stepSize) if experiment and experiment.stepSize not in (None, "") else None
+    except (TypeError, ValueError):
+        declared = None
+    if declared is not None and math.isfinite(declared) and declared > 0:
+        return declared, "the FMU's DefaultExperiment stepSize"
+    return DEFAULT_STEP, "the default for an FMU without a DefaultExperiment stepSize"
+
+
 def check_run(md, stop_time: float | None, step: float | None, fmi_type: str, start_time: float | None = None,
               parameters: dict | None = None) -> tuple[float, float]:
     """Refuse settings that cannot give a meaningful run (before anything runs); returns (t0, t1).
 
     With ``md`` None only the checks that need no model description are made (returns NaNs).
+    Without ``step`` the run's rows are counted at :func:`default_step`.
 
     Raises
     ------
     ParameterError
         A non-finite or non-positive step, a stop time that is not after the start, a run of
-        more than :data:`MAX_ROWS` output rows, or ``solver.fixedStepSize`` with Model Exchange.
+        more than :data:`MAX_ROWS` output rows (also at the default step: one message naming the
+        step and the rows, never a silently coarser step), or ``solver.fixedStepSize`` with
+        Model Exchange.
     """
     from cosim.fmu.parameters import FIXED_STEP_PARAMETER
 
@@ -298,6 +467,12 @@ def check_run(md, stop_time: float | None, step: float | None, fmi_type: str, st
     if step is not None and (t1 - t0) / step > MAX_ROWS:
         raise ParameterError(f"--step {step:g} s over {t1 - t0:g} s would record {(t1 - t0) / step:.3g} rows "
                              f"(at most {MAX_ROWS:,}); use a larger --step")
+    if step is None:
+        h, source = default_step(md)
+        if (t1 - t0) / h > MAX_ROWS:
+            raise ParameterError(f"--stop-time {t1:g} s with the default step of {h:g} s ({source}) would "
+                                 f"record {(t1 - t0) / h:.3g} rows (at most {MAX_ROWS:,}); give a --step of at "
+                                 f"least {(t1 - t0) / MAX_ROWS:.3g} s or a shorter --stop-time")
     return t0, t1
 
 
@@ -314,7 +489,8 @@ def simulate(fmu: str | Path, stop_time: float | None = None, step: float | None
     stop_time, start_time : float, optional
         Simulation interval in s (default: the FMU's DefaultExperiment).
     step : float, optional
-        Output interval / communication step in s.
+        Output interval / communication step in s (default: :func:`default_step`, the FMU's
+        DefaultExperiment stepSize or :data:`DEFAULT_STEP`, whatever the stop time).
     fmi_type : {'cs', 'me'}
         Co-Simulation (the FMU's own integrator) or Model Exchange (FMPy's CVode).
     parameters : dict, optional
@@ -348,6 +524,7 @@ def simulate(fmu: str | Path, stop_time: float | None = None, step: float | None
     handle = FMU(fmu, versions=ALL_FMI_VERSIONS)  # FMPy's simulate_fmu runs FMI 2 and FMI 3 alike
     md = handle.description
     t0, t1 = check_run(md, stop_time, step, fmi_type, start_time, parameters)
+    step = step if step is not None else default_step(md)[0]
     run = _Run(handle, t0, t1, step, "cs" if fmi_type == "cs" else "me", dict(parameters or {}), inputs,
                relative_tolerance, outputs, progress)
     if isolate is None:

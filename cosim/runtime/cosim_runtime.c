@@ -1259,8 +1259,13 @@ static rt_status integrate(rt_instance *in, const char *fn, double t_end)
     if (rt_update_outputs(in, fn) != RT_OK) return RT_ERROR;
     memcpy(in->k[0], DXV(in), nx * sizeof(double));
     if (h_fix > 0.0) h = h_fix;
-    else if (in->s.h_next > 0.0) h = in->s.h_next;
-    else h = initial_step(in, t0, t_end - t0);
+    else {
+        h = in->s.h_next > 0.0 ? in->s.h_next : initial_step(in, t0, t_end - t0);
+        /* A step the time cannot resolve at the scale of t_end (a model at rest starts with
+           1e-6 s, which fails at once when t_end is 1e9 s): start at the shortest step that
+           advances the time; the error control widens it or, rejecting it, reports the failure. */
+        if (h <= min_step(t0, t_end)) h = 2.0 * min_step(t0, t_end);
+    }
 
     while (t < t_end) {
         const double h_min = min_step(t, t_end);
