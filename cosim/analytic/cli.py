@@ -41,11 +41,14 @@ def analytic_report(params_name: str, speeds: list[float]) -> dict:
     from cosim.fmu.parameters import parameter_set_waiver
     from cosim.fmu.stability import parameters_for_model
 
+    from cosim.errors import ParameterError
+    from cosim.fmu.linearize import MAX_SPEED
+
     for v in speeds:
         if not math.isfinite(v):
-            from cosim.errors import ParameterError
-
             raise ParameterError(f"--speed must be finite, got {v}")
+        if abs(v) > MAX_SPEED:
+            raise ParameterError(f"--speed {v:g}: at most {MAX_SPEED:g} m/s in magnitude")
     params = parameters_for_model(params_name)
     waiver = parameter_set_waiver(params_name)  # the checks the set's file waives, reported with it
     M, C1, K0, K2 = W.matrices(params)

@@ -149,6 +149,11 @@ def _is_number(value: object) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
+#: Largest magnitude of a parameter in SI units (a bicycle of 1e6 m or 1e6 kg is already absurd;
+#: far larger values overflow the inertia sums).
+MAX_MAGNITUDE = 1e6
+
+
 def _coerce(params: Mapping[str, object]) -> dict[str, float]:
     """Exact key set, finite real numbers -> dict of floats in canonical order."""
     if not isinstance(params, Mapping):
@@ -170,8 +175,11 @@ def _coerce(params: Mapping[str, object]) -> dict[str, float]:
         value = float(value)
         if not math.isfinite(value):
             raise ValueError(f"{k}: must be finite [{UNITS[k]}], got {value!r}")
+        if abs(value) > MAX_MAGNITUDE:  # products of squares of such values overflow
+            raise ValueError(f"{k}: {value:g} [{UNITS[k]}] is beyond any bicycle (|value| <= {MAX_MAGNITUDE:g})")
         out[k] = value
     return out
+
 
 
 def validate_parameters(params: Mapping[str, object], *, waive: Iterable[str] = ()) -> dict[str, float]:
@@ -342,6 +350,8 @@ def _read_file(path: Path) -> tuple[dict, Waiver | None, str]:
         data = tomllib.loads(text)
     except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
         raise ValueError(f"{path}: not valid TOML: {exc}") from exc
+    except RecursionError:  # tomllib parses nested arrays and tables recursively
+        raise ValueError(f"{path}: not valid TOML: nested too deeply") from None
     waiver = _read_waiver(data, text, path)
     return {k: v for k, v in data.items() if k not in (WAIVER_KEY, REASON_KEY)}, waiver, text
 
@@ -466,6 +476,8 @@ def _load_table(folder: str, name: str, units: Mapping[str, str]) -> dict[str, f
             data = tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"{path}: not valid TOML: {exc}") from exc
+    except RecursionError:  # tomllib parses nested arrays and tables recursively
+        raise ValueError(f"{path}: not valid TOML: nested too deeply") from None
     unknown = [k for k in data if k not in units]
     missing = [k for k in units if k not in data]
     if unknown or missing:

@@ -135,6 +135,8 @@ def load_system(path: str | Path) -> SystemSpec:
         data = tomllib.loads(read_text_file(path, SystemError_, str(path)))
     except tomllib.TOMLDecodeError as exc:
         raise SystemError_(f"{path}: {exc}") from None
+    except RecursionError:  # tomllib parses nested arrays and tables recursively
+        raise SystemError_(f"{path}: not valid TOML: nested too deeply") from None
     return system_from_dict(data, path)
 
 

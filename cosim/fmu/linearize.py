@@ -682,6 +682,9 @@ def _steady_motions(model, states, inputs, outputs, C, D, A, B, x0, xdot0, metho
 
 #: Most speeds one sweep (``cosim linearize --speeds``, ``cosim compare --speeds``) takes.
 MAX_SPEEDS = 10_000
+#: Largest forward speed [m/s] in magnitude that --speed/--speeds accept (beyond it the squares of
+#: the speed in the equations of motion lose every digit of the other terms, then overflow).
+MAX_SPEED = 1e4
 
 
 def parse_speeds(text: str, option: str = "--speeds") -> list[float]:
@@ -705,6 +708,8 @@ def parse_speeds(text: str, option: str = "--speeds") -> list[float]:
             raise ParameterError(f"{option} expects A:B:STEP or V1,V2,... [m/s], got '{text}'") from None
         if not all(math.isfinite(v) for v in values):
             raise ParameterError(f"{option} {text}: the speeds must be finite")
+        if not all(abs(v) <= MAX_SPEED for v in values):
+            raise ParameterError(f"{option} {text}: the speeds must be at most {MAX_SPEED:g} m/s in magnitude")
         return values
 
     if ":" in text:
@@ -714,7 +719,10 @@ def parse_speeds(text: str, option: str = "--speeds") -> list[float]:
         start, stop, step = numbers(parts)
         if step <= 0 or stop < start:
             raise ParameterError(f"{option} {text}: need STEP > 0 and B >= A")
-        n = int(np.floor((stop - start) / step + 1e-9)) + 1
+        count = np.floor((stop - start) / step + 1e-9) + 1  # inf where B - A overflows
+        if not count <= MAX_SPEEDS:
+            raise ParameterError(f"{option} {text}: {count:.3g} speeds (at most {MAX_SPEEDS}); use a larger STEP")
+        n = int(count)
         if n > MAX_SPEEDS:
             raise ParameterError(f"{option} {text}: {n} speeds (at most {MAX_SPEEDS}); use a larger STEP")
         return [round(start + k * step, 12) for k in range(n)]

@@ -623,6 +623,8 @@ def load_spec(path_or_name: str | Path, max_cases: int = MAX_CASES) -> MatrixSpe
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SpecError(f"{path}: {exc}") from None
+    except RecursionError:  # tomllib parses nested arrays and tables recursively
+        raise SpecError(f"{path}: not valid TOML: nested too deeply") from None
     return spec_from_dict(data, path, max_cases)
 
 
