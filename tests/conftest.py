@@ -69,6 +69,17 @@ def variant_library(folder: Path, models: dict[str, str], package: str = "TestVa
     return Library([ROOT / "modelica", folder])
 
 
+def hide_shipped_library(folder: Path) -> Path:
+    """Give the library folder ``folder`` a package ``Bicycle`` of its own, which hides the shipped
+    one (the first folder holding a top-level package wins, as with MODELICAPATH): tests of a small
+    library then neither parse nor list nor build the shipped library, which is always searched
+    after the user's folders. Returns ``folder``."""
+    (folder / "Bicycle").mkdir(parents=True)
+    (folder / "Bicycle" / "package.mo").write_text('within;\npackage Bicycle "hides the shipped library"\n'
+                                                   'end Bicycle;\n', encoding="utf-8")
+    return folder
+
+
 def calculated_parameters(fmu_path, names, parameters=None) -> dict:
     """Values of (calculated) parameters read in initialization mode."""
     from cosim.fmu.access import FMU

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import run_cli
+from conftest import hide_shipped_library, run_cli
 from cosim.compiler.catalog import catalog, summarize
 from cosim.compiler import build as build_module
 from cosim.compiler.build import build, build_model
@@ -32,8 +32,8 @@ def model(name: str, body: str, annotation: str = "") -> str:
 
 def small_library(tmp_path: Path, files: dict[str, str | bytes]) -> Path:
     """A library folder holding only the package ``Broken`` with the given files (class name ->
-    text or raw bytes)."""
-    package = tmp_path / "lib" / "Broken"
+    text or raw bytes), built and listed alone (:func:`hide_shipped_library`)."""
+    package = hide_shipped_library(tmp_path / "lib") / "Broken"
     package.mkdir(parents=True)
     (package / "package.mo").write_text('within;\npackage Broken "models for tests"\nend Broken;\n')
     (package / "package.order").write_text("".join(f"{name}\n" for name in files))

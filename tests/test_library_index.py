@@ -16,6 +16,7 @@ from pathlib import Path
 
 import pytest
 
+from conftest import hide_shipped_library
 from cosim.compiler.catalog import catalog, index_key, summarize
 from cosim.compiler.library import Library, compiler_digest, fmu_up_to_date, library_digest, load_library
 
@@ -67,17 +68,10 @@ sys.exit(main(sys.argv[1:]))
 """
 
 
-#: A package Bicycle of the test library: it hides the shipped one (the first folder holding a
-#: top-level package wins), so that these tests index their small library only, not the shipped
-#: library that is always searched after it.
-HIDE_SHIPPED = 'within;\npackage Bicycle "hides the shipped library"\nend Bicycle;\n'
-
-
 def small_library(tmp_path: Path, files: dict[str, str]) -> Path:
-    package = tmp_path / "lib" / "Small"
+    """The package Small with ``files``; these tests index it alone (:func:`hide_shipped_library`)."""
+    package = hide_shipped_library(tmp_path / "lib") / "Small"
     package.mkdir(parents=True)
-    (tmp_path / "lib" / "Bicycle").mkdir()
-    (tmp_path / "lib" / "Bicycle" / "package.mo").write_text(HIDE_SHIPPED, encoding="utf-8")
     (package / "package.mo").write_text(PACKAGE, encoding="utf-8")
     (package / "package.order").write_text("".join(f"{name}\n" for name in files), encoding="utf-8")
     for name, text in files.items():

@@ -162,18 +162,20 @@ def test_crashing_worker_fails_its_case_only_and_keeps_the_rest(reference, tmp_p
 
 
 def test_bad_case_gives_one_message_and_the_others_run(reference, tmp_path, monkeypatch):
-    """A case whose parameter the FMU does not have: that case fails with one message naming it."""
+    """A case with a value the FMU refuses (a wheel radius below its declared minimum): that case
+    fails with one message naming the parameter. (A name the FMU does not have is refused for the
+    whole spec before anything is built: tests/test_declarations.py.)"""
     from cosim.matrix.runner import run_matrix
 
     _, expected = reference
     bad = {"name": "bad", "observe": "bike.phi", "connections": [],
-           "components": {"bike": {**_bike(5.0), "parameters": {"v": 5.0, "phi0": 0.01, "nosuch": "=x"}}},
+           "components": {"bike": {**_bike(5.0), "parameters": {"v": 5.0, "phi0": 0.01, "rR": "=-x"}}},
            "axes": {"x": [1.0]}}
     spec = spec_from_dict(_spec("pool", None, (bad,)))
     monkeypatch.setenv("COSIM_MATRIX_START", "fork")
     result = run_matrix(spec, tmp_path / "out", workers=2, progress=False, report=False)
     failed = [r for r in result.records if r["agreement"] == "failed"]
-    assert len(failed) == 1 and "nosuch" in failed[0]["error"] and "\n" not in failed[0]["error"]
+    assert len(failed) == 1 and "rR" in failed[0]["error"] and "\n" not in failed[0]["error"]
     got = _strip(result.records)
     assert all(got[key] == record for key, record in expected.items())
 

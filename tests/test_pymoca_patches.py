@@ -13,7 +13,7 @@ import pytest
 
 from cosim.compiler.description import describe
 from cosim.compiler.flatten import flatten
-from cosim.compiler.library import Library
+from cosim.compiler.library import DEFAULT_LIBRARY, Library
 from cosim.compiler.ode import make_explicit
 from cosim.errors import ModelicaError
 
@@ -461,10 +461,15 @@ ORACLE = {
 }
 
 
+def _own(library: Library) -> list[str]:
+    """The models of ``library`` without those of the shipped library (searched after the folders)."""
+    return [e.name for e in library.models() if not e.name.startswith("Bicycle.")]
+
+
 def test_two_top_level_packages_in_one_folder(tmp_path):
     library = _library(tmp_path, DECAY)
     assert library.errors == {}
-    assert [e.name for e in library.models()] == ["Disc.D", "P.M"]
+    assert _own(library) == ["Disc.D", "P.M"]
     flat = flatten(library, "Disc.D")
     assert [(p.symbol.name(), p.value) for p in flat.casadi.parameters] == [("k", 5.0)]
 
@@ -485,21 +490,26 @@ def test_library_of_several_folders(tmp_path, monkeypatch, joined):
         load_library.cache_clear()
     else:
         library = Library(folders)
-    assert library.errors == {} and library.paths == [f.resolve() for f in folders]
-    assert [e.name for e in library.models()] == ["Disc.D", "P.M", "Oracle.N"]
+    assert library.errors == {} and library.paths == [f.resolve() for f in folders] + [DEFAULT_LIBRARY.resolve()]
+    assert _own(library) == ["Disc.D", "P.M", "Oracle.N"]
     assert library.entry("Oracle.N").file == (tmp_path / "oracle" / "Oracle" / "package.mo").resolve()
     assert library.relative_name(library.entry("Oracle.N").file) == "1:Oracle/package.mo"
     flat = flatten(library, "Oracle.N")
     assert [(p.symbol.name(), p.value) for p in flat.casadi.parameters] == [("k", 3.0)]
 
 
-def test_package_defined_in_two_folders_is_refused(tmp_path):
+def test_package_in_two_folders_comes_from_the_first(tmp_path):
+    """MODELICAPATH: a top-level package is taken from the first folder that holds it; the later
+    folder's copy is not parsed (its other packages are)."""
     _library(tmp_path / "lib", DECAY)
-    _library(tmp_path / "copy", {"P/package.mo": DECAY["P/package.mo"]})
+    _library(tmp_path / "copy", {"P/package.mo": DECAY["P/package.mo"].replace("M ", "Other ").replace("M;", "Other;"),
+                                 "Q/package.mo": 'package Q "only here"\nend Q;\n'})
     library = Library([tmp_path / "lib", tmp_path / "copy"])
     copy = (tmp_path / "copy" / "P" / "package.mo").resolve()
-    assert "class 'P' is defined a second time" in str(library.errors[copy])
-    assert [e.name for e in library.models()] == ["Disc.D", "P.M"]
+    assert library.errors == {} and copy not in library.files
+    assert (tmp_path / "copy" / "Q" / "package.mo").resolve() in library.files
+    assert _own(library) == ["Disc.D", "P.M"]
+    assert library.entry("P.M").file == (tmp_path / "lib" / "P" / "package.mo").resolve()
 
 
 # -- 6. Array constructors with variables ----------------------------------------------------------
