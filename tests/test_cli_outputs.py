@@ -140,3 +140,25 @@ def test_build_jobs_zero_is_refused(tmp_path):
     assert result.returncode == 2 and "Traceback" not in result.stderr
     assert "-j/--jobs: must be at least 1" in result.stderr
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("argv", [["figures", "fig5", "-o", "{out}"], ["demo", "-o", "{out}"],
+                                  ["app", "--export", "{out}"]], ids=["figures", "demo", "app-export"])
+def test_folder_being_written_by_another_command_is_refused(tmp_path, argv):
+    """Every command that writes a folder holds its lock: while another process (here the test
+    itself) holds it, the command is refused in one line naming the holder's pid, before any
+    work (nothing built, nothing written); an empty folder it created is removed again."""
+    from cosim.folder_lock import folder_lock
+
+    out = tmp_path / "out"
+    fresh_fmus = tmp_path / "fresh-fmus"
+    with folder_lock(out):
+        (out / "earlier.txt").write_text("an earlier result\n")
+        before = {p.name: p.read_bytes() for p in out.iterdir()}
+        result = run_cli(*[a.format(out=out) for a in argv], env={"COSIM_FMU_DIR": str(fresh_fmus)}, cwd=tmp_path)
+        assert result.returncode == 2, result.stdout + result.stderr
+        lines = result.stderr.strip().splitlines()
+        assert len(lines) == 1 and f"'{out}' is being written by pid {os.getpid()} (" in lines[0], lines
+        assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+    assert not fresh_fmus.exists(), "work was done before the refusal"
+    assert sorted(p.name for p in out.iterdir()) == ["earlier.txt"], "the lock file is removed at the end"

@@ -729,3 +729,120 @@ def test_failing_plugin_import_is_one_message(tmp_path):
     result = _matrix(str(spec), "-o", str(tmp_path / "out"))
     assert result.returncode == 2
     assert "imports: " in result.stderr and "broken.py" in result.stderr and "plugin is broken" in result.stderr
+
+
+# --------------------------------------------------------------------------- 9. one writer per output folder
+
+WAIT_WHILE_MARKED = '''
+import os, time
+from pathlib import Path
+from cosim.cosimulation.controllers import Proportional
+
+
+class WaitWhileMarked(Proportional):
+    """T = -k phi; at t = 0.5 s, while the file 'marker' exists, writes its pid to 'flag' and waits."""
+
+    def __init__(self, name, k=1.0, marker="", flag=""):
+        super().__init__(name, k)
+        self.marker, self.flag = marker, flag
+
+    def step(self, t, h):
+        if t >= 0.5 and self.marker and os.path.exists(self.marker):
+            Path(self.flag).write_text(str(os.getpid()))
+            while os.path.exists(self.marker):
+                time.sleep(0.02)
+
+
+'''
+
+
+def _waiting_spec(tmp_path: Path) -> tuple[Path, Path, Path]:
+    """A spec of 3 cases whose last one waits while ``marker`` exists (after writing ``flag``);
+    with one worker the first two are recorded before it. Returns (spec, marker, flag)."""
+    (tmp_path / "wait_marked.py").write_text(WAIT_WHILE_MARKED)
+    marker, flag = tmp_path / "marker", tmp_path / "flag"
+    marker.write_text("wait")
+    study = {"name": "waits", "observe": "bike.phi",
+             "connections": ["bike.phi -> rider.phi", "rider.T -> bike.T_phi"],
+             "components": {"bike": {"model": "Bicycle.Bicycles.WhippleLinear", "parameter_set": "benchmark",
+                                     "parameters": {"v": 5.0, "phi0": 0.01}},
+                            "rider": {"python": "WaitWhileMarked",
+                                      "parameters": {"k": "=k", "marker": "=m", "flag": str(flag)}}},
+             "cases": [{"k": 1.0, "m": ""}, {"k": 2.0, "m": ""}, {"k": 3.0, "m": str(marker)}]}
+    spec = _write_spec(tmp_path / "waits.toml", [study], {**FAST, "imports": ["wait_marked.py"], "timeout": 600.0})
+    return spec, marker, flag
+
+
+def _start_matrix(spec: Path, out: Path) -> subprocess.Popen:
+    return subprocess.Popen([sys.executable, "-m", "cosim", "matrix", str(spec), "-o", str(out), "--workers", "1",
+                             "--no-progress"], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+
+def _wait_for_the_last_case(proc: subprocess.Popen, flag: Path, results: Path) -> None:
+    """Until the waiting case runs (its flag exists) and the two cases before it are recorded."""
+    deadline = time.monotonic() + 300
+    while not (flag.exists() and results.exists() and len(read_records(results)[0]) == 2):
+        assert proc.poll() is None, proc.communicate()
+        assert time.monotonic() < deadline, "the matrix did not reach its last case"
+        time.sleep(0.05)
+
+
+@pytest.mark.parametrize("again", [[], ["--resume"], ["--force"]], ids=["plain", "resume", "force"])
+def test_second_matrix_on_a_folder_being_written_is_refused(fmus, tmp_path, again):
+    """Two runs on one folder used to both print PASS while one wrote to a deleted file
+    (--force), or every case ended up twice (--resume): the second is refused in one line naming
+    the first (its pid and command), changes nothing, and the first completes."""
+    spec, marker, flag = _waiting_spec(tmp_path)
+    out = tmp_path / "out"
+    first = _start_matrix(spec, out)
+    try:
+        _wait_for_the_last_case(first, flag, out / "results.jsonl")
+        before = _snapshot(out)
+        second = _matrix(str(spec), "-o", str(out), "--workers", "1", *again)
+        assert second.returncode == 2, second.stdout + second.stderr
+        lines = second.stderr.strip().splitlines()
+        assert len(lines) == 1 and lines[0].startswith(f"cosim matrix: error: output folder '{out}' is being "
+                                                       f"written by pid {first.pid} (cosim matrix "), lines
+        assert str(spec) in lines[0] and "started " in lines[0], lines
+        assert _snapshot(out) == before, "the refused run changed the folder"
+        marker.unlink()  # the last case of the first run ends
+        stdout, stderr = first.communicate(timeout=300)
+    finally:
+        if first.poll() is None:
+            first.kill()
+            first.communicate()
+    assert first.returncode == 0 and "PASS" in stdout and "3 cases (3 run, 0 resumed)" in stdout, stdout + stderr
+    records = read_records(out / "results.jsonl")[0]
+    assert sorted(r["key"] for r in records) == sorted({r["key"] for r in records}) and len(records) == 3
+    assert not (out / ".cosim-lock").exists(), "the lock file is removed at the end"
+
+
+def test_resume_after_kill_completes_without_duplicates(fmus, tmp_path):
+    """kill -9 of a run in its last case (two cases recorded, the lock file left behind), a torn
+    line at the end of the results (as a kill in the middle of a write leaves it, appended here by
+    hand), then --resume: the killed run's lock is no lock, the torn line is cut off, only the
+    missing case runs, and every case has exactly one record."""
+    spec, marker, flag = _waiting_spec(tmp_path)
+    out = tmp_path / "out"
+    first = _start_matrix(spec, out)
+    try:
+        _wait_for_the_last_case(first, flag, out / "results.jsonl")
+        first.send_signal(signal.SIGKILL)
+        first.communicate(timeout=60)
+    finally:
+        if first.poll() is None:
+            first.kill()
+            first.communicate()
+    assert (out / ".cosim-lock").exists() and str(first.pid) in (out / ".cosim-lock").read_text()
+    with open(out / "results.jsonl", "ab") as f:
+        f.write(b'{"key": "torn by the kill", "agree')
+    marker.unlink()
+    resumed = _matrix(str(spec), "-o", str(out), "--workers", "1", "--resume")
+    assert resumed.returncode == 0, resumed.stdout + resumed.stderr
+    assert "3 cases (1 run, 2 resumed)" in resumed.stdout and "PASS" in resumed.stdout, resumed.stdout
+    data = (out / "results.jsonl").read_bytes()
+    records = read_records(out / "results.jsonl")[0]
+    assert data.endswith(b"\n") and data.count(b"\n") == 3, data[-200:]
+    assert len(records) == 3 and len({r["key"] for r in records}) == 3
+    assert all(r["agreement"] == "agree" for r in records)
+    assert not (out / ".cosim-lock").exists()

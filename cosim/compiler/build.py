@@ -7,8 +7,9 @@ invalidate each other.
 Safe to run concurrently and to kill:
 
 - a build of one model into one folder holds an exclusive lock (``OUTPUT/.NAME.fmu.lock``,
-  ``flock``): a second build of the same model into the same folder waits, then finds the FMU
-  up to date; the FMU itself is written to a temporary name and renamed when complete;
+  :mod:`cosim.folder_lock`): a second build of the same model into the same folder waits, then
+  finds the FMU up to date; builds of other models into the folder run side by side; the FMU
+  itself is written to a temporary name and renamed when complete;
 - the pool workers of a parallel build die with their parent (``kill -9`` of `cosim build`
   included): they stop their compilers, remove their temporary files and exit, and never
   write an FMU after the command is gone.
@@ -30,6 +31,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from cosim.errors import BuildError, CosimError, ModelicaError, OutputError, ParameterError
+from cosim.folder_lock import held_lock_files, lock_file, unlock_file
 from cosim.outputs import check_output_folder
 from cosim.processes import die_with_parent
 from cosim.compiler import fmu as fmu_files
@@ -118,45 +120,22 @@ def _fmi_versions(values) -> tuple[str, ...]:
 
 # --- one build of a model into a folder at a time ---------------------------------------------
 
-_held_locks: set[Path] = set()  # lock files this process holds (removed if it is abandoned)
-
-
 @contextlib.contextmanager
 def _build_lock(target: Path):
-    """Hold the exclusive lock of building ``target`` (``.NAME.fmu.lock`` beside it).
-
-    The lock file is removed when the lock is released, so none is left behind. A process
-    that waited on a file that was removed meanwhile finds a different (or no) file under the
-    name after locking and tries again: only the file currently under the name counts.
-    """
-    import fcntl
-
+    """Hold the exclusive lock of building ``target`` (``.NAME.fmu.lock`` beside it), waiting
+    while another build of it runs (:func:`cosim.folder_lock.lock_file`). The lock file is
+    removed when the lock is released, so none is left behind."""
     lock = target.parent / f".{target.name}.lock"
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
-        while True:
-            fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
-            try:
-                fcntl.flock(fd, fcntl.LOCK_EX)  # waits while another build of this model runs
-                if os.path.samestat(os.fstat(fd), os.stat(lock)):
-                    break
-            except FileNotFoundError:
-                pass
-            except BaseException:
-                os.close(fd)
-                raise
-            os.close(fd)
     except OSError as exc:
         raise OutputError(f"output folder '{target.parent}': cannot lock {lock.name}: "
                           f"{exc.strerror or exc}") from None
-    _held_locks.add(lock)
+    fd = lock_file(lock, wait=True, what=f"output folder '{target.parent}'")
     try:
         yield
     finally:
-        _held_locks.discard(lock)
-        with contextlib.suppress(OSError):
-            os.unlink(lock)
-        os.close(fd)
+        unlock_file(fd)
 
 
 def _remove_stale_lock(target: Path) -> None:
@@ -350,7 +329,7 @@ def _clean_up_worker() -> None:
     if _scratch_root is not None:
         with contextlib.suppress(OSError):
             _scratch_root.rmdir()  # the last worker to go removes the build's folder
-    for path in list(fmu_files.PARTIALS) + list(_held_locks):
+    for path in list(fmu_files.PARTIALS) + held_lock_files():
         with contextlib.suppress(OSError):
             os.unlink(path)
 
