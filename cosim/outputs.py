@@ -5,8 +5,13 @@ Every command that writes a file (CSV, NPY, PNG, HTML, JSON, SSP, FMU) goes thro
 - an output path that cannot be written (a directory, a read-only folder, a file in the way of a
   folder) is refused with one message *before* any computation starts (:func:`check_output`);
 - a file appears under its final name only when it is complete: a kill or an error half-way leaves
-  at most a hidden ``.NAME.partial-*`` file, never a complete-looking partial result
-  (:func:`atomic_output`).
+  at most a hidden ``.NAME.partial-PID-HOST-*`` file, never a complete-looking partial result
+  (:func:`atomic_output`); the next command that writes into that folder removes the partial
+  files whose writer (PID on this HOST) has ended (:func:`remove_leftovers`).
+
+Temporary folders (extracted FMUs, the served app, build files) are ``TMPDIR/cosim-KIND-PID-*``
+(:func:`temporary_folder`): the next command that makes one of that kind removes those of ended
+processes, so a ``kill -9`` leaves its folder only until then.
 
 Input text files (CSV input data, system and matrix spec TOML) are read through
 :func:`read_text_file`, so that an unreadable or undecodable file gets the same one message
@@ -15,11 +20,16 @@ everywhere.
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import os
+import re
+import shutil
+import socket
 import tempfile
 from pathlib import Path
 
 from cosim.errors import OutputError
+from cosim.processes import alive
 
 
 def _existing_ancestor(path: Path) -> Path:
@@ -64,12 +74,73 @@ def check_output_folder(path: str | os.PathLike, what: str = "output folder") ->
     return path
 
 
+def host_tag() -> str:
+    """Six hex digits naming this host in temporary names (a folder may be shared over NFS)."""
+    return hashlib.sha256(socket.gethostname().encode()).hexdigest()[:6]
+
+
+#: The partial files of :func:`atomic_output`: ``.STEM.partial-PID-HOST-XXXXXXXX.SUFFIX``.
+PARTIAL_NAME = re.compile(r"^\..*\.partial-(?P<pid>\d+)-(?P<host>[0-9a-f]{6})-[a-z0-9_]{8}(\.[^.]*)?$")
+
+
+def remove_leftovers(folder: str | os.PathLike, pattern: re.Pattern) -> list[Path]:
+    """Remove what ended processes left in ``folder``: the files and folders whose names match
+    ``pattern``, owned by this user, whose writer has ended.
+
+    ``pattern``'s group ``pid`` is the writer's pid; its optional group ``host`` the
+    :func:`host_tag` of the writer's host (an entry of another host is kept: its pid means
+    nothing here). An entry whose pid is alive is kept (also one of a recycled pid: the entry
+    then stays until that process ends too). Entries that cannot be read or removed are skipped.
+
+    Returns
+    -------
+    list of Path
+        What was removed.
+    """
+    removed = []
+    try:
+        entries = list(os.scandir(folder))
+    except OSError:
+        return removed
+    for entry in entries:
+        match = pattern.search(entry.name)
+        if match is None or match.groupdict().get("host") not in (None, host_tag()):
+            continue
+        try:
+            if entry.stat(follow_symlinks=False).st_uid != os.getuid() or alive(int(match["pid"])):
+                continue
+            if entry.is_dir(follow_symlinks=False):
+                shutil.rmtree(entry.path)
+            else:
+                os.unlink(entry.path)
+        except OSError:  # gone meanwhile, or not ours to remove
+            continue
+        removed.append(Path(entry.path))
+    return removed
+
+
+def _make_partial(folder: Path, stem: str, suffix: str) -> Path:
+    """A new empty partial file in ``folder`` named after this process (see :data:`PARTIAL_NAME`)."""
+    fd, partial = tempfile.mkstemp(prefix=f".{stem[:64]}.partial-{os.getpid()}-{host_tag()}-",
+                                   suffix=suffix if re.fullmatch(r"(\.[^.]*)?", suffix) else "", dir=folder)
+    os.close(fd)
+    return Path(partial)
+
+
 @contextlib.contextmanager
 def atomic_output(path: str | os.PathLike, what: str = "output file"):
     """Yield a temporary path beside ``path``; on success it is renamed to ``path``.
 
-    The temporary name keeps the suffix (matplotlib and numpy choose the format by it). On any
-    exception the temporary file is removed and the exception propagates; ``path`` is untouched.
+    The temporary name keeps the suffix (matplotlib and numpy choose the format by it) and names
+    this process, so that the next command writing into the folder removes it if this one is
+    killed (:func:`remove_leftovers`). On any exception the temporary file is removed and the
+    exception propagates; ``path`` is untouched.
+
+    Raises
+    ------
+    OutputError
+        ``cannot write WHAT 'PATH': REASON`` if the file cannot be created, written (disk full,
+        quota, read-only file system, ...) or renamed.
 
     Examples
     --------
@@ -79,21 +150,41 @@ def atomic_output(path: str | os.PathLike, what: str = "output file"):
     path = check_output(path, what)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        fd, partial = tempfile.mkstemp(prefix=f".{path.stem}.partial-", suffix=path.suffix, dir=path.parent)
+        remove_leftovers(path.parent, PARTIAL_NAME)
+        partial = _make_partial(path.parent, path.stem, path.suffix)
     except OSError as exc:
-        raise OutputError(f"{what} '{path}': {exc.strerror or exc}") from None
-    os.close(fd)
-    partial = Path(partial)
+        raise OutputError(f"cannot write {what} '{path}': {exc.strerror or exc}") from None
     try:
         yield partial
         os.chmod(partial, 0o666 & ~_umask())
         os.replace(partial, path)
     except OSError as exc:
         partial.unlink(missing_ok=True)
-        raise OutputError(f"{what} '{path}': {exc.strerror or exc}") from None
+        if isinstance(exc, OutputError):
+            raise
+        raise OutputError(f"cannot write {what} '{path}': {exc.strerror or exc}") from None
     except BaseException:
         partial.unlink(missing_ok=True)
         raise
+
+
+def make_temporary_folder(kind: str) -> Path:
+    """A new folder ``TMPDIR/cosim-KIND-PID-XXXXXXXX`` of this process; the caller removes it.
+
+    The folders of this kind that ended processes left (``kill -9``) are removed first."""
+    base = Path(tempfile.gettempdir())
+    remove_leftovers(base, re.compile(rf"^cosim-{re.escape(kind)}-(?P<pid>\d+)-"))
+    return Path(tempfile.mkdtemp(prefix=f"cosim-{kind}-{os.getpid()}-", dir=base))
+
+
+@contextlib.contextmanager
+def temporary_folder(kind: str):
+    """:func:`make_temporary_folder` removed (with everything in it) when the block ends."""
+    folder = make_temporary_folder(kind)
+    try:
+        yield folder
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
 
 
 def _umask() -> int:

@@ -3,6 +3,10 @@ appear under their final name only when complete; -o picks the format by suffix.
 from __future__ import annotations
 
 import os
+import signal
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -162,3 +166,50 @@ def test_folder_being_written_by_another_command_is_refused(tmp_path, argv):
         assert {p.name: p.read_bytes() for p in out.iterdir()} == before
     assert not fresh_fmus.exists(), "work was done before the refusal"
     assert sorted(p.name for p in out.iterdir()) == ["earlier.txt"], "the lock file is removed at the end"
+
+
+KILLED_WRITER = """
+import sys, time
+from cosim.outputs import atomic_output
+
+with atomic_output(sys.argv[1]) as tmp:
+    with open(tmp, "w") as f:
+        f.write("time,phi\\n" + "0,0\\n" * 100000)
+        f.flush()
+        print(tmp, flush=True)
+        time.sleep(600)  # killed here, in the middle of writing
+"""
+
+
+def test_partial_file_of_a_killed_command_is_removed_by_the_next_one(fmus, tmp_path):
+    """kill -9 while a result is written leaves its hidden partial file (named after the
+    writer's pid and host); the next command that writes into that folder removes it. It keeps
+    what is not certainly garbage: the partial file of a live process, one of another host, one
+    without a pid, other hidden files, and partial files in folders it does not write to."""
+    from cosim.outputs import host_tag
+
+    out, elsewhere = tmp_path / "results", tmp_path / "elsewhere"
+    out.mkdir()
+    elsewhere.mkdir()
+    writer = subprocess.Popen([sys.executable, "-c", KILLED_WRITER, str(out / "big.csv")], cwd=ROOT,
+                              stdout=subprocess.PIPE, text=True)
+    try:
+        partial = Path(writer.stdout.readline().strip())
+    finally:
+        writer.send_signal(signal.SIGKILL)
+        writer.communicate(timeout=60)
+    assert partial.parent == out and partial.name.startswith(f".big.partial-{writer.pid}-{host_tag()}-"), partial
+    assert partial.stat().st_size > 100_000 and not (out / "big.csv").exists()
+    other_host = "0" * 6 if host_tag() != "0" * 6 else "1" * 6
+    kept = [out / f".r.partial-{os.getpid()}-{host_tag()}-abcdefgh.csv",  # this (live) process
+            out / f".r.partial-{writer.pid}-{other_host}-abcdefgh.csv",  # another host's pid
+            out / ".r.partial-abcdefgh.csv",  # no writer named
+            out / ".notes.txt",
+            elsewhere / partial.name]  # not where the next command writes
+    for path in kept:
+        path.write_text("kept\n")
+    result = run_cli("simulate", str(fmus[MODEL]), "--stop-time", "0.5", "-o", str(out / "r.csv"))
+    assert result.returncode == 0, result.stderr
+    assert not partial.exists(), "the killed writer's partial file is left"
+    assert all(p.read_text() == "kept\n" for p in kept)
+    assert sorted(p.name for p in out.iterdir()) == sorted([p.name for p in kept[:4]] + ["r.csv"])

@@ -32,7 +32,7 @@ from pathlib import Path
 
 from cosim.errors import BuildError, CosimError, ModelicaError, OutputError, ParameterError
 from cosim.folder_lock import held_lock_files, lock_file, unlock_file
-from cosim.outputs import check_output_folder
+from cosim.outputs import check_output_folder, make_temporary_folder, temporary_folder
 from cosim.processes import die_with_parent
 from cosim.compiler import fmu as fmu_files
 from cosim.compiler import schedule
@@ -291,8 +291,11 @@ _PARENT_POLL = 0.2  # s between two looks of the watchdog at the parent
 
 @contextlib.contextmanager
 def _scratch_folder():
-    """A temporary folder, registered so that an abandoned worker removes it."""
-    with tempfile.TemporaryDirectory(prefix="cosim-build-", dir=_scratch_root) as tmp:
+    """A temporary folder, registered so that an abandoned worker removes it: in the parallel
+    build's folder, else ``TMPDIR/cosim-build-PID-*`` (one a killed build left is removed by
+    the next build: :func:`cosim.outputs.temporary_folder`)."""
+    with (tempfile.TemporaryDirectory(prefix="cosim-build-", dir=_scratch_root) if _scratch_root
+          else temporary_folder("build")) as tmp:
         _scratch.add(Path(tmp))
         try:
             yield tmp
@@ -378,7 +381,7 @@ def _stop_pool(pool: ProcessPoolExecutor) -> None:
 
 
 def _run_parallel(tasks: list[tuple], jobs: int) -> list:
-    scratch_root = tempfile.mkdtemp(prefix="cosim-build-")
+    scratch_root = str(make_temporary_folder("build"))  # TMPDIR/cosim-build-PID-*
     try:
         return _run_pool(tasks, jobs, scratch_root)
     finally:

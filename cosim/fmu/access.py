@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from cosim.errors import FMUError
+from cosim.outputs import make_temporary_folder
 
 #: The FMI versions a command runs unless it says otherwise (see :func:`check_fmi_version`).
 SUPPORTED_FMI_VERSIONS = ("2.0",)
@@ -250,26 +251,10 @@ def _process_folder() -> Path:
 
     if _PROCESS_FOLDER is None or _PROCESS_FOLDER[0] != os.getpid():
         _EXTRACTED.clear()  # a forked child's inherited entries point into the parent's folder
-        _remove_folders_of_ended_processes()
-        folder = Path(tempfile.mkdtemp(prefix=f"cosim-fmu-{os.getpid()}-"))
+        folder = make_temporary_folder("fmu")  # (removes the folders of ended processes)
         _PROCESS_FOLDER = (os.getpid(), folder)
         atexit.register(_remove_extracted, os.getpid(), folder)
     return _PROCESS_FOLDER[1]
-
-
-def _remove_folders_of_ended_processes() -> None:
-    """Remove the extraction folders (``cosim-fmu-<pid>-*``, ours) that processes ended without
-    their atexit (SIGKILL, ``os._exit``) left behind; a folder whose process is alive stays."""
-    for folder in Path(tempfile.gettempdir()).glob("cosim-fmu-*-*"):
-        pid = folder.name.split("-")[2]
-        try:
-            if not pid.isdigit() or folder.stat().st_uid != os.getuid():
-                continue
-            os.kill(int(pid), 0)
-        except ProcessLookupError:  # that process has ended
-            shutil.rmtree(folder, ignore_errors=True)
-        except OSError:  # gone meanwhile, or another user's process: not ours to remove
-            continue
 
 
 def _remove_extracted(owner: int, folder: Path) -> None:
