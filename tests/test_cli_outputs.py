@@ -213,3 +213,131 @@ def test_partial_file_of_a_killed_command_is_removed_by_the_next_one(fmus, tmp_p
     assert not partial.exists(), "the killed writer's partial file is left"
     assert all(p.read_text() == "kept\n" for p in kept)
     assert sorted(p.name for p in out.iterdir()) == sorted([p.name for p in kept[:4]] + ["r.csv"])
+
+
+# ----------------------------------------------------------------- OS errors while writing
+
+@pytest.fixture()
+def full_disk(monkeypatch):
+    """``full_disk(suffixes)``: the partial files of atomic_output for those suffixes become
+    symbolic links to /dev/full, so that writing the result fails with the kernel's ENOSPC (as on
+    a full disk, without root or a small file system). /dev/full's mode is checked unchanged."""
+    from cosim import outputs
+
+    real = outputs._make_partial
+    before = os.stat("/dev/full")
+
+    def use(suffixes=(".csv", ".npy", ".png", ".jsonl")):
+        def on_full_disk(folder, stem, suffix):
+            partial = real(folder, stem, suffix)
+            if suffix in suffixes:
+                partial.unlink()
+                partial.symlink_to("/dev/full")
+            return partial
+
+        monkeypatch.setattr(outputs, "_make_partial", on_full_disk)
+
+    yield use
+    after = os.stat("/dev/full")
+    if after.st_mode != before.st_mode:  # a write that did not fail chmod-ed the device: undo, then fail
+        os.chmod("/dev/full", before.st_mode & 0o7777)
+    assert after.st_mode == before.st_mode
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full")
+@pytest.mark.parametrize("verb, output, full, message", [
+    ("simulate", "r.csv", (".csv",), "cannot write result file '{out}/r.csv': No space left on device; the 11 rows "
+                                     "(t = 0 .. 1 s) computed were not written"),
+    ("simulate", "r.npy", (".npy",), "cannot write result file '{out}/r.npy': No space left on device; the 11 rows "
+                                     "(t = 0 .. 1 s) computed were not written"),
+    ("simulate-plot", "r.csv", (".png",), "cannot write plot file '{out}/p.png': No space left on device; the 11 rows "
+                                          "(t = 0 .. 1 s) computed were not plotted; kept: {out}/r.csv"),
+    ("run", "r.csv", (".csv",), "cannot write result file '{out}/r.csv': No space left on device; the 201 rows "
+                                "(t = 0 .. 2 s) computed were not written"),
+], ids=["simulate-csv", "simulate-npy", "simulate-plot", "run-csv"])
+def test_disk_full_while_writing_the_result_is_one_line_saying_what_was_lost(fmus, tmp_path, full_disk, verb,
+                                                                            output, full, message):
+    """ENOSPC while the computed result is written used to be an internal error (exit 70) that
+    named no file: one line naming the file, the reason and what was lost (or kept), exit 4;
+    no partial file and nothing under the failed name."""
+    from conftest import cli_in_process
+
+    out = tmp_path / "out"
+    out.mkdir()
+    (tmp_path / "short.toml").write_text(SYSTEM.read_text().replace("stop = ", "stop = 2.0 #"))
+    argv = {"simulate": ["simulate", str(fmus[MODEL]), "--stop-time", "1", "--step", "0.1"],
+            "run": ["run", str(tmp_path / "short.toml")]}[verb.split("-")[0]] + ["-o", str(out / output)]
+    if verb == "simulate-plot":
+        argv += ["--plot", str(out / "p.png")]
+    full_disk(full)
+    status, stdout, err = cli_in_process(argv, tmp_path)
+    assert status == 4, stdout + err
+    assert err.splitlines() == [f"cosim {argv[0]}: error: {message.format(out=out)}"]
+    assert sorted(p.name for p in out.iterdir()) == (["r.csv"] if verb == "simulate-plot" else [])
+
+
+def _file_size_limit(size: int):
+    def limit():
+        import resource
+
+        resource.setrlimit(resource.RLIMIT_FSIZE, (size, size))
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # a write beyond the limit fails with EFBIG instead
+    return limit
+
+
+def test_write_failing_in_the_kernel_is_one_line(fmus, tmp_path):
+    """A real failing write, no monkeypatching: a file size limit of 150 kB (RLIMIT_FSIZE, any
+    user) lets the FMU be extracted (its largest member: 92 kB) but not the result of 20001 rows
+    (about 500 kB) be written (EFBIG): one line naming the file and what was lost, exit 4,
+    nothing left."""
+    out = tmp_path / "out"
+    out.mkdir()
+    result = subprocess.run([sys.executable, "-m", "cosim", "simulate", str(fmus[MODEL]), "--stop-time", "20",
+                             "--step", "0.001", "-o", str(out / "r.csv")], cwd=ROOT, capture_output=True, text=True,
+                            timeout=300, preexec_fn=_file_size_limit(150_000))
+    assert result.returncode == 4, result.stdout + result.stderr
+    assert result.stderr.splitlines() == [
+        f"cosim simulate: error: cannot write result file '{out}/r.csv': File too large; the 20001 rows "
+        "(t = 0 .. 20 s) computed were not written"]
+    assert list(out.iterdir()) == []
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full")
+@pytest.mark.parametrize("target", ["/dev/full", "fifo"], ids=["device", "fifo"])
+def test_output_that_is_a_device_or_fifo_is_refused_before_any_work(fmus, tmp_path, target):
+    """`-o /dev/full` passed the checks, and the result would have been renamed over the device
+    (as root): a device or FIFO as output file is refused before any work, and left alone."""
+    if target == "fifo":
+        target = tmp_path / "fifo.csv"
+        os.mkfifo(target)
+    before = os.stat(target)
+    result = run_cli("simulate", str(fmus[MODEL]), "--stop-time", "1", "-o", str(target))
+    assert result.returncode == 2, result.stdout + result.stderr
+    kind = "a character device" if str(target).startswith("/dev") else "a FIFO (named pipe)"
+    assert result.stderr == f"cosim simulate: error: result file '{target}' is {kind}, not a regular file\n"
+    after = os.stat(target)
+    assert (after.st_mode, after.st_rdev, after.st_ino) == (before.st_mode, before.st_rdev, before.st_ino)
+
+
+@pytest.mark.skipif(not os.path.isdir("/sys/kernel"), reason="needs Linux sysfs")
+def test_output_where_the_os_denies_writing_is_one_line(fmus, tmp_path):
+    """/sys refuses new files to everyone. A user sees it as a folder that is not writable
+    (refused before the work, exit 2); root passes that check (access(2) grants root everything)
+    and gets EACCES at the write: one line naming the file, exit 4. Either way nothing else."""
+    result = run_cli("simulate", str(fmus[MODEL]), "--stop-time", "1", "-o", "/sys/kernel/r.csv")
+    lines = result.stderr.splitlines()
+    assert result.returncode in (2, 4) and len(lines) == 1, result.stderr
+    if result.returncode == 2:
+        assert lines[0] == "cosim simulate: error: result file '/sys/kernel/r.csv': folder '/sys/kernel' is not writable"
+    else:
+        assert lines[0].startswith("cosim simulate: error: cannot write result file '/sys/kernel/r.csv': "
+                                   "Permission denied; the 101 rows (t = 0 .. 1 s) computed were not written"), lines
+    assert not os.path.exists("/sys/kernel/r.csv")
+
+
+def test_output_name_too_long_is_refused_before_any_work(fmus, tmp_path):
+    long = tmp_path / ("r" * 300 + ".csv")
+    result = run_cli("simulate", str(fmus[MODEL]), "--stop-time", "1", "-o", str(long))
+    assert result.returncode == 2
+    assert result.stderr == f"cosim simulate: error: cannot write result file '{long}': File name too long\n"
+    assert list(tmp_path.iterdir()) == []

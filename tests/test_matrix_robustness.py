@@ -584,6 +584,39 @@ def test_report_files_appear_only_when_complete(fmus, tmp_path, monkeypatch):
     assert json.loads((tmp_path / "out" / "summary.json").read_text())["cases"] == 3
 
 
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full")
+def test_disk_full_while_recording_keeps_the_recorded_cases(fmus, tmp_path, monkeypatch):
+    """ENOSPC on the results file was an internal error (exit 70) naming no file. After the first
+    record the results file's descriptor is pointed at /dev/full (the kernel's ENOSPC, as on a
+    full disk): one line naming the file and what is kept, exit 4, the file ends with its last
+    complete record; --resume then runs the other cases, one record per case."""
+    from conftest import cli_in_process
+    from cosim.matrix.store import ResultStore
+
+    real = ResultStore.append_line
+
+    def disk_full_after_the_first(self, key, line):
+        real(self, key, line)
+        full = os.open("/dev/full", os.O_WRONLY)
+        os.dup2(full, self._fd)
+        os.close(full)
+
+    spec = _write_spec(tmp_path / "small.toml", [_whipple()], FAST)
+    out = tmp_path / "out"
+    argv = ["matrix", str(spec), "-o", str(out), "--workers", "1", "--no-progress"]
+    monkeypatch.setattr(ResultStore, "append_line", disk_full_after_the_first)
+    status, stdout, err = cli_in_process(argv, tmp_path)
+    assert status == 4, stdout + err
+    assert err.splitlines() == [f"cosim matrix: error: cannot write results file '{out}/results.jsonl': No space "
+                                "left on device; the case recorded before is kept (--resume runs the rest)"]
+    assert len(read_records(out / "results.jsonl")[0]) == 1 and not (out / ".cosim-lock").exists()
+    monkeypatch.undo()
+    status, stdout, err = cli_in_process([*argv, "--resume"], tmp_path)
+    assert status == 0 and "3 cases (2 run, 1 resumed)" in stdout, stdout + err
+    records = read_records(out / "results.jsonl")[0]
+    assert len(records) == 3 and len({r["key"] for r in records}) == 3
+
+
 # --------------------------------------------------------------------------- 8. bad input
 
 def _study(**changes) -> dict:

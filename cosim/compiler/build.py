@@ -32,7 +32,8 @@ from pathlib import Path
 
 from cosim.errors import BuildError, CosimError, ModelicaError, OutputError, ParameterError
 from cosim.folder_lock import held_lock_files, lock_file, unlock_file
-from cosim.outputs import check_output_folder, make_temporary_folder, temporary_folder
+from cosim.outputs import (check_output_folder, make_temporary_folder, name_max, os_error_message,
+                           temporary_folder)
 from cosim.processes import die_with_parent
 from cosim.compiler import fmu as fmu_files
 from cosim.compiler import schedule
@@ -203,14 +204,28 @@ def build_versions(model_name: str, output: str | Path = DEFAULT_OUTPUT, library
     library = library or load_library()
     entry = library.entry(model_name)
     targets = {v: fmu_path(model_name, output, v) for v in versions}
+    longest = name_max(output) - len("..lock")  # the FMU's lock file .NAME.fmu.lock is the longest name
     for target in targets.values():
-        if target.is_dir():
+        if len(os.fsencode(target.name)) > longest:
+            raise OutputError(f"cannot write the FMU '{target}': File name too long ({len(os.fsencode(target.name))} "
+                              f"bytes, more than the {longest} an FMU's name may have here)")
+        try:
+            in_the_way = target.is_dir()
+        except OSError as exc:  # e.g. a model name longer than a file name may be
+            raise OutputError(f"cannot write the FMU '{target}': {exc.strerror or exc}") from None
+        if in_the_way:
             raise OutputError(f"cannot write the FMU '{target}': a folder of that name is in the way")
     with contextlib.ExitStack() as locks:
         for version in versions:  # always in the order 2, 3: two builds cannot wait on each other
             locks.enter_context(_build_lock(targets[version]))
         locks.enter_context(fewer_collections())
-        return _build_locked(model_name, targets, library, entry, force, started)
+        try:
+            return _build_locked(model_name, targets, library, entry, force, started)
+        except OutputError:
+            raise
+        except OSError as exc:  # the temporary build files: a full disk, a quota
+            message = os_error_message(exc) if exc.filename else f"cannot write its build files: {exc.strerror or exc}"
+            raise OutputError(f"{model_name}: {message}") from None
 
 
 def _up_to_date(manifest: dict | None, version: str, key: str, value: str) -> bool:

@@ -367,7 +367,7 @@ class Library:
             for root in self.paths:
                 stem = root.joinpath(*parts[:n])
                 for candidate in (stem.with_suffix(".mo"), stem / "package.mo"):
-                    if candidate.is_file():
+                    if os.path.isfile(candidate):  # (False for a class name too long to be a file's)
                         return candidate
         return self.path
 

@@ -2,7 +2,8 @@
 CS, address variables by name. Every command, linearization, validation and the co-simulation
 master go through :func:`read_fmu` / :class:`FMU`, so an FMU file is checked in one place:
 
-- it is a file and a zip archive (not random bytes, not truncated);
+- it is a regular file (not a folder, a FIFO or a device) and a zip archive (not random bytes,
+  not truncated);
 - no member name could land outside the extraction folder (``../x``, ``/abs``, ``C:x``,
   backslashes, symbolic links) and the unpacked size is bounded (no zip bomb);
 - ``modelDescription.xml`` exists, is well-formed XML without a DOCTYPE, declares an FMI version
@@ -26,8 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
-from cosim.errors import FMUError
-from cosim.outputs import make_temporary_folder
+from cosim.errors import FMUError, OutputError
+from cosim.outputs import check_input_file, make_temporary_folder
 
 #: The FMI versions a command runs unless it says otherwise (see :func:`check_fmi_version`).
 SUPPORTED_FMI_VERSIONS = ("2.0",)
@@ -94,10 +95,7 @@ def check_fmi_version(path: Path, version: str | None, versions: tuple[str, ...]
 
 
 def _open_archive(path: Path) -> zipfile.ZipFile:
-    if not path.exists():
-        raise FMUError(f"{path}: no such FMU file")
-    if path.is_dir():
-        raise FMUError(f"{path}: is a directory, not an FMU file")
+    check_input_file(path, FMUError, str(path), "FMU file", "an")  # a FIFO or /dev/zero would never end
     try:
         archive = zipfile.ZipFile(path)
     except zipfile.BadZipFile:
@@ -212,14 +210,21 @@ def _extract_members(path: Path, folder: Path) -> None:
             if target != root and root not in target.parents:  # belt and braces after unsafe_member
                 raise FMUError(f"{path}: member '{info.filename}' would be extracted outside the FMU folder")
             if info.is_dir():
-                target.mkdir(parents=True, exist_ok=True)
+                try:
+                    target.mkdir(parents=True, exist_ok=True)
+                except OSError as exc:
+                    raise OutputError(f"cannot extract the FMU '{path}' into '{folder}': "
+                                      f"{exc.strerror or exc}") from None
                 continue
-            target.parent.mkdir(parents=True, exist_ok=True)
             try:
+                target.parent.mkdir(parents=True, exist_ok=True)
                 with archive.open(info) as source, open(target, "wb") as sink:
                     shutil.copyfileobj(source, sink)
             except (zipfile.BadZipFile, zlib.error, EOFError, NotImplementedError) as exc:
                 raise FMUError(f"{path}: member '{info.filename}' is damaged: {exc}") from None
+            except OSError as exc:  # a full disk, a quota: the temporary folder, not the FMU
+                raise OutputError(f"cannot extract the FMU '{path}' into '{folder}': "
+                                  f"{exc.strerror or exc}") from None
 
 
 def _extract(path: Path, versions: tuple[str, ...] = SUPPORTED_FMI_VERSIONS):

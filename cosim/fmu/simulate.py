@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from cosim.errors import InputDataError, ParameterError, SimulationError
-from cosim.outputs import read_text_file
+from cosim.outputs import check_input_file, read_text_file
 from cosim.fmu.parameters import split_assignment
 
 #: Result formats by file suffix (``-o``).
@@ -188,10 +188,7 @@ def input_signals(fmu: Path, specs: list[str], start_time: float, stop_time: flo
             base = float(variable.start) if variable.start not in (None, "") else 0.0
             signals[name] = _step_signal(name, source, base, start_time, stop_time)
         else:
-            path = Path(source)
-            if not path.is_file():
-                raise InputDataError(f"--input {name}: file '{source}' not found"
-                                     + (" (it is a directory)" if path.is_dir() else ""))
+            path = check_input_file(source, InputDataError, f"--input {name}: '{source}'")
             signals[name] = read_input_csv(path, name)
     times = np.unique(np.concatenate([t for t, _ in signals.values()]))
     rows = []

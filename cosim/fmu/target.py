@@ -8,7 +8,12 @@ from pathlib import Path
 
 def is_fmu_path(target: str) -> bool:
     """A target is an FMU file if it ends in ``.fmu`` or names an existing file (else a model)."""
-    return target.endswith(".fmu") or Path(target).is_file()
+    if target.endswith(".fmu"):
+        return True
+    try:
+        return Path(target).is_file()
+    except (OSError, ValueError):  # e.g. a model name longer than a file name may be
+        return False
 
 
 def resolve_fmu(target: str, output: str | Path | None = None, versions: tuple[str, ...] | None = None) -> Path:
@@ -56,7 +61,7 @@ def resolve_fmu(target: str, output: str | Path | None = None, versions: tuple[s
     # the library would cost seconds before a simulation of an FMU that is already built.
     folder = Path(output) if output is not None else default_output()
     fmu = folder.absolute() / f"{target.replace('.', '_')}.fmu"  # as cosim.compiler.build.fmu_path
-    if fmu.is_file() and fmu_up_to_date(target, fmu):
+    if os.path.isfile(fmu) and fmu_up_to_date(target, fmu):  # (False for a name too long to be a file's)
         return fmu
     from cosim.compiler.build import build_model
     from cosim.compiler.library import load_library

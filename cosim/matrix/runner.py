@@ -16,7 +16,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from cosim.errors import OutputError
+from cosim.errors import OutputError, ResultNotWritten
 from cosim.folder_lock import check_not_busy, folder_lock
 from cosim.matrix.spec import MAX_CASES, Case, MatrixSpec, SpecError, load_spec
 from cosim.matrix.store import RESULTS, ResultStore, has_results
@@ -149,9 +149,7 @@ def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = Non
             result = _run_locked(spec, cases, directory, client, scheduler, workers, resume, keep_failed,
                                  fmu_dir, progress, stream, started)
             if report:
-                from cosim.matrix.report import write_report
-
-                result.report = write_report(result)
+                result.report = _write_report(result)
     finally:
         if client is not None:
             client.close()
@@ -165,8 +163,7 @@ def _run_locked(spec, cases, directory, client, scheduler, workers, resume, keep
     from cosim.matrix.progress import Progress
 
     fmu_paths = build_fmus(cases, fmu_dir, workers)
-    store = ResultStore(directory, resume, retry_failed=resume and not keep_failed)
-    try:
+    with ResultStore(directory, resume, retry_failed=resume and not keep_failed) as store:
         _write_json(directory / "matrix.json", {
             "spec": str(spec.path) if spec.path else spec.name, "name": spec.name, "digest": spec.digest,
             "cases": len(cases), "fmus": fmu_paths, "scheduler": scheduler,
@@ -175,8 +172,6 @@ def _run_locked(spec, cases, directory, client, scheduler, workers, resume, keep
         todo = [c for c in cases if c.key not in done]
         timing = _dispatch(todo, spec, fmu_paths, directory, client, workers, store,
                            Progress(len(cases), len(done), stream=stream, enabled=progress))
-    finally:
-        store.close()
     stored = store.records
     records = [stored[c.key] for c in cases if c.key in stored]
     retried = len(store.retried & {c.key for c in cases})
@@ -185,6 +180,17 @@ def _run_locked(spec, cases, directory, client, scheduler, workers, resume, keep
     result.checks = checks_mod.evaluate(spec, cases, records, fmu_paths)
     result.seconds = time.perf_counter() - started
     return result
+
+
+def _write_report(result: MatrixResult) -> dict:
+    """The report files; one that cannot be written says that the results are kept."""
+    from cosim.matrix.report import write_report
+
+    try:
+        return write_report(result)
+    except OutputError as exc:
+        raise ResultNotWritten(f"{exc}; the {len(result.records)} case results are kept in "
+                               f"'{result.directory / RESULTS}' (--resume writes the report)") from None
 
 
 def _import_plugins(spec: MatrixSpec) -> None:
