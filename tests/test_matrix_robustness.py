@@ -142,6 +142,28 @@ def test_resume_keeps_the_records_after_a_corrupted_line(tmp_path):
     assert (tmp_path / "results.jsonl").read_bytes().count(b"\n") == 2  # one line per kept case
 
 
+def test_record_cut_short_by_the_file_system_is_cut_off(tmp_path):
+    """A write that stops in the middle of a line (a file size limit reached: the kernel writes
+    what fits, then refuses with EFBIG) leaves no torn line: the part written is cut off, the
+    error names the file and what is kept."""
+    from cosim.errors import ResultNotWritten
+    from cosim.matrix.store import ResultStore
+
+    soft, hard = resource.getrlimit(resource.RLIMIT_FSIZE)
+    with ResultStore(tmp_path, resume=False) as store:
+        store.append({"key": "k0", "agreement": "agree"})
+        size = (tmp_path / "results.jsonl").stat().st_size
+        previous = signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # EFBIG instead of the signal
+        resource.setrlimit(resource.RLIMIT_FSIZE, (size + 10, hard))
+        try:
+            with pytest.raises(ResultNotWritten, match="results.jsonl': File too large; the case recorded before is kept"):
+                store.append({"key": "k1", "agreement": "agree", "note": "x" * 100})
+        finally:
+            resource.setrlimit(resource.RLIMIT_FSIZE, (soft, hard))
+            signal.signal(signal.SIGXFSZ, previous)
+    assert (tmp_path / "results.jsonl").read_bytes() == b'{"agreement": "agree", "key": "k0"}\n'
+
+
 def test_keep_failed_without_resume_is_refused(tmp_path):
     spec = _write_spec(tmp_path / "small.toml", [_whipple()], FAST)
     result = _matrix(str(spec), "-o", str(tmp_path / "out"), "--keep-failed")

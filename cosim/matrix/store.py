@@ -7,6 +7,8 @@ lines are read back, a torn tail is cut off, and only cases whose key has no rec
 nothing is lost and nothing is run or written twice. Failed cases (a crashed or killed worker, a
 timeout) are retried on ``--resume`` unless ``--keep-failed``: their records are dropped from the
 file first (rewritten under a temporary name and renamed), so the file keeps one line per case.
+A line that cannot be written whole (a full disk) is cut off again at once. One run writes a
+folder at a time (:mod:`cosim.folder_lock`), so the appends of two runs never mix.
 """
 from __future__ import annotations
 
@@ -175,7 +177,7 @@ class ResultStore:
             view = memoryview(line)
             while view:
                 n = os.write(self._fd, view)
-                if start is None:
+                if start is None and n < len(view):  # a short write: where the line began, to cut it off
                     start = os.fstat(self._fd).st_size - n
                 view = view[n:]
             if time.monotonic() - self._synced > 1.0:
