@@ -32,6 +32,7 @@ import time
 from pathlib import Path
 
 from cosim.errors import OutputError
+from cosim.processes import alive
 
 __all__ = ["LOCK_NAME", "FolderBusy", "check_not_busy", "folder_lock", "lock_file", "unlock_file"]
 
@@ -89,12 +90,6 @@ def _read_holder(fd: int) -> dict:
     return record if isinstance(record, dict) else {}
 
 
-def _alive(pid) -> bool:
-    from cosim.processes import alive
-
-    return not isinstance(pid, int) or alive(pid)
-
-
 def describe_holder(record: dict) -> str:
     """``pid N (COMMAND, started TIME)`` of a holder record; ``another process`` if it is empty."""
     if not isinstance(record.get("pid"), int):
@@ -127,7 +122,8 @@ def _busy(fd: int, what: str) -> None:
         if _try_lock(fd):
             return
         record = _read_holder(fd)
-    if record.get("host") == socket.gethostname() and not _alive(record.get("pid")):
+    pid = record.get("pid")
+    if record.get("host") == socket.gethostname() and isinstance(pid, int) and not alive(pid):
         deadline = time.monotonic() + ENDED_HOLDER_GRACE
         while time.monotonic() < deadline:
             if _try_lock(fd):

@@ -7,6 +7,7 @@ get generous timeouts, waits are bounded loops).
 """
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
@@ -901,3 +902,45 @@ def test_resume_after_kill_completes_without_duplicates(fmus, tmp_path):
     assert len(records) == 3 and len({r["key"] for r in records}) == 3
     assert all(r["agreement"] == "agree" for r in records)
     assert not (out / ".cosim-lock").exists()
+
+
+FORKING_HOLDER = """
+import os, sys, time
+from cosim.folder_lock import folder_lock
+
+with folder_lock(sys.argv[1]):
+    if os.fork() == 0:  # a worker that outlives its parent for a while (as one still ending)
+        print(os.getpid(), flush=True)  # (after the fork handlers ran)
+        time.sleep(600)
+        os._exit(0)
+    time.sleep(600)
+"""
+
+
+def test_lock_of_a_killed_holder_is_free_while_its_forked_child_lives(tmp_path, monkeypatch):
+    """flock belongs to the open file, which a fork shares: a worker forked by the holder would
+    keep the folder locked after kill -9 of the holder. Forked children close their copy, so the
+    next command takes the folder at once (without the grace given to an ended holder's lock)."""
+    from cosim import folder_lock as folder_lock_module
+    from cosim.folder_lock import folder_lock
+
+    monkeypatch.setattr(folder_lock_module, "ENDED_HOLDER_GRACE", 0.0)
+
+    out = tmp_path / "out"
+    holder = subprocess.Popen([sys.executable, "-c", FORKING_HOLDER, str(out)], cwd=ROOT, stdout=subprocess.PIPE,
+                              text=True)
+    child = None
+    try:
+        child = int(holder.stdout.readline())
+        holder.send_signal(signal.SIGKILL)
+        holder.wait(timeout=60)
+        os.kill(child, 0)  # the forked child lives on
+        with folder_lock(out):  # FolderBusy if the child still held the lock
+            assert (out / ".cosim-lock").exists()
+    finally:
+        if holder.poll() is None:
+            holder.kill()
+        holder.stdout.close()
+        if child is not None:
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(child, signal.SIGKILL)
