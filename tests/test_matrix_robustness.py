@@ -843,24 +843,25 @@ def _wait_for_the_last_case(proc: subprocess.Popen, flag: Path, results: Path) -
         time.sleep(0.05)
 
 
-@pytest.mark.parametrize("again", [[], ["--resume"], ["--force"]], ids=["plain", "resume", "force"])
-def test_second_matrix_on_a_folder_being_written_is_refused(fmus, tmp_path, again):
+def test_second_matrix_on_a_folder_being_written_is_refused(fmus, tmp_path):
     """Two runs on one folder used to both print PASS while one wrote to a deleted file
-    (--force), or every case ended up twice (--resume): the second is refused in one line naming
-    the first (its pid and command), changes nothing, and the first completes."""
+    (--force), or every case ended up twice (--resume): a second run (plain, --resume, --force)
+    is refused in one line naming the first (its pid and command), changes nothing, and the
+    first completes."""
     spec, marker, flag = _waiting_spec(tmp_path)
     out = tmp_path / "out"
     first = _start_matrix(spec, out)
     try:
         _wait_for_the_last_case(first, flag, out / "results.jsonl")
         before = _snapshot(out)
-        second = _matrix(str(spec), "-o", str(out), "--workers", "1", *again)
-        assert second.returncode == 2, second.stdout + second.stderr
-        lines = second.stderr.strip().splitlines()
-        assert len(lines) == 1 and lines[0].startswith(f"cosim matrix: error: output folder '{out}' is being "
-                                                       f"written by pid {first.pid} (cosim matrix "), lines
-        assert str(spec) in lines[0] and "started " in lines[0], lines
-        assert _snapshot(out) == before, "the refused run changed the folder"
+        for again in ([], ["--resume"], ["--force"]):
+            second = _matrix(str(spec), "-o", str(out), "--workers", "1", *again)
+            assert second.returncode == 2, (again, second.stdout + second.stderr)
+            lines = second.stderr.strip().splitlines()
+            assert len(lines) == 1 and lines[0].startswith(f"cosim matrix: error: output folder '{out}' is being "
+                                                           f"written by pid {first.pid} (cosim matrix "), (again, lines)
+            assert str(spec) in lines[0] and "started " in lines[0], lines
+            assert _snapshot(out) == before, f"the refused run {again} changed the folder"
         marker.unlink()  # the last case of the first run ends
         stdout, stderr = first.communicate(timeout=300)
     finally:
