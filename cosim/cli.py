@@ -6,12 +6,14 @@ Exit status of every command (also in ``cosim --help``):
 0     success
 1     a check found problems (``validate``, ``compare`` beyond ``--tol``, ``matrix``)
 2     bad input or usage: one message ``cosim VERB: error: ...`` names the file, parameter, key
-      or row; nothing was written under the final output name
+      or row (or the path and operation of an OS error: a FIFO given as a file, a name too long,
+      no permission); nothing was written under the final output name
 3     ``run``: the bicycle fell (the system's fall criterion); the result was written
 4     incomplete result: the solver failed part-way, an output turned non-finite, or an FMU from
       elsewhere crashed, exited or hung (it runs in a guarded child process, see ``--timeout``); the
       rows up to the failure were written to ``NAME.incomplete.csv`` (``.npy``) and the message
-      names the cause
+      names the cause. Also: computed results could not be written (disk full, quota, read-only
+      file system): the message names the path, the reason and what was kept or lost
 70    internal error (a bug): one line; ``COSIM_DEBUG=1`` shows the traceback
 130   interrupted (Ctrl-C)
 ====  ==========================================================================================
@@ -28,7 +30,8 @@ import traceback
 from pathlib import Path
 
 from cosim import __version__
-from cosim.errors import CosimError, ParameterError
+from cosim.errors import CosimError, OutputError, ParameterError, ResultNotWritten
+from cosim.outputs import os_error_message
 
 EXIT_OK, EXIT_CHECK_FAILED, EXIT_BAD_INPUT, EXIT_FELL, EXIT_INCOMPLETE = 0, 1, 2, 3, 4
 EXIT_INTERNAL, EXIT_INTERRUPTED = 70, 130
@@ -37,14 +40,16 @@ EXIT_CODES = """\
 exit status:
   0    success
   1    a check found problems (validate, compare beyond --tol, matrix)
-  2    bad input or usage: one message names the file, parameter, key or row; nothing is
-       written under the final output name
+  2    bad input or usage: one message names the file, parameter, key or row (or the path and
+       operation of an OS error); nothing is written under the final output name
   3    run: the bicycle fell (the system's fall criterion); the result was written
   4    incomplete result: the solver failed part-way, an output turned non-finite, or an FMU from
        elsewhere crashed, exited or hung (such FMUs run in a guarded child process, see
        --timeout); the rows up to the failure are written to NAME.incomplete.csv (or .npy) beside
        the requested NAME.csv, and the message names the cause (e.g. roll or steer angle near
-       +-pi/2, the constraint residual growing, "the FMU crashed (SIGSEGV) during fmi2DoStep")
+       +-pi/2, the constraint residual growing, "the FMU crashed (SIGSEGV) during fmi2DoStep");
+       also when computed results cannot be written (disk full, quota, read-only file system):
+       the message names the path and what was kept or lost
   70   internal error (a bug): one line; set COSIM_DEBUG=1 for the traceback
   130  interrupted"""
 
@@ -352,18 +357,40 @@ def _check_outputs(output: Path, plot_path: str | None) -> None:
         check_plot_output(plot_path)
 
 
-def _write_incomplete(exc, output: Path, plot_path: str | None, title: str, verb: str) -> int:
-    """Keep what was computed before a solver failure: write it beside the final name."""
+def _rows(result) -> str:
+    """``N rows (t = A .. B s)`` of a result, for the message of what was written or lost."""
+    return f"{len(result)} rows (t = {result['time'][0]:.6g} .. {result['time'][-1]:.6g} s)"
+
+
+def _write_results(result, output: Path, plot_path: str | None, title: str, complete: bool = True) -> list[str]:
+    """Write the computed result (and its plot); a write that fails (disk full, quota, read-only
+    file system) is one :class:`ResultNotWritten` naming the path and what was kept and lost."""
     from cosim.fmu.simulate import incomplete_path, plot, write_result
 
+    targets = [output, plot_path] if complete else [incomplete_path(output),
+                                                    plot_path and incomplete_path(plot_path)]
+    written: list[str] = []
+    try:
+        written.append(str(write_result(result, targets[0])))
+        if plot_path:
+            written.append(str(plot(result, targets[1], title=title if complete else f"{title} (incomplete)")))
+    except OutputError as exc:
+        kept = f"; kept: {', '.join(written)}" if written else ""
+        raise ResultNotWritten(f"{exc}; the {_rows(result)} computed{' before the failure' if not complete else ''} "
+                               f"were not {'plotted' if written else 'written'}{kept}") from None
+    return written
+
+
+def _write_incomplete(exc, output: Path, plot_path: str | None, title: str, verb: str) -> int:
+    """Keep what was computed before a solver failure: write it beside the final name."""
     result = exc.result
     if result is None or len(result) == 0:
         print(f"cosim {verb}: error: {exc} (nothing computed to write)", file=sys.stderr)
         return EXIT_BAD_INPUT
-    partial = write_result(result, incomplete_path(output))
-    written = [str(partial)]
-    if plot_path:
-        written.append(str(plot(result, incomplete_path(plot_path), title=f"{title} (incomplete)")))
+    try:
+        written = _write_results(result, output, plot_path, title, complete=False)
+    except ResultNotWritten as lost:
+        raise ResultNotWritten(f"incomplete: {exc}; and {lost}") from None
     stale = f"; note: {output} is from an earlier run" if output.exists() else ""
     print(f"cosim {verb}: incomplete: {exc}; wrote the {len(result)} rows up to t = {result['time'][-1]:.6g} s "
           f"to {', '.join(written)}{stale}", file=sys.stderr)
@@ -373,7 +400,7 @@ def _write_incomplete(exc, output: Path, plot_path: str | None, title: str, verb
 def _cmd_simulate(args) -> int:
     from cosim.fmu.access import ALL_FMI_VERSIONS, read_fmu
     from cosim.fmu.parameters import declarations, from_command_line
-    from cosim.fmu.simulate import IncompleteResult, check_run, input_signals, plot, simulate, write_result
+    from cosim.fmu.simulate import IncompleteResult, check_run, input_signals, simulate
     from cosim.fmu.target import is_fmu_path, resolve_fmu
 
     # a model first: an unknown one is named before its result file; an FMU is read for --param only
@@ -392,10 +419,9 @@ def _cmd_simulate(args) -> int:
                           outputs=outputs or None, progress=sys.stderr.isatty(), timeout=args.timeout)
     except IncompleteResult as exc:
         return _write_incomplete(exc, output, args.plot, md.modelName, "simulate")
-    write_result(result, output)
+    _write_results(result, output, args.plot, md.modelName)
     print(f"wrote {output} ({len(result)} rows: {', '.join(result.dtype.names)})")
     if args.plot:
-        plot(result, args.plot, title=md.modelName)
         print(f"wrote {args.plot}")
     return EXIT_OK
 
@@ -561,7 +587,7 @@ def _cmd_run(args) -> int:
     from cosim.cosimulation.factory import run_system
     from cosim.cosimulation.master import RunFailed
     from cosim.cosimulation.system import load_system
-    from cosim.fmu.simulate import IncompleteResult, plot, write_result
+    from cosim.fmu.simulate import IncompleteResult
 
     output = Path(args.output) if args.output else Path(f"{Path(args.system).stem}.csv")
     _check_outputs(output, args.plot)  # before any build or run
@@ -574,12 +600,11 @@ def _cmd_run(args) -> int:
     if not outcome.complete:  # an FMU failed or a signal turned non-finite: keep the rows
         exc = IncompleteResult(outcome.message, result.data, outcome.time, outcome.message)
         return _write_incomplete(exc, output, args.plot, spec.name, "run")
-    write_result(result.data, output)
+    _write_results(result.data, output, args.plot, spec.name)
     end = float(result.data["time"][-1])
     print(f"{outcome.message}; wrote {output} ({result.steps} steps, {len(result.data)} rows, "
           f"t = {spec.start:g} .. {end:g} s)")
     if args.plot:
-        plot(result.data, args.plot, title=spec.name)
         print(f"wrote {args.plot}")
     return EXIT_OK if outcome.status == "completed" or args.allow_fall else EXIT_FELL
 
@@ -926,14 +951,20 @@ def main(argv: list[str] | None = None) -> int:
     try:
         with use_library(getattr(args, "library", None)):
             return args.func(args)
+    except ResultNotWritten as exc:  # computed, but (partly) lost to a full disk, ...
+        print(f"cosim {args.command}: error: {exc}", file=sys.stderr)
+        return EXIT_INCOMPLETE
     except CosimError as exc:
         print(f"cosim {args.command}: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except FileNotFoundError as exc:  # a path the user named (e.g. --params FILE) does not exist
-        print(f"cosim {args.command}: error: {exc}", file=sys.stderr)
+        print(f"cosim {args.command}: error: {os_error_message(exc) if exc.filename else exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except BrokenPipeError:  # e.g. `cosim info ... | head`
         return EXIT_OK
+    except OSError as exc:  # one no layer named: still one line with the path, never exit 70
+        print(f"cosim {args.command}: error: {os_error_message(exc)}", file=sys.stderr)
+        return EXIT_BAD_INPUT
     except KeyboardInterrupt:
         print(f"cosim {args.command}: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED

@@ -43,6 +43,12 @@ class OutputError(CosimError, OSError):
         return str(self.args[0]) if self.args else ""
 
 
+class ResultNotWritten(OutputError):
+    """Computed results could not (all) be written: the disk is full, a quota exceeded, the file
+    system read-only, ... The message names the path, the reason and what was kept or lost; the
+    command line exits with status 4 (an incomplete result)."""
+
+
 class FMUError(CosimError, ValueError):
     """A file given as an FMU is not a readable FMU (not a zip, no or broken modelDescription.xml,
     unsafe member names, unsupported FMI version); the message names the file and the problem."""

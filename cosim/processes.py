@@ -39,7 +39,7 @@ import sys
 import threading
 from typing import Callable
 
-__all__ = ["die_with_parent"]
+__all__ = ["alive", "die_with_parent"]
 
 PR_SET_PDEATHSIG = 1            # <linux/prctl.h>
 _watching: set[tuple] = set()   # (this pid, parent pid) watched; a fork inherits the set, not the threads
@@ -67,7 +67,8 @@ def _set_pdeathsig(signum: int) -> bool:
         return False
 
 
-def _alive(pid: int) -> bool:
+def alive(pid: int) -> bool:
+    """Whether the process ``pid`` exists (also one of another user)."""
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
@@ -135,7 +136,7 @@ def _watch(parent: int, direct: bool, poll: float, signum: int, end: Callable[[i
             os.close(fd)
         end(signum)
     while True:
-        if (direct and os.getppid() != parent) or not _alive(parent):
+        if (direct and os.getppid() != parent) or not alive(parent):
             end(signum)
         threading.Event().wait(poll)
 

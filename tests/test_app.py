@@ -19,6 +19,7 @@ from __future__ import annotations
 import itertools
 import os
 import re
+import shutil
 import signal
 import subprocess
 import sys
@@ -222,6 +223,52 @@ def test_serves_the_same_site_on_localhost(site, tmp_path, stop, status):
             process.wait(timeout=30)
         process.stdout.close()
         process.stderr.close()
+
+
+def _start_server(cwd: Path) -> tuple[subprocess.Popen, str]:
+    """`cosim app --port 0` in ``cwd``, once it serves: (process, the line with the URL)."""
+    process = subprocess.Popen([sys.executable, "-m", "cosim", "app", "--port", "0"], cwd=cwd, text=True,
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    line = process.stdout.readline()
+    assert "serving the app on http://127.0.0.1:" in line, (line, process.stderr.read() if process.poll() else "")
+    return process, line
+
+
+def test_folder_of_a_killed_server_is_removed_by_the_next_one(site, tmp_path):
+    """kill -9 of `cosim app` leaves its temporary folder (TMPDIR/cosim-app-PID-*: no handler
+    runs); the next `cosim app` removes it, and one of an ended process that never served
+    (a finished child's pid), while a folder of a live process stays."""
+    tmp = Path(tempfile.gettempdir())
+    ended = subprocess.Popen([sys.executable, "-c", "pass"])
+    ended.wait()  # reaped: its pid names no process
+    stale = tmp / f"cosim-app-{ended.pid}-leftover"
+    live = tmp / f"cosim-app-{os.getpid()}-in-use"  # this test process: alive
+    for folder in (stale, live):
+        folder.mkdir()
+        (folder / "bundle.js").write_text("// left behind\n")
+    first, _ = _start_server(tmp_path)
+    try:
+        killed = list(tmp.glob(f"cosim-app-{first.pid}-*"))
+        assert len(killed) == 1 and (killed[0] / "bundle.js").exists(), killed
+        first.send_signal(signal.SIGKILL)
+        first.wait(timeout=30)
+        assert killed[0].exists(), "SIGKILL runs no cleanup: the folder is left"
+        second, _ = _start_server(tmp_path)
+        try:
+            assert not killed[0].exists() and not stale.exists(), "the next server removes what ended ones left"
+            assert (live / "bundle.js").exists(), "a live process's folder stays"
+        finally:
+            second.send_signal(signal.SIGINT)
+            assert second.wait(timeout=30) == EXIT_INTERRUPTED
+    finally:
+        for process in (first, locals().get("second")):
+            if process is not None:
+                if process.poll() is None:
+                    process.kill()
+                    process.wait(timeout=30)
+                process.stdout.close()
+                process.stderr.close()
+        shutil.rmtree(live, ignore_errors=True)
 
 
 @pytest.mark.parametrize("speed", [0.0, 3.0, 5.0, -2.0], ids=["0m/s", "3m/s", "5m/s", "backwards-2m/s"])

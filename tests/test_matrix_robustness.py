@@ -7,6 +7,7 @@ get generous timeouts, waits are bounded loops).
 """
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
@@ -140,6 +141,28 @@ def test_resume_keeps_the_records_after_a_corrupted_line(tmp_path):
     with ResultStore(tmp_path, resume=True, retry_failed=True) as store:
         assert sorted(store.records) == ["k0", "k2"] and store.retried == {"k3"}
     assert (tmp_path / "results.jsonl").read_bytes().count(b"\n") == 2  # one line per kept case
+
+
+def test_record_cut_short_by_the_file_system_is_cut_off(tmp_path):
+    """A write that stops in the middle of a line (a file size limit reached: the kernel writes
+    what fits, then refuses with EFBIG) leaves no torn line: the part written is cut off, the
+    error names the file and what is kept."""
+    from cosim.errors import ResultNotWritten
+    from cosim.matrix.store import ResultStore
+
+    soft, hard = resource.getrlimit(resource.RLIMIT_FSIZE)
+    with ResultStore(tmp_path, resume=False) as store:
+        store.append({"key": "k0", "agreement": "agree"})
+        size = (tmp_path / "results.jsonl").stat().st_size
+        previous = signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # EFBIG instead of the signal
+        resource.setrlimit(resource.RLIMIT_FSIZE, (size + 10, hard))
+        try:
+            with pytest.raises(ResultNotWritten, match="results.jsonl': File too large; the case recorded before is kept"):
+                store.append({"key": "k1", "agreement": "agree", "note": "x" * 100})
+        finally:
+            resource.setrlimit(resource.RLIMIT_FSIZE, (soft, hard))
+            signal.signal(signal.SIGXFSZ, previous)
+    assert (tmp_path / "results.jsonl").read_bytes() == b'{"agreement": "agree", "key": "k0"}\n'
 
 
 def test_keep_failed_without_resume_is_refused(tmp_path):
@@ -584,6 +607,39 @@ def test_report_files_appear_only_when_complete(fmus, tmp_path, monkeypatch):
     assert json.loads((tmp_path / "out" / "summary.json").read_text())["cases"] == 3
 
 
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full")
+def test_disk_full_while_recording_keeps_the_recorded_cases(fmus, tmp_path, monkeypatch):
+    """ENOSPC on the results file was an internal error (exit 70) naming no file. After the first
+    record the results file's descriptor is pointed at /dev/full (the kernel's ENOSPC, as on a
+    full disk): one line naming the file and what is kept, exit 4, the file ends with its last
+    complete record; --resume then runs the other cases, one record per case."""
+    from conftest import cli_in_process
+    from cosim.matrix.store import ResultStore
+
+    real = ResultStore.append_line
+
+    def disk_full_after_the_first(self, key, line):
+        real(self, key, line)
+        full = os.open("/dev/full", os.O_WRONLY)
+        os.dup2(full, self._fd)
+        os.close(full)
+
+    spec = _write_spec(tmp_path / "small.toml", [_whipple()], FAST)
+    out = tmp_path / "out"
+    argv = ["matrix", str(spec), "-o", str(out), "--workers", "1", "--no-progress"]
+    monkeypatch.setattr(ResultStore, "append_line", disk_full_after_the_first)
+    status, stdout, err = cli_in_process(argv, tmp_path)
+    assert status == 4, stdout + err
+    assert err.splitlines() == [f"cosim matrix: error: cannot write results file '{out}/results.jsonl': No space "
+                                "left on device; the case recorded before is kept (--resume runs the rest)"]
+    assert len(read_records(out / "results.jsonl")[0]) == 1 and not (out / ".cosim-lock").exists()
+    monkeypatch.undo()
+    status, stdout, err = cli_in_process([*argv, "--resume"], tmp_path)
+    assert status == 0 and "3 cases (2 run, 1 resumed)" in stdout, stdout + err
+    records = read_records(out / "results.jsonl")[0]
+    assert len(records) == 3 and len({r["key"] for r in records}) == 3
+
+
 # --------------------------------------------------------------------------- 8. bad input
 
 def _study(**changes) -> dict:
@@ -729,3 +785,163 @@ def test_failing_plugin_import_is_one_message(tmp_path):
     result = _matrix(str(spec), "-o", str(tmp_path / "out"))
     assert result.returncode == 2
     assert "imports: " in result.stderr and "broken.py" in result.stderr and "plugin is broken" in result.stderr
+
+
+# --------------------------------------------------------------------------- 9. one writer per output folder
+
+WAIT_WHILE_MARKED = '''
+import os, time
+from pathlib import Path
+from cosim.cosimulation.controllers import Proportional
+
+
+class WaitWhileMarked(Proportional):
+    """T = -k phi; at t = 0.5 s, while the file 'marker' exists, writes its pid to 'flag' and waits."""
+
+    def __init__(self, name, k=1.0, marker="", flag=""):
+        super().__init__(name, k)
+        self.marker, self.flag = marker, flag
+
+    def step(self, t, h):
+        if t >= 0.5 and self.marker and os.path.exists(self.marker):
+            Path(self.flag).write_text(str(os.getpid()))
+            while os.path.exists(self.marker):
+                time.sleep(0.02)
+
+
+'''
+
+
+def _waiting_spec(tmp_path: Path) -> tuple[Path, Path, Path]:
+    """A spec of 3 cases whose last one waits while ``marker`` exists (after writing ``flag``);
+    with one worker the first two are recorded before it. Returns (spec, marker, flag)."""
+    (tmp_path / "wait_marked.py").write_text(WAIT_WHILE_MARKED)
+    marker, flag = tmp_path / "marker", tmp_path / "flag"
+    marker.write_text("wait")
+    study = {"name": "waits", "observe": "bike.phi",
+             "connections": ["bike.phi -> rider.phi", "rider.T -> bike.T_phi"],
+             "components": {"bike": {"model": "Bicycle.Bicycles.WhippleLinear", "parameter_set": "benchmark",
+                                     "parameters": {"v": 5.0, "phi0": 0.01}},
+                            "rider": {"python": "WaitWhileMarked",
+                                      "parameters": {"k": "=k", "marker": "=m", "flag": str(flag)}}},
+             "cases": [{"k": 1.0, "m": ""}, {"k": 2.0, "m": ""}, {"k": 3.0, "m": str(marker)}]}
+    spec = _write_spec(tmp_path / "waits.toml", [study], {**FAST, "imports": ["wait_marked.py"], "timeout": 600.0})
+    return spec, marker, flag
+
+
+def _start_matrix(spec: Path, out: Path) -> subprocess.Popen:
+    return subprocess.Popen([sys.executable, "-m", "cosim", "matrix", str(spec), "-o", str(out), "--workers", "1",
+                             "--no-progress"], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+
+def _wait_for_the_last_case(proc: subprocess.Popen, flag: Path, results: Path) -> None:
+    """Until the waiting case runs (its flag exists) and the two cases before it are recorded."""
+    deadline = time.monotonic() + 300
+    while not (flag.exists() and results.exists() and len(read_records(results)[0]) == 2):
+        assert proc.poll() is None, proc.communicate()
+        assert time.monotonic() < deadline, "the matrix did not reach its last case"
+        time.sleep(0.05)
+
+
+def test_second_matrix_on_a_folder_being_written_is_refused(fmus, tmp_path):
+    """Two runs on one folder used to both print PASS while one wrote to a deleted file
+    (--force), or every case ended up twice (--resume): a second run (plain, --resume, --force)
+    is refused in one line naming the first (its pid and command), changes nothing, and the
+    first completes."""
+    spec, marker, flag = _waiting_spec(tmp_path)
+    out = tmp_path / "out"
+    first = _start_matrix(spec, out)
+    try:
+        _wait_for_the_last_case(first, flag, out / "results.jsonl")
+        before = _snapshot(out)
+        for again in ([], ["--resume"], ["--force"]):
+            second = _matrix(str(spec), "-o", str(out), "--workers", "1", *again)
+            assert second.returncode == 2, (again, second.stdout + second.stderr)
+            lines = second.stderr.strip().splitlines()
+            assert len(lines) == 1 and lines[0].startswith(f"cosim matrix: error: output folder '{out}' is being "
+                                                           f"written by pid {first.pid} (cosim matrix "), (again, lines)
+            assert str(spec) in lines[0] and "started " in lines[0], lines
+            assert _snapshot(out) == before, f"the refused run {again} changed the folder"
+        marker.unlink()  # the last case of the first run ends
+        stdout, stderr = first.communicate(timeout=300)
+    finally:
+        if first.poll() is None:
+            first.kill()
+            first.communicate()
+    assert first.returncode == 0 and "PASS" in stdout and "3 cases (3 run, 0 resumed)" in stdout, stdout + stderr
+    records = read_records(out / "results.jsonl")[0]
+    assert sorted(r["key"] for r in records) == sorted({r["key"] for r in records}) and len(records) == 3
+    assert not (out / ".cosim-lock").exists(), "the lock file is removed at the end"
+
+
+def test_resume_after_kill_completes_without_duplicates(fmus, tmp_path):
+    """kill -9 of a run in its last case (two cases recorded, the lock file left behind), a torn
+    line at the end of the results (as a kill in the middle of a write leaves it, appended here by
+    hand), then --resume: the killed run's lock is no lock, the torn line is cut off, only the
+    missing case runs, and every case has exactly one record."""
+    spec, marker, flag = _waiting_spec(tmp_path)
+    out = tmp_path / "out"
+    first = _start_matrix(spec, out)
+    try:
+        _wait_for_the_last_case(first, flag, out / "results.jsonl")
+        first.send_signal(signal.SIGKILL)
+        first.communicate(timeout=60)
+    finally:
+        if first.poll() is None:
+            first.kill()
+            first.communicate()
+    assert (out / ".cosim-lock").exists() and str(first.pid) in (out / ".cosim-lock").read_text()
+    with open(out / "results.jsonl", "ab") as f:
+        f.write(b'{"key": "torn by the kill", "agree')
+    marker.unlink()
+    resumed = _matrix(str(spec), "-o", str(out), "--workers", "1", "--resume")
+    assert resumed.returncode == 0, resumed.stdout + resumed.stderr
+    assert "3 cases (1 run, 2 resumed)" in resumed.stdout and "PASS" in resumed.stdout, resumed.stdout
+    data = (out / "results.jsonl").read_bytes()
+    records = read_records(out / "results.jsonl")[0]
+    assert data.endswith(b"\n") and data.count(b"\n") == 3, data[-200:]
+    assert len(records) == 3 and len({r["key"] for r in records}) == 3
+    assert all(r["agreement"] == "agree" for r in records)
+    assert not (out / ".cosim-lock").exists()
+
+
+FORKING_HOLDER = """
+import os, sys, time
+from cosim.folder_lock import folder_lock
+
+with folder_lock(sys.argv[1]):
+    if os.fork() == 0:  # a worker that outlives its parent for a while (as one still ending)
+        print(os.getpid(), flush=True)  # (after the fork handlers ran)
+        time.sleep(600)
+        os._exit(0)
+    time.sleep(600)
+"""
+
+
+def test_lock_of_a_killed_holder_is_free_while_its_forked_child_lives(tmp_path, monkeypatch):
+    """flock belongs to the open file, which a fork shares: a worker forked by the holder would
+    keep the folder locked after kill -9 of the holder. Forked children close their copy, so the
+    next command takes the folder at once (without the grace given to an ended holder's lock)."""
+    from cosim import folder_lock as folder_lock_module
+    from cosim.folder_lock import folder_lock
+
+    monkeypatch.setattr(folder_lock_module, "ENDED_HOLDER_GRACE", 0.0)
+
+    out = tmp_path / "out"
+    holder = subprocess.Popen([sys.executable, "-c", FORKING_HOLDER, str(out)], cwd=ROOT, stdout=subprocess.PIPE,
+                              text=True)
+    child = None
+    try:
+        child = int(holder.stdout.readline())
+        holder.send_signal(signal.SIGKILL)
+        holder.wait(timeout=60)
+        os.kill(child, 0)  # the forked child lives on
+        with folder_lock(out):  # FolderBusy if the child still held the lock
+            assert (out / ".cosim-lock").exists()
+    finally:
+        if holder.poll() is None:
+            holder.kill()
+        holder.stdout.close()
+        if child is not None:
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(child, signal.SIGKILL)

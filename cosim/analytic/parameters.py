@@ -33,6 +33,8 @@ from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 
+from cosim.outputs import check_input_file
+
 __all__ = [
     "PARAMETER_NAMES",
     "UNITS",
@@ -283,9 +285,9 @@ def _resolve(name_or_path: str | os.PathLike[str]) -> Path:
                              f"{', '.join(sorted(bundled))} (or pass a path to a .toml file)")
         return bundled[text]
     path = Path(text).expanduser()
-    if not path.is_file():
+    if not os.path.exists(path):  # (False also for a name too long to be a file)
         raise FileNotFoundError(f"parameter file not found: {path}")
-    return path
+    return check_input_file(path, ValueError, str(path), "parameter file")  # a folder, a FIFO, a device
 
 
 def _line(text: str, key: str, item: str | None = None) -> int | None:
@@ -352,6 +354,8 @@ def _read_file(path: Path) -> tuple[dict, Waiver | None, str]:
         raise ValueError(f"{path}: not valid TOML: {exc}") from exc
     except RecursionError:  # tomllib parses nested arrays and tables recursively
         raise ValueError(f"{path}: not valid TOML: nested too deeply") from None
+    except OSError as exc:  # e.g. no permission to read it
+        raise ValueError(f"{path}: cannot read the parameter file: {exc.strerror or exc}") from None
     waiver = _read_waiver(data, text, path)
     return {k: v for k, v in data.items() if k not in (WAIVER_KEY, REASON_KEY)}, waiver, text
 

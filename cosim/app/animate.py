@@ -39,7 +39,7 @@ from pathlib import Path
 import numpy as np
 
 from cosim.errors import InputDataError, ParameterError
-from cosim.outputs import check_output, read_text_file, write_text
+from cosim.outputs import check_input_file, check_output, read_text_file, write_text
 
 from cosim.app.export import STATIC, VENDOR, Script
 
@@ -88,9 +88,7 @@ def read_result(path: str | os.PathLike) -> dict[str, np.ndarray]:
         number: ``"FILE: row R, column C (NAME): ..."``, R counting the file's lines (the header
         is row 1), C its columns from 1.
     """
-    path = Path(path)
-    if not path.is_file():
-        raise InputDataError(f"{path}: no such file" if not path.exists() else f"{path}: not a file")
+    path = check_input_file(path, InputDataError)  # a folder, a FIFO, a device: refused before opening
     if path.suffix.lower() == ".npy":
         return _read_npy(path)
     from cosim.fmu.simulate import finite_number

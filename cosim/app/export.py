@@ -32,7 +32,7 @@ from pathlib import Path
 
 from cosim.app.bicycles import CROWN_RADIUS, page_data
 from cosim.app.diagrams import page_diagrams
-from cosim.errors import OutputError
+from cosim.folder_lock import folder_lock
 from cosim.outputs import check_output_folder, write_text
 
 HERE = Path(__file__).resolve().parent
@@ -193,7 +193,8 @@ def export_app(folder: str | os.PathLike, demos: str | os.PathLike | None = None
     Raises
     ------
     OutputError
-        If ``folder`` is a file or cannot be written (checked before any build).
+        If ``folder`` is a file or cannot be written, or another command is writing it
+        (:class:`cosim.folder_lock.FolderBusy`), checked before any build.
     BuildError, MissingExtraError
         If the FMU or its WebAssembly module cannot be built (e.g. no ``ziglang`` wheel).
     DemoError
@@ -201,18 +202,22 @@ def export_app(folder: str | os.PathLike, demos: str | os.PathLike | None = None
     ModelicaError
         If a model the page draws has a malformed graphical annotation (its ``file:line``).
     """
-    from cosim.compiler.build import build
-    from cosim.wasm.build import build_wasm, zig_command
+    from cosim.wasm.build import zig_command
 
     from cosim.app.demos import DEMOS, load_demos
 
     folder = check_output_folder(folder, "app folder")
     load_demos(demos or DEMOS)  # a bad demo file: its message before any build
     zig_command()  # no ziglang: one message before any work
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise OutputError(f"app folder '{folder}': {exc.strerror or exc}") from None
+    with folder_lock(folder, "app folder"):  # one command writes the folder at a time
+        return _export(folder, demos)
+
+
+def _export(folder: Path, demos: str | os.PathLike | None) -> ExportResult:
+    """:func:`export_app` into a checked and locked folder."""
+    from cosim.compiler.build import build
+    from cosim.wasm.build import build_wasm
+
     modules, rebuilt = {}, False
     for result in build(list(MODULES), output=_fmu_folder()):
         wasm = build_wasm(result.fmu)

@@ -1,20 +1,20 @@
 """`cosim app [--port N] [--open]`: the exported app (:mod:`.export`) served on 127.0.0.1.
 
-The site is exported into a temporary folder, removed when the server stops (Ctrl-C, or SIGTERM:
-exit status 143); the page
-is the same two files as ``cosim app --export`` writes, so what is tested from ``file://`` is
-what is served. Only 127.0.0.1 is bound: the app is for the machine it runs on.
+The site is exported into a temporary folder ``TMPDIR/cosim-app-PID-*``, removed when the server
+stops (Ctrl-C, or SIGTERM: exit status 143); one a killed server left is removed by the next
+``cosim app``. The page is the same two files as ``cosim app --export`` writes, so what is tested
+from ``file://`` is what is served. Only 127.0.0.1 is bound: the app is for the machine it runs on.
 """
 from __future__ import annotations
 
 import functools
 import http.server
 import signal
-import tempfile
 import threading
 import webbrowser
 
 from cosim.errors import OutputError
+from cosim.outputs import temporary_folder
 
 HOST = "127.0.0.1"
 
@@ -60,7 +60,7 @@ def serve(port: int = 8000, open_browser: bool = False, announce=print) -> None:
 def _serve(port: int, open_browser: bool, announce) -> None:
     from cosim.app.export import export_app
 
-    with tempfile.TemporaryDirectory(prefix="cosim-app-") as folder:
+    with temporary_folder("app") as folder:  # (removes those of ended `cosim app` processes)
         try:  # the port first: a port in use is refused before any build
             httpd = http.server.ThreadingHTTPServer((HOST, port), functools.partial(_Handler, directory=folder))
         except OSError as exc:

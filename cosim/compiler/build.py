@@ -7,8 +7,9 @@ invalidate each other.
 Safe to run concurrently and to kill:
 
 - a build of one model into one folder holds an exclusive lock (``OUTPUT/.NAME.fmu.lock``,
-  ``flock``): a second build of the same model into the same folder waits, then finds the FMU
-  up to date; the FMU itself is written to a temporary name and renamed when complete;
+  :mod:`cosim.folder_lock`): a second build of the same model into the same folder waits, then
+  finds the FMU up to date; builds of other models into the folder run side by side; the FMU
+  itself is written to a temporary name and renamed when complete;
 - the pool workers of a parallel build die with their parent (``kill -9`` of `cosim build`
   included): they stop their compilers, remove their temporary files and exit, and never
   write an FMU after the command is gone.
@@ -30,7 +31,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from cosim.errors import BuildError, CosimError, ModelicaError, OutputError, ParameterError
-from cosim.outputs import check_output_folder
+from cosim.folder_lock import held_lock_files, lock_file, unlock_file
+from cosim.outputs import (check_output_folder, make_temporary_folder, name_max, os_error_message,
+                           temporary_folder)
 from cosim.processes import die_with_parent
 from cosim.compiler import fmu as fmu_files
 from cosim.compiler import schedule
@@ -118,45 +121,22 @@ def _fmi_versions(values) -> tuple[str, ...]:
 
 # --- one build of a model into a folder at a time ---------------------------------------------
 
-_held_locks: set[Path] = set()  # lock files this process holds (removed if it is abandoned)
-
-
 @contextlib.contextmanager
 def _build_lock(target: Path):
-    """Hold the exclusive lock of building ``target`` (``.NAME.fmu.lock`` beside it).
-
-    The lock file is removed when the lock is released, so none is left behind. A process
-    that waited on a file that was removed meanwhile finds a different (or no) file under the
-    name after locking and tries again: only the file currently under the name counts.
-    """
-    import fcntl
-
+    """Hold the exclusive lock of building ``target`` (``.NAME.fmu.lock`` beside it), waiting
+    while another build of it runs (:func:`cosim.folder_lock.lock_file`). The lock file is
+    removed when the lock is released, so none is left behind."""
     lock = target.parent / f".{target.name}.lock"
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
-        while True:
-            fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
-            try:
-                fcntl.flock(fd, fcntl.LOCK_EX)  # waits while another build of this model runs
-                if os.path.samestat(os.fstat(fd), os.stat(lock)):
-                    break
-            except FileNotFoundError:
-                pass
-            except BaseException:
-                os.close(fd)
-                raise
-            os.close(fd)
     except OSError as exc:
         raise OutputError(f"output folder '{target.parent}': cannot lock {lock.name}: "
                           f"{exc.strerror or exc}") from None
-    _held_locks.add(lock)
+    fd = lock_file(lock, wait=True, what=f"output folder '{target.parent}'")
     try:
         yield
     finally:
-        _held_locks.discard(lock)
-        with contextlib.suppress(OSError):
-            os.unlink(lock)
-        os.close(fd)
+        unlock_file(fd)
 
 
 def _remove_stale_lock(target: Path) -> None:
@@ -225,14 +205,28 @@ def build_versions(model_name: str, output: str | Path = DEFAULT_OUTPUT, library
     entry = library.entry(model_name)
     targets = {v: fmu_path(model_name, output, v) for v in versions}
     _check_file_name(model_name, targets[versions[0]])
+    longest = name_max(output) - len("..lock")  # the FMU's lock file .NAME.fmu.lock is the longest name
     for target in targets.values():
-        if target.is_dir():
+        if len(os.fsencode(target.name)) > longest:
+            raise OutputError(f"cannot write the FMU '{target}': File name too long ({len(os.fsencode(target.name))} "
+                              f"bytes, more than the {longest} an FMU's name may have here)")
+        try:
+            in_the_way = target.is_dir()
+        except OSError as exc:  # e.g. a model name longer than a file name may be
+            raise OutputError(f"cannot write the FMU '{target}': {exc.strerror or exc}") from None
+        if in_the_way:
             raise OutputError(f"cannot write the FMU '{target}': a folder of that name is in the way")
     with contextlib.ExitStack() as locks:
         for version in versions:  # always in the order 2, 3: two builds cannot wait on each other
             locks.enter_context(_build_lock(targets[version]))
         locks.enter_context(fewer_collections())
-        return _build_locked(model_name, targets, library, entry, force, started)
+        try:
+            return _build_locked(model_name, targets, library, entry, force, started)
+        except OutputError:
+            raise
+        except OSError as exc:  # the temporary build files: a full disk, a quota
+            message = os_error_message(exc) if exc.filename else f"cannot write its build files: {exc.strerror or exc}"
+            raise OutputError(f"{model_name}: {message}") from None
 
 
 #: The most characters the files written beside an FMU add to its name (the temporary
@@ -339,8 +333,11 @@ _PARENT_POLL = 0.2  # s between two looks of the watchdog at the parent
 
 @contextlib.contextmanager
 def _scratch_folder():
-    """A temporary folder, registered so that an abandoned worker removes it."""
-    with tempfile.TemporaryDirectory(prefix="cosim-build-", dir=_scratch_root) as tmp:
+    """A temporary folder, registered so that an abandoned worker removes it: in the parallel
+    build's folder, else ``TMPDIR/cosim-build-PID-*`` (one a killed build left is removed by
+    the next build: :func:`cosim.outputs.temporary_folder`)."""
+    with (tempfile.TemporaryDirectory(prefix="cosim-build-", dir=_scratch_root) if _scratch_root
+          else temporary_folder("build")) as tmp:
         _scratch.add(Path(tmp))
         try:
             yield tmp
@@ -377,7 +374,7 @@ def _clean_up_worker() -> None:
     if _scratch_root is not None:
         with contextlib.suppress(OSError):
             _scratch_root.rmdir()  # the last worker to go removes the build's folder
-    for path in list(fmu_files.PARTIALS) + list(_held_locks):
+    for path in list(fmu_files.PARTIALS) + held_lock_files():
         with contextlib.suppress(OSError):
             os.unlink(path)
 
@@ -426,7 +423,7 @@ def _stop_pool(pool: ProcessPoolExecutor) -> None:
 
 
 def _run_parallel(tasks: list[tuple], jobs: int) -> list:
-    scratch_root = tempfile.mkdtemp(prefix="cosim-build-")
+    scratch_root = str(make_temporary_folder("build"))  # TMPDIR/cosim-build-PID-*
     try:
         return _run_pool(tasks, jobs, scratch_root)
     finally:

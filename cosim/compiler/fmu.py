@@ -13,7 +13,8 @@ import time
 import zipfile
 from pathlib import Path
 
-from cosim.errors import BuildError, OutputError
+from cosim.errors import BuildError
+from cosim.outputs import atomic_output
 
 CFLAGS = ["-std=c99", "-fPIC", "-shared", "-fvisibility=hidden", "-Wall"]
 # gcc -O2 on the straight-line code CasADi generates for large models (the nonlinear Whipple
@@ -275,41 +276,30 @@ def _run_compiler(commands: list[list[str]], identifier: str, compiler: str, cwd
 
 
 def pack(staging: Path, destination: Path) -> None:
-    """Zip ``staging`` into ``destination``; the file appears only when complete.
+    """Zip ``staging`` into ``destination``; the file appears only when complete
+    (:func:`cosim.outputs.atomic_output`: a partial FMU a killed build left in the folder is
+    removed by the next build into it).
 
     Raises
     ------
     OutputError
         If the FMU cannot be written (folder not writable, disk full, a folder in the way).
     """
-    try:
-        destination.parent.mkdir(parents=True, exist_ok=True)
-        fd, partial = tempfile.mkstemp(prefix=f".{destination.name}.", suffix=".partial", dir=destination.parent)
-    except OSError as exc:
-        raise OutputError(f"cannot write the FMU '{destination}': {exc.strerror or exc}") from None
-    os.close(fd)
-    PARTIALS.add(Path(partial))
-    try:
-        # Level 1: a fifth of the default level's time for 20 % more bytes (the largest FMU:
-        # 14 ms instead of 58 ms, 640 kB instead of 520 kB). Given to writestr: for an entry given
-        # as a ZipInfo, zipfile ignores the archive's compresslevel and deflates at level 6.
-        with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as archive:
-            for path in sorted(staging.rglob("*")):
-                if path.is_file():
-                    info = zipfile.ZipInfo(str(path.relative_to(staging)), date_time=(2000, 1, 1, 0, 0, 0))
-                    info.compress_type = zipfile.ZIP_DEFLATED
-                    info.external_attr = 0o644 << 16
-                    archive.writestr(info, path.read_bytes(), compresslevel=PACK_LEVEL)
-        os.chmod(partial, 0o644)
-        os.replace(partial, destination)
-    except OSError as exc:
-        Path(partial).unlink(missing_ok=True)
-        raise OutputError(f"cannot write the FMU '{destination}': {exc.strerror or exc}") from None
-    except BaseException:
-        Path(partial).unlink(missing_ok=True)
-        raise
-    finally:
-        PARTIALS.discard(Path(partial))
+    with atomic_output(destination, "the FMU") as partial:
+        PARTIALS.add(partial)  # removed by a pool worker whose parent died (cosim.compiler.build)
+        try:
+            # Level 1: a fifth of the default level's time for 20 % more bytes (the largest FMU:
+            # 14 ms instead of 58 ms, 640 kB instead of 520 kB). Given to writestr: for an entry given
+            # as a ZipInfo, zipfile ignores the archive's compresslevel and deflates at level 6.
+            with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as archive:
+                for path in sorted(staging.rglob("*")):
+                    if path.is_file():
+                        info = zipfile.ZipInfo(str(path.relative_to(staging)), date_time=(2000, 1, 1, 0, 0, 0))
+                        info.compress_type = zipfile.ZIP_DEFLATED
+                        info.external_attr = 0o644 << 16
+                        archive.writestr(info, path.read_bytes(), compresslevel=PACK_LEVEL)
+        finally:
+            PARTIALS.discard(partial)
 
 
 def read_manifest(fmu: Path) -> dict | None:

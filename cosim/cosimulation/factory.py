@@ -1,6 +1,7 @@
 """Create the components of a system file: FMUs (built from models when needed) and Python blocks."""
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from cosim.errors import FMUError, ParameterError
@@ -8,6 +9,7 @@ from cosim.cosimulation import registry
 from cosim.cosimulation.component import Component, FMUComponent
 from cosim.cosimulation.system import SystemError_, SystemSpec, load_system
 from cosim.fmu.isolation import DEFAULT_TIMEOUT, built_here, can_isolate
+from cosim.outputs import check_input_file
 
 
 def python_block(name: str, block: str, parameters: dict, where: str = "system") -> Component:
@@ -82,6 +84,9 @@ def create_components(spec: SystemSpec, fmu_dir: str | Path | None = None) -> di
                                   fmi_version=entry.fmi_version).fmu
             elif entry.kind == "fmu":
                 fmu = Path(entry.source)
+                if not os.path.exists(fmu):
+                    raise SystemError_(f"{where}: component '{name}': FMU '{fmu}' not found")
+                check_input_file(fmu, SystemError_, f"{where}: component '{name}': FMU '{fmu}'", "FMU file", "an")
             else:
                 continue
             try:

@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from cosim.errors import ParameterError
-from cosim.outputs import read_text_file
+from cosim.outputs import check_input_file, read_text_file
 
 # Co-simulation with a zero-order hold (jacobi, gauss-seidel), or every component integrated
 # together as one ODE by RK4 at the communication step (cosim.cosimulation.model_exchange).
@@ -126,11 +126,7 @@ def load_system(path: str | Path) -> SystemSpec:
     SystemError_
         Naming the file and every problem found.
     """
-    path = Path(path)
-    if path.is_dir():
-        raise SystemError_(f"{path}: is a directory, not a system file")
-    if not path.is_file():
-        raise SystemError_(f"{path}: system file not found")
+    path = check_input_file(path, SystemError_, what="system file")
     try:
         data = tomllib.loads(read_text_file(path, SystemError_, str(path)))
     except tomllib.TOMLDecodeError as exc:

@@ -25,23 +25,28 @@ def registry() -> dict:
 
 
 def make_figures(names: list[str], output: str | Path) -> list[Path]:
-    """Make the named figures (all if ``names`` is empty) into ``output``."""
+    """Make the named figures (all if ``names`` is empty) into ``output``.
+
+    Raises
+    ------
+    ParameterError
+        For an unknown figure name.
+    OutputError
+        If ``output`` cannot be a writable folder, or another command is writing it
+        (:class:`cosim.folder_lock.FolderBusy`), before any figure is computed.
+    """
     figures = registry()
     unknown = [n for n in names if n not in figures]
     if unknown:
         raise ParameterError(f"unknown figure(s) {', '.join(unknown)}; available: {', '.join(figures)}")
+    from cosim.folder_lock import folder_lock
     from cosim.outputs import check_output_folder
 
     output = check_output_folder(output, "figures folder")  # before any figure is computed
-    try:
-        output.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        from cosim.errors import OutputError
-
-        raise OutputError(f"figures folder '{output}': {exc.strerror or exc}") from None
     written = []
-    for name in names or list(figures):
-        written += figures[name].make(output)
+    with folder_lock(output, "figures folder"):  # one command writes the folder at a time
+        for name in names or list(figures):
+            written += figures[name].make(output)
     return written
 
 

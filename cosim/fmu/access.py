@@ -2,7 +2,8 @@
 CS, address variables by name. Every command, linearization, validation and the co-simulation
 master go through :func:`read_fmu` / :class:`FMU`, so an FMU file is checked in one place:
 
-- it is a file and a zip archive (not random bytes, not truncated);
+- it is a regular file (not a folder, a FIFO or a device) and a zip archive (not random bytes,
+  not truncated);
 - no member name could land outside the extraction folder (``../x``, ``/abs``, ``C:x``,
   backslashes, symbolic links) and the unpacked size is bounded (no zip bomb);
 - ``modelDescription.xml`` exists, is well-formed XML without a DOCTYPE, declares an FMI version
@@ -26,7 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
-from cosim.errors import FMUError
+from cosim.errors import FMUError, OutputError
+from cosim.outputs import check_input_file, make_temporary_folder
 
 #: The FMI versions a command runs unless it says otherwise (see :func:`check_fmi_version`).
 SUPPORTED_FMI_VERSIONS = ("2.0",)
@@ -93,10 +95,7 @@ def check_fmi_version(path: Path, version: str | None, versions: tuple[str, ...]
 
 
 def _open_archive(path: Path) -> zipfile.ZipFile:
-    if not path.exists():
-        raise FMUError(f"{path}: no such FMU file")
-    if path.is_dir():
-        raise FMUError(f"{path}: is a directory, not an FMU file")
+    check_input_file(path, FMUError, str(path), "FMU file", "an")  # a FIFO or /dev/zero would never end
     try:
         archive = zipfile.ZipFile(path)
     except zipfile.BadZipFile:
@@ -211,14 +210,21 @@ def _extract_members(path: Path, folder: Path) -> None:
             if target != root and root not in target.parents:  # belt and braces after unsafe_member
                 raise FMUError(f"{path}: member '{info.filename}' would be extracted outside the FMU folder")
             if info.is_dir():
-                target.mkdir(parents=True, exist_ok=True)
+                try:
+                    target.mkdir(parents=True, exist_ok=True)
+                except OSError as exc:
+                    raise OutputError(f"cannot extract the FMU '{path}' into '{folder}': "
+                                      f"{exc.strerror or exc}") from None
                 continue
-            target.parent.mkdir(parents=True, exist_ok=True)
             try:
+                target.parent.mkdir(parents=True, exist_ok=True)
                 with archive.open(info) as source, open(target, "wb") as sink:
                     shutil.copyfileobj(source, sink)
             except (zipfile.BadZipFile, zlib.error, EOFError, NotImplementedError) as exc:
                 raise FMUError(f"{path}: member '{info.filename}' is damaged: {exc}") from None
+            except OSError as exc:  # a full disk, a quota: the temporary folder, not the FMU
+                raise OutputError(f"cannot extract the FMU '{path}' into '{folder}': "
+                                  f"{exc.strerror or exc}") from None
 
 
 def _extract(path: Path, versions: tuple[str, ...] = SUPPORTED_FMI_VERSIONS):
@@ -250,26 +256,10 @@ def _process_folder() -> Path:
 
     if _PROCESS_FOLDER is None or _PROCESS_FOLDER[0] != os.getpid():
         _EXTRACTED.clear()  # a forked child's inherited entries point into the parent's folder
-        _remove_folders_of_ended_processes()
-        folder = Path(tempfile.mkdtemp(prefix=f"cosim-fmu-{os.getpid()}-"))
+        folder = make_temporary_folder("fmu")  # (removes the folders of ended processes)
         _PROCESS_FOLDER = (os.getpid(), folder)
         atexit.register(_remove_extracted, os.getpid(), folder)
     return _PROCESS_FOLDER[1]
-
-
-def _remove_folders_of_ended_processes() -> None:
-    """Remove the extraction folders (``cosim-fmu-<pid>-*``, ours) that processes ended without
-    their atexit (SIGKILL, ``os._exit``) left behind; a folder whose process is alive stays."""
-    for folder in Path(tempfile.gettempdir()).glob("cosim-fmu-*-*"):
-        pid = folder.name.split("-")[2]
-        try:
-            if not pid.isdigit() or folder.stat().st_uid != os.getuid():
-                continue
-            os.kill(int(pid), 0)
-        except ProcessLookupError:  # that process has ended
-            shutil.rmtree(folder, ignore_errors=True)
-        except OSError:  # gone meanwhile, or another user's process: not ours to remove
-            continue
 
 
 def _remove_extracted(owner: int, folder: Path) -> None:

@@ -32,7 +32,7 @@ import numpy as np
 
 from cosim.errors import InputDataError, ParameterError, SimulationError
 from cosim.fmu.isolation import DEFAULT_TIMEOUT, FMUProcessError, built_here, can_isolate, run_isolated
-from cosim.outputs import read_text_file
+from cosim.outputs import check_input_file, read_text_file
 from cosim.fmu.parameters import split_assignment
 
 #: Result formats by file suffix (``-o``).
@@ -325,10 +325,7 @@ def input_signals(fmu: Path, specs: list[str], start_time: float, stop_time: flo
             base = float(variable.start) if variable.start not in (None, "") else 0.0
             signals[name] = _step_signal(name, source, base, start_time, stop_time)
         else:
-            path = Path(source)
-            if not path.is_file():
-                raise InputDataError(f"--input {name}: file '{source}' not found"
-                                     + (" (it is a directory)" if path.is_dir() else ""))
+            path = check_input_file(source, InputDataError, f"--input {name}: '{source}'")
             signals[name] = read_input(path, name)
     return merge_signals(signals, start_time)
 

@@ -14,10 +14,14 @@ __all__ = ["add_parser", "run", "main"]
 EPILOG = """\
 an output folder that already holds results is refused unless --resume (keep them: run only the
 missing cases, and the failed ones again unless --keep-failed) or --force (discard them) is given.
+One run writes a folder at a time: a run on a folder that another run is writing is refused, naming
+that run (pid, command, start time); the lock of a killed run ends with it (--resume continues).
 --scheduler needs the optional extra `cluster` (pip install 'bicycle-cosim[cluster]').
 exit status: 0 when every case agrees with its prediction (marginal cases excluded), no case failed
 and every check of the spec passes; 1 otherwise; 2 for a spec or usage error (one line
-`cosim matrix: error: ...`); 130 when interrupted (the finished cases are kept).
+`cosim matrix: error: ...`); 4 when results cannot be written (disk full, quota, ...: the message
+names the file; the cases recorded so far are kept, --resume runs the rest); 130 when interrupted
+(the finished cases are kept).
 Bundled specs (give the name instead of a file): {bundled}
 """
 

@@ -2,8 +2,12 @@
 
 Everything the user can get wrong is refused before any work, each with one message: the spec
 (types, ranges, expressions, the number of cases, the names of parameters and start values that
-its model and FMU components do not declare), the output folder (not writable, a file in
-the way, or already holding results without ``resume``/``force``) and an unreachable scheduler.
+its model and FMU components do not declare), the output folder (not writable, a file in the way,
+being written by another run, or already holding results without ``resume``/``force``) and an
+unreachable scheduler.
+
+One run writes a folder at a time: a run holds the folder's lock (:mod:`cosim.folder_lock`) from
+the build of its FMUs to its report, and a second run on the folder is refused naming the first.
 """
 from __future__ import annotations
 
@@ -13,7 +17,8 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from cosim.errors import OutputError, ParameterError
+from cosim.errors import OutputError, ParameterError, ResultNotWritten
+from cosim.folder_lock import check_not_busy, folder_lock
 from cosim.matrix.spec import MAX_CASES, Case, MatrixSpec, SpecError, load_spec
 from cosim.matrix.store import RESULTS, ResultStore, has_results
 
@@ -115,14 +120,16 @@ def prepare_directory(directory: Path, resume: bool = False, force: bool = False
     Raises
     ------
     OutputError
-        If ``directory`` is a file, lies under a file or in a folder that is not writable, or
-        already holds results of an earlier run and neither ``resume`` nor ``force`` is given.
+        If ``directory`` is a file, lies under a file or in a folder that is not writable, is
+        being written by another run (:class:`cosim.folder_lock.FolderBusy`), or already holds
+        results of an earlier run and neither ``resume`` nor ``force`` is given.
     """
     from cosim.outputs import check_output_folder
 
     if resume and force:
         raise OutputError("give either --resume (keep the results) or --force (discard them), not both")
     directory = check_output_folder(directory)
+    check_not_busy(directory)  # another run writing it: named, rather than its results
     found = has_results(directory)
     if found and not (resume or force):
         raise OutputError(f"output folder '{directory}' already holds the results of an earlier run "
@@ -162,9 +169,7 @@ def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = Non
     SpecError, OutputError, SchedulerError, BuildError
         Before any case is run, each with one message (see the module docstring).
     """
-    from cosim.matrix import checks as checks_mod
     from cosim.matrix.pool import connect
-    from cosim.matrix.progress import Progress
 
     started = time.perf_counter()
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
@@ -185,23 +190,36 @@ def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = Non
     try:
         _import_plugins(spec)
         cases = spec.cases()
-        check_names(cases, str(spec.path or spec.name))
-        fmu_paths = build_fmus(cases, fmu_dir, workers)
-        store = ResultStore(directory, resume, retry_failed=resume and not keep_failed)
-        try:
-            _write_json(directory / "matrix.json", {
-                "spec": str(spec.path) if spec.path else spec.name, "name": spec.name, "digest": spec.digest,
-                "cases": len(cases), "fmus": fmu_paths, "scheduler": scheduler,
-                "workers": None if scheduler else workers})
-            done = {k for k in store.keys()} & {c.key for c in cases}
-            todo = [c for c in cases if c.key not in done]
-            timing = _dispatch(todo, spec, fmu_paths, directory, client, workers, store,
-                               Progress(len(cases), len(done), stream=stream, enabled=progress))
-        finally:
-            store.close()
+        check_names(cases, str(spec.path or spec.name))  # before anything is built
+        # one run writes a folder at a time: a second one is refused here, naming the first
+        with folder_lock(directory):
+            prepare_directory(directory, resume, force)  # again: a run that ended meanwhile left results
+            result = _run_locked(spec, cases, directory, client, scheduler, workers, resume, keep_failed,
+                                 fmu_dir, progress, stream, started)
+            if report:
+                result.report = _write_report(result)
     finally:
         if client is not None:
             client.close()
+    return result
+
+
+def _run_locked(spec, cases, directory, client, scheduler, workers, resume, keep_failed, fmu_dir, progress,
+                stream, started) -> MatrixResult:
+    """:func:`run_matrix` holding the output folder's lock: build, dispatch, store, check."""
+    from cosim.matrix import checks as checks_mod
+    from cosim.matrix.progress import Progress
+
+    fmu_paths = build_fmus(cases, fmu_dir, workers)
+    with ResultStore(directory, resume, retry_failed=resume and not keep_failed) as store:
+        _write_json(directory / "matrix.json", {
+            "spec": str(spec.path) if spec.path else spec.name, "name": spec.name, "digest": spec.digest,
+            "cases": len(cases), "fmus": fmu_paths, "scheduler": scheduler,
+            "workers": None if scheduler else workers})
+        done = {k for k in store.keys()} & {c.key for c in cases}
+        todo = [c for c in cases if c.key not in done]
+        timing = _dispatch(todo, spec, fmu_paths, directory, client, workers, store,
+                           Progress(len(cases), len(done), stream=stream, enabled=progress))
     stored = store.records
     records = [stored[c.key] for c in cases if c.key in stored]
     retried = len(store.retried & {c.key for c in cases})
@@ -209,11 +227,18 @@ def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = Non
                           resumed=len(done), retried=retried, timing=timing)
     result.checks = checks_mod.evaluate(spec, cases, records, fmu_paths)
     result.seconds = time.perf_counter() - started
-    if report:
-        from cosim.matrix.report import write_report
-
-        result.report = write_report(result)
     return result
+
+
+def _write_report(result: MatrixResult) -> dict:
+    """The report files; one that cannot be written says that the results are kept."""
+    from cosim.matrix.report import write_report
+
+    try:
+        return write_report(result)
+    except OutputError as exc:
+        raise ResultNotWritten(f"{exc}; the {len(result.records)} case results are kept in "
+                               f"'{result.directory / RESULTS}' (--resume writes the report)") from None
 
 
 def _import_plugins(spec: MatrixSpec) -> None:

@@ -41,6 +41,7 @@ import hashlib
 import itertools
 import json
 import math
+import os
 import re
 import tomllib
 from dataclasses import dataclass, field
@@ -50,7 +51,7 @@ from pathlib import Path
 from cosim.cosimulation.system import type_name
 from cosim.errors import CosimError, ParameterError
 from cosim.matrix import expr
-from cosim.outputs import read_text_file
+from cosim.outputs import check_input_file, read_text_file
 
 SPECS_DIR = Path(__file__).resolve().parent / "specs"
 
@@ -609,15 +610,13 @@ def load_spec(path_or_name: str | Path, max_cases: int = MAX_CASES) -> MatrixSpe
         If the file cannot be read or is not a valid spec, or it has more than ``max_cases`` cases.
     """
     path = Path(path_or_name)
-    if not path.is_file():
+    if not os.path.exists(path):  # (False for a name too long to be a file)
         bundled = SPECS_DIR / f"{path_or_name}.toml"
-        if bundled.is_file():
-            path = bundled
-        elif path.is_dir():
-            raise SpecError(f"{path_or_name}: is a folder, not a spec file")
-        else:
+        if not os.path.isfile(bundled):
             names = ", ".join(sorted(p.stem for p in SPECS_DIR.glob("*.toml")))
             raise SpecError(f"{path_or_name}: no such spec file (bundled specs: {names})")
+        path = bundled
+    check_input_file(path, SpecError, str(path_or_name), "spec file")  # a folder, a FIFO, a device
     text = read_text_file(path, SpecError, str(path))
     try:
         data = tomllib.loads(text)
@@ -664,8 +663,7 @@ def spec_from_dict(data: dict, path: Path | None = None, max_cases: int = MAX_CA
             p = Path(item)
             if not p.is_absolute() and path is not None:
                 p = path.parent / p
-            if not p.is_file():
-                raise SpecError(f"{where}: [matrix] imports: no such file '{p}'")
+            check_input_file(p, SpecError, f"{where}: [matrix] imports: '{p}'")
             imports.append(str(p.resolve()))
         else:
             imports.append(item)

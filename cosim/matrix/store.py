@@ -7,9 +7,12 @@ lines are read back, a torn tail is cut off, and only cases whose key has no rec
 nothing is lost and nothing is run or written twice. Failed cases (a crashed or killed worker, a
 timeout) are retried on ``--resume`` unless ``--keep-failed``: their records are dropped from the
 file first (rewritten under a temporary name and renamed), so the file keeps one line per case.
+A line that cannot be written whole (a full disk) is cut off again at once. One run writes a
+folder at a time (:mod:`cosim.folder_lock`), so the appends of two runs never mix.
 """
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
@@ -158,26 +161,58 @@ class ResultStore:
         self.append_line(record["key"], encode(record))
 
     def append_line(self, key: str, line: bytes) -> None:
-        """Append one encoded record (a complete line, see :func:`encode`) with a single write."""
+        """Append one encoded record (a complete line, see :func:`encode`) with a single write.
+
+        Raises
+        ------
+        ResultNotWritten
+            If the line cannot be written (disk full, quota, ...): the part of it that was
+            written is cut off again, so the file ends with the last complete record, and the
+            message says how many records are kept.
+        """
         if not line.endswith(b"\n") or b"\n" in line[:-1]:
             raise ValueError("a record must be exactly one line")
-        view = memoryview(line)
-        while view:
-            n = os.write(self._fd, view)
-            view = view[n:]
+        start = None
+        try:
+            view = memoryview(line)
+            while view:
+                n = os.write(self._fd, view)
+                if start is None and n < len(view):  # a short write: where the line began, to cut it off
+                    start = os.fstat(self._fd).st_size - n
+                view = view[n:]
+            if time.monotonic() - self._synced > 1.0:
+                os.fsync(self._fd)
+                self._synced = time.monotonic()
+        except OSError as exc:
+            if start is not None:  # a part of the line went out: cut it off (read_records would skip it)
+                with contextlib.suppress(OSError):
+                    os.ftruncate(self._fd, start)
+            raise self._lost(exc) from None
         self._records[key] = line
-        if time.monotonic() - self._synced > 1.0:
-            os.fsync(self._fd)
-            self._synced = time.monotonic()
 
-    def close(self) -> None:
-        if self._fd is not None:
+    def _lost(self, exc: OSError):
+        from cosim.errors import ResultNotWritten
+
+        n = len(self._records)
+        kept = f"the {n} cases recorded before are kept" if n != 1 else "the case recorded before is kept"
+        return ResultNotWritten(f"cannot write results file '{self.path}': {exc.strerror or exc}; {kept} "
+                                "(--resume runs the rest)")
+
+    def close(self, check: bool = True) -> None:
+        """Sync and close the file; a failing sync raises :class:`ResultNotWritten` if ``check``."""
+        if self._fd is None:
+            return
+        try:
             os.fsync(self._fd)
+        except OSError as exc:
+            if check:
+                raise self._lost(exc) from None
+        finally:
             os.close(self._fd)
             self._fd = None
 
     def __enter__(self):
         return self
 
-    def __exit__(self, *exc):
-        self.close()
+    def __exit__(self, exc_type, *_):
+        self.close(check=exc_type is None)  # an error on the way out is not hidden by one of the sync

@@ -35,20 +35,30 @@ def run_demo(output: Path) -> None:
     Raises
     ------
     OutputError
-        If ``output`` or one of its files cannot be written, before anything is built.
+        If ``output`` or one of its files cannot be written, or another demo is writing
+        ``output`` (:class:`cosim.folder_lock.FolderBusy`), before anything is built.
     SimulationError
         If a built FMU fails validation.
     """
-    from cosim.compiler.build import DEFAULT_OUTPUT, build
-    from cosim.errors import SimulationError
+    from cosim.compiler.build import DEFAULT_OUTPUT
+    from cosim.folder_lock import folder_lock
     from cosim.outputs import check_output, check_output_folder
-    from cosim.fmu.simulate import input_signals, plot, simulate, write_csv
-    from cosim.fmu.validate import validate
 
     output = check_output_folder(Path(output), "demo folder")  # before the minutes of work below
     for name in OUTPUTS:
         check_output(output / name, "demo result")
     check_output_folder(DEFAULT_OUTPUT, "FMU folder")
+    with folder_lock(output, "demo folder"):  # one demo writes the folder at a time
+        _demo(output)
+
+
+def _demo(output: Path) -> None:
+    """:func:`run_demo` in a checked and locked output folder."""
+    from cosim.compiler.build import DEFAULT_OUTPUT, build
+    from cosim.cosimulation.factory import run_system
+    from cosim.errors import SimulationError
+    from cosim.fmu.simulate import input_signals, plot, simulate, write_csv
+    from cosim.fmu.validate import validate
 
     print("1. building every exported model (pymoca -> CasADi -> C -> gcc) ...")
     results = build(output=DEFAULT_OUTPUT, jobs=2)
@@ -76,8 +86,6 @@ def run_demo(output: Path) -> None:
     print(f"   final steer delta: CS {cs['delta'][-1]: .6f} rad, ME {me['delta'][-1]: .6f} rad, eq (11) {delta_ss: .6f} rad")
     me_on_cs_grid = np.interp(cs["time"], me["time"], me["phi"])  # ME has an extra row at the input step
     print(f"   CS vs ME max difference in phi: {np.max(np.abs(cs['phi'] - me_on_cs_grid)):.2e} rad")
-    from cosim.cosimulation.factory import run_system
-
     system = Path(__file__).resolve().parents[1] / "systems" / "lane-change.toml"
     print(f"3. co-simulating {system.name}: WhippleLinear FMU + Python lane-change controller ...")
     lane = run_system(system)
