@@ -85,6 +85,7 @@ def check_output(path: str | os.PathLike, what: str = "output file") -> Path:
             raise OutputError(f"{what} '{path}': folder '{folder}' is not writable")
         if status is not None and not os.access(path, os.W_OK):
             raise OutputError(f"{what} '{path}' exists and is not writable")
+        _probe(folder)
     except OutputError:
         raise
     except (OSError, ValueError) as exc:  # a name too long, a loop of symbolic links, a NUL character
@@ -114,11 +115,21 @@ def check_output_folder(path: str | os.PathLike, what: str = "output folder") ->
             raise OutputError(f"{what} '{path}': '{folder}' is a file, not a folder")
         if not os.access(folder, os.W_OK | os.X_OK):
             raise OutputError(f"{what} '{path}': folder '{folder}' is not writable")
+        _probe(folder)
     except OutputError:
         raise
     except (OSError, ValueError) as exc:
         raise _os_refusal(what, path, exc) from None
     return path
+
+
+def _probe(folder: Path) -> None:
+    """Create and remove a hidden file in ``folder``: what the permission bits cannot tell (a
+    read-only file system, /proc and /sys, which refuse new files also to root) shows here,
+    before any work, not when the result is written."""
+    handle, name = tempfile.mkstemp(dir=folder, prefix=".cosim-probe-")
+    os.close(handle)
+    os.unlink(name)
 
 
 def host_tag() -> str:

@@ -21,9 +21,12 @@ from conftest import cli_in_process, run_cli
 from hostile_fmus import hostile_fmu
 
 TIMEOUT = "1"  # --timeout [s] for the FMUs that hang
+# exit() runs the exit handlers of every library in the process: in one that has loaded C++
+# libraries whose static destructors end threads (here: the test session's engines), that ends in
+# abort(). Either way the message names how the FMU's process ended.
 #: What the one error line says for each fault.
 SAYS = {
-    "segfault": "crashed (SIGSEGV)", "exit": "exit status 0", "abort": "aborted (SIGABRT",
+    "segfault": "crashed (SIGSEGV)", "exit": ("exit status 0", "aborted (SIGABRT"), "abort": "aborted (SIGABRT",
     "hang": f"no answer within {TIMEOUT} s", "kill-parent": "parent process was killed (SIGKILL",
 }
 SEPARATE = {"hang", "kill-parent"}  # run in a child process of the test
@@ -65,7 +68,7 @@ def one_error_line(stderr: str, status: int, says: str) -> str:
     assert "Traceback" not in stderr and "internal error" not in stderr, stderr
     lines = [line for line in stderr.splitlines() if line.strip()]
     assert len(lines) == 1, stderr
-    assert says in lines[0], stderr
+    assert any(text in lines[0] for text in ((says,) if isinstance(says, str) else says)), stderr
     return lines[0]
 
 
@@ -164,10 +167,10 @@ def test_validate_reports_the_fault_as_a_problem(folder, fault):
     status, stdout, stderr = cosim(["validate", fmu, "--timeout", TIMEOUT], folder, fault in SEPARATE)
     assert status == 1, stderr
     assert "Traceback" not in stderr
+    says = (SAYS[fault],) if isinstance(SAYS[fault], str) else SAYS[fault]
     problems = [line for line in stdout.splitlines() if line.startswith("  - ")]
-    assert problems and all(SAYS[fault] in p or "fixed parameter" in p or "was accepted" in p
-                            for p in problems), stdout
-    assert any(SAYS[fault] in p and "instantiate" in p for p in problems), stdout
+    assert problems and all(any(text in p for text in says) for p in problems), stdout
+    assert any(any(text in p for text in says) and "instantiate" in p for p in problems), stdout
 
 
 def test_python_api_raises_with_the_rows(folder, good_rows):

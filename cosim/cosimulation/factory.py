@@ -49,8 +49,11 @@ def check_parameters(spec: SystemSpec) -> dict[str, dict]:
     for name, entry in spec.components.items():
         if entry.kind == "python":
             continue
-        if entry.kind == "fmu" and not Path(entry.source).is_file():
-            raise SystemError_(f"{where}: component '{name}': FMU '{entry.source}' not found")
+        if entry.kind == "fmu":  # a regular file (not a FIFO, a device, a loop of links) before it is read
+            if not os.path.lexists(entry.source):  # (also a name with a NUL character)
+                raise SystemError_(f"{where}: component '{name}': FMU '{entry.source}' not found")
+            check_input_file(entry.source, SystemError_, f"{where}: component '{name}': FMU '{entry.source}'",
+                             "FMU file", "an")
         try:
             declared = declarations(entry.source, entry.fmi_version) if entry.kind == "model" \
                 else declarations(str(entry.source))

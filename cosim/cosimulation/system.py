@@ -28,6 +28,7 @@ Example (``connections`` stands before the first table, as TOML requires of top-
 from __future__ import annotations
 
 import math
+import os
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -334,12 +335,12 @@ def _component(problems: _Problems, name: str, entry, path: Path | None) -> Comp
     if source is None or multiple is None or fmi_version is None or ("params" in entry and parameter_set is None):
         return None
     if kind == "fmu" and path is not None and not Path(source).is_absolute():
-        source = str((path.parent / source).resolve())
+        source = os.path.abspath(path.parent / source)  # (not resolve(): a loop of links is named later)
     if parameter_set is not None:
         from cosim.fmu.stability import parameters_for_model
 
         if path is not None and (parameter_set.endswith(".toml") or "/" in parameter_set):
-            parameter_set = str((path.parent / parameter_set).resolve())
+            parameter_set = os.path.abspath(path.parent / parameter_set)
         try:
             parameters = {**parameters_for_model(parameter_set), **parameters}
         except ParameterError as exc:

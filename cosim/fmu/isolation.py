@@ -94,6 +94,7 @@ class Worker:
 
     def __init__(self, fd: int):
         self._fd = fd
+        self.stderr = sys.stderr  #: where the worker may show progress (the caller's terminal)
 
     def send(self, kind: str, payload: Any = None) -> None:
         """Send one message (``kind`` other than result/error/doing goes to ``on_message``)."""
@@ -131,6 +132,13 @@ def _worker_body(function: Callable[[Worker], Any], fd: int, guard: int) -> None
     die_with_parent(guard)
     faulthandler.disable()  # a crash is reported by the caller, not as a dump of this stack
     worker = Worker(fd)
+    # What the binary (or a library's exit handler) prints is not the command's output: the
+    # caller's message says what happened. The worker's own progress output keeps the terminal.
+    worker.stderr = os.fdopen(os.dup(2), "w")
+    silent = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(silent, 1)
+    os.dup2(silent, 2)
+    os.close(silent)
     try:
         try:
             value = function(worker)

@@ -559,6 +559,8 @@ class _Run:
         instance = handle.instantiate(self.kind, name=md.modelName, log=log)
         bar = _Progress(self.t0, t1, self.progress, worker)
         if worker is not None:
+            bar.stream = worker.stderr
+        if worker is not None:
             worker.doing(f"the initialization ({self.prefix}EnterInitializationMode .. ExitInitializationMode)")
             _report_after(instance, "exitInitializationMode", lambda: worker.doing(self.stepping()))
         # The worst FMI status seen decides which calls the clean-up may still make; FMPy itself

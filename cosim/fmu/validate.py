@@ -130,11 +130,8 @@ STATIC_CHECKS = (("fmpy", _fmpy_problems), ("archive", _archive_problems), ("bin
 # -- the dynamic checks in a child process ------------------------------------------------------
 
 def _checks_from(session: Session, checks: tuple[Check, ...], start: int, worker: Worker) -> None:
-    """In the worker: run ``checks[start:]``, reporting the start and findings of each."""
-    # The FMU's own prints (printf, FMPy's default messages) are not validate's output.
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    os.dup2(devnull, 1)
-    os.dup2(devnull, 2)
+    """In the worker: run ``checks[start:]``, reporting the start and findings of each (the
+    FMU's own prints, like FMPy's default messages, go nowhere: the worker has no terminal)."""
     for index in range(start, len(checks)):
         worker.send("start", index)
         findings = run_check(checks[index], session, progress=worker.doing)
