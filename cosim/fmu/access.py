@@ -41,8 +41,8 @@ READABLE_FMI_VERSIONS = ALL_FMI_VERSIONS
 #: Largest total unpacked size of an FMU's members [bytes]; beyond it the archive is refused.
 MAX_UNPACKED_BYTES = 2 * 1024**3
 MODEL_DESCRIPTION = "modelDescription.xml"
-#: Most fmi3UpdateDiscreteStates calls of an initial event iteration (a guard against an FMU
-#: that always asks for another one).
+#: Most fmi2NewDiscreteStates/fmi3UpdateDiscreteStates calls of an initial event iteration (a
+#: guard against an FMU that always asks for another one).
 MAX_EVENT_ITERATIONS = 1000
 
 _DESCRIPTIONS: dict[tuple, object] = {}  # (path, size, mtime) -> checked model description
@@ -542,12 +542,10 @@ class FMU:
     def initialize_me(self, instance, start_time: float = 0.0) -> None:
         """Initialize a Model Exchange instance at ``start_time`` [s] and enter Continuous-Time Mode.
 
-        FMI 2: ``fmi2SetupExperiment``, ``fmi2Enter/ExitInitializationMode``,
-        ``fmi2EnterContinuousTimeMode`` (the FMUs built here have no discrete states, and the
-        linearization of FMI 2 FMUs has always gone this way). FMI 3:
-        ``fmi3EnterInitializationMode(startTime)``, ``fmi3ExitInitializationMode``, then
-        ``fmi3UpdateDiscreteStates`` until no discrete state needs an update (the initial event
-        iteration FMI 3 requires in Event Mode), ``fmi3EnterContinuousTimeMode``.
+        FMI 2: ``fmi2SetupExperiment``, ``fmi2Enter/ExitInitializationMode``; FMI 3:
+        ``fmi3EnterInitializationMode(startTime)``, ``fmi3ExitInitializationMode``. Both then leave
+        Event Mode the way the standard's state machine requires (:meth:`initial_event_iteration`)
+        and call ``fmi2/fmi3EnterContinuousTimeMode``.
 
         Raises
         ------
@@ -556,20 +554,20 @@ class FMU:
         FMUError
             The FMU asks to terminate during the initial event iteration, or it does not end.
         """
-        if not self.is_fmi3:
+        if self.is_fmi3:
+            instance.enterInitializationMode(startTime=start_time)
+        else:
             instance.setupExperiment(startTime=start_time)
             instance.enterInitializationMode()
-            instance.exitInitializationMode()
-            instance.enterContinuousTimeMode()
-            return
-        instance.enterInitializationMode(startTime=start_time)
         instance.exitInitializationMode()
         self.initial_event_iteration(instance)
         instance.enterContinuousTimeMode()
 
     def initial_event_iteration(self, instance) -> None:
-        """FMI 3 Model Exchange after ``fmi3ExitInitializationMode`` (Event Mode):
-        ``fmi3UpdateDiscreteStates`` until no discrete state needs an update.
+        """Model Exchange after ``fmi2/fmi3ExitInitializationMode`` (Event Mode): call
+        ``fmi2NewDiscreteStates`` (FMI 2) or ``fmi3UpdateDiscreteStates`` (FMI 3) until the FMU
+        reports that no discrete state needs another update. Both standards allow
+        ``EnterContinuousTimeMode`` only after this iteration, and FMUs (Dymola's) refuse it otherwise.
 
         Raises
         ------
@@ -579,15 +577,17 @@ class FMU:
             The FMU asks to terminate, or the iteration does not end after
             :data:`MAX_EVENT_ITERATIONS` calls.
         """
+        update = instance.updateDiscreteStates if self.is_fmi3 else instance.newDiscreteStates
+        name = "fmi3UpdateDiscreteStates" if self.is_fmi3 else "fmi2NewDiscreteStates"
         for _ in range(MAX_EVENT_ITERATIONS):
-            update, terminate, *_ = instance.updateDiscreteStates()
+            needed, terminate, *_ = update()
             if terminate:
                 raise FMUError(f"{self.path}: the FMU asks to terminate during its initial event iteration")
-            if not update:
+            if not needed:
                 break
         else:
             raise FMUError(f"{self.path}: the initial event iteration did not end after "
-                           f"{MAX_EVENT_ITERATIONS} fmi3UpdateDiscreteStates calls")
+                           f"{MAX_EVENT_ITERATIONS} {name} calls")
 
     def set(self, instance, values: dict) -> None:
         """Set values by name, each with the setter of its type (FMI 2 or FMI 3): one call per

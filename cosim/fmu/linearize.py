@@ -905,6 +905,7 @@ class _FastPoint:
         self.check(self._setup(c, 0, 0.0, 0.0, 0, 0.0), "fmi2SetupExperiment", value)
         self.check(self._enter(c), "initialization", value)
         self.check(self._exit(c), "initialization", value)
+        self._initial_event_iteration(value)
         self.check(self._ct(c), "fmi2EnterContinuousTimeMode", value)
         if self.nx:
             self.check(self._get_x(c, self.x, self.nx), "fmi2GetContinuousStates", value)
@@ -916,6 +917,14 @@ class _FastPoint:
                        "fmi2GetDirectionalDerivative", value)
             J[:, k] = self.column[:self.nu]
 
+    def _initial_event_iteration(self, value: float) -> None:
+        """Leave the Event Mode after initialization as the standard requires (FMPy's wrappers:
+        several out-arguments, rarely more than one call)."""
+        try:
+            self.fmu.initial_event_iteration(self.me)
+        except (FMICallException, FMUError) as exc:
+            self.check(int(getattr(exc, "status", 3) or 3), f"the initial event iteration ({exc})", value)
+
     def _evaluate_fmi3(self, value: float, J: np.ndarray, x0: np.ndarray, xdot0: np.ndarray) -> None:
         """:meth:`evaluate` through the FMI 3 functions, with the adjoint cross-check."""
         c = self.c
@@ -926,10 +935,7 @@ class _FastPoint:
         self.check(self._set_real(c, self.set_vr, self.n_set, self.set_values, self.n_set), "fmi3SetFloat64", value)
         self.check(self._enter(c, False, 0.0, 0.0, False, 0.0), "initialization", value)
         self.check(self._exit(c), "initialization", value)
-        try:  # the initial event iteration (FMPy's wrapper: six out-arguments, rarely more than one call)
-            self.fmu.initial_event_iteration(self.me)
-        except (FMICallException, FMUError) as exc:
-            self.check(int(getattr(exc, "status", 3) or 3), f"the initial event iteration ({exc})", value)
+        self._initial_event_iteration(value)
         self.check(self._ct(c), "fmi3EnterContinuousTimeMode", value)
         if self.nx:
             self.check(self._get_x(c, self.x, self.nx), "fmi3GetContinuousStates", value)

@@ -102,10 +102,7 @@ class Bicycle:
         if self._initialized:
             self.me.reset()
         self.fmu.set(self.me, {**self.params, **start})
-        self.me.setupExperiment(startTime=0.0)
-        self.me.enterInitializationMode()
-        self.me.exitInitializationMode()
-        self.me.enterContinuousTimeMode()
+        self.fmu.initialize_me(self.me, start_time=0.0)
         self._initialized = True
         return self.get_states()
 
