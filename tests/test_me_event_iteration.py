@@ -2,9 +2,10 @@
 FMU is in Event Mode, and ``fmi2NewDiscreteStates`` (FMI 2) or ``fmi3UpdateDiscreteStates``
 (FMI 3) is called until no discrete state needs another update before ``EnterContinuousTimeMode``.
 
-The FMUs are the vendored Reference FMUs (tests/reference_fmus.py) and FMI 2 variants of them whose
-``fmi2EnterContinuousTimeMode`` refuses unless the initial event iteration ran, and whose first
-``fmi2NewDiscreteStates`` after initialization asks for one more (as FMUs exported by Dymola do).
+The FMUs are the vendored Reference FMUs (tests/reference_fmus.py) and FMI 2 and FMI 3 variants of
+them whose ``EnterContinuousTimeMode`` refuses unless the initial event iteration ran, and whose
+first ``fmi2NewDiscreteStates``/``fmi3UpdateDiscreteStates`` after initialization asks for one more
+(as FMUs exported by Dymola do).
 """
 from __future__ import annotations
 
@@ -43,6 +44,20 @@ NEEDS_ITERATION = {"fmi2Functions.c": [
      '        logError(S, "fmi2EnterContinuousTimeMode: may only be called when exited event mode");\n'
      "        return fmi2Error;\n    }\n"),
 ]}
+#: The same for fmi3Functions.c (UpdateDiscreteStates, discreteStatesNeedUpdate).
+NEEDS_ITERATION_FMI3 = {"fmi3Functions.c": [
+    ("fmi3Status fmi3ExitInitializationMode(fmi3Instance instance) {",
+     _ITERATION_STATE + "fmi3Status fmi3ExitInitializationMode(fmi3Instance instance) {"),
+    ("        case ModelExchange:\n            S->state = EventMode;\n",
+     "        case ModelExchange:\n            S->state = EventMode;\n            pendingEventIteration = 2;\n"),
+    ("    if (discreteStatesNeedUpdate)          *discreteStatesNeedUpdate          = S->newDiscreteStatesNeeded;",
+     "    if (discreteStatesNeedUpdate) *discreteStatesNeedUpdate = S->newDiscreteStatesNeeded"
+     " || pendingEventIteration == 2;\n    if (pendingEventIteration > 0) pendingEventIteration--;"),
+    ("    ASSERT_STATE(EnterContinuousTimeMode);\n",
+     "    ASSERT_STATE(EnterContinuousTimeMode);\n    if (pendingEventIteration > 0) {\n"
+     '        logError(S, "fmi3EnterContinuousTimeMode: may only be called when exited event mode");\n'
+     "        return fmi3Error;\n    }\n"),
+]}
 #: The first NewDiscreteStates after initialization asks to terminate.
 TERMINATES = {"fmi2Functions.c": NEEDS_ITERATION["fmi2Functions.c"] + [
     ("    eventInfo->terminateSimulation               = S->terminateSimulation;",
@@ -58,12 +73,18 @@ BUILDERS = {"fmi2": reference_fmu2, "fmi3": reference_fmu}
 @pytest.fixture(scope="module")
 def fmus(tmp_path_factory) -> dict[str, Path]:
     """The Reference FMUs as FMI 2 and FMI 3 (``fmi2-VanDerPol``, ...) and the FMI 2 variants
-    (``iterate-VanDerPol``, ...), compiled once for this module."""
+    (``iterate-VanDerPol``, ...) and FMI 3 variants (``iterate3-VanDerPol``, ...), compiled once for this module."""
     folder = tmp_path_factory.mktemp("me-event-iteration")
     built = {f"{v}-{name}": BUILDERS[v](name, folder, fmu_name=f"{v}-{name}")
              for v in BUILDERS for name in ("BouncingBall", "VanDerPol", "Dahlquist", "Stair")}
     for name in ("BouncingBall", "VanDerPol", "Dahlquist", "Stair"):
         built[f"iterate-{name}"] = reference_fmu2(name, folder, edits=NEEDS_ITERATION, fmu_name=f"iterate-{name}")
+    for name in ("BouncingBall", "VanDerPol"):
+        built[f"iterate3-{name}"] = reference_fmu(name, folder, edits=NEEDS_ITERATION_FMI3,
+                                                  fmu_name=f"iterate3-{name}")
+    built["iterate3-SpeedVanDerPol"] = reference_fmu(
+        "VanDerPol", folder, fmu_name="iterate3-SpeedVanDerPol",
+        edits={**NEEDS_ITERATION_FMI3, "modelDescription.xml": [('name="mu"', 'name="V"')]})
     built["iterate-SpeedVanDerPol"] = reference_fmu2(
         "VanDerPol", folder, fmu_name="iterate-SpeedVanDerPol",
         edits={**NEEDS_ITERATION, "modelDescription.xml": [('name="mu"', 'name="V"')]})
@@ -87,11 +108,11 @@ def vanderpol_jacobian(mu: float, x0: float, x1: float) -> np.ndarray:
 #: Dahlquist x' = -k x; VanDerPol at its start x = (2, 0).
 LINEARIZED = [
     *[(f"{v}-VanDerPol", ("mu=1",), vanderpol_jacobian(1.0, 2.0, 0.0), JACOBIAN_TOLERANCE)
-      for v in ("fmi2", "fmi3", "iterate")],
+      for v in ("fmi2", "fmi3", "iterate", "iterate3")],
     *[(f"{v}-VanDerPol", ("mu=2.5",), vanderpol_jacobian(2.5, 2.0, 0.0), JACOBIAN_TOLERANCE)
       for v in ("fmi2", "iterate")],
     *[(f"{v}-BouncingBall", (), np.array([[0.0, 1.0], [0.0, 0.0]]), FINITE_DIFFERENCE_TOLERANCE)
-      for v in ("fmi2", "fmi3", "iterate")],
+      for v in ("fmi2", "fmi3", "iterate", "iterate3")],
     *[(f"{v}-Dahlquist", ("k=3",), np.array([[-3.0]]), FINITE_DIFFERENCE_TOLERANCE)
       for v in ("fmi2", "fmi3", "iterate")],
 ]
@@ -106,9 +127,10 @@ def test_linearize_after_the_initial_event_iteration(fmus, tmp_path, key, params
     np.testing.assert_allclose(json.loads(out)["A"], A, rtol=0, atol=tol)
 
 
-def test_linearize_speeds_after_the_initial_event_iteration(fmus, tmp_path):
-    """The sweep's fast path (raw fmi2 calls, reset and re-initialized per speed) iterates too."""
-    status, out, err = cosim("linearize", str(fmus["iterate-SpeedVanDerPol"]), "--speeds", "0:2:0.5", "--json",
+@pytest.mark.parametrize("key", ["iterate-SpeedVanDerPol", "iterate3-SpeedVanDerPol"], ids=["fmi2", "fmi3"])
+def test_linearize_speeds_after_the_initial_event_iteration(fmus, tmp_path, key):
+    """The sweep's fast path (raw fmi2/fmi3 calls, reset and re-initialized per speed) iterates too."""
+    status, out, err = cosim("linearize", str(fmus[key]), "--speeds", "0:2:0.5", "--json",
                              "--matrices", cwd=tmp_path)
     assert status == 0, err
     report = json.loads(out)
@@ -117,7 +139,7 @@ def test_linearize_speeds_after_the_initial_event_iteration(fmus, tmp_path):
         np.testing.assert_allclose(point["A"], vanderpol_jacobian(speed, 2.0, 0.0), rtol=0, atol=JACOBIAN_TOLERANCE)
 
 
-@pytest.mark.parametrize("key", ["iterate-VanDerPol", "fmi3-VanDerPol", "fmi2-Stair", "fmi3-Stair"])
+@pytest.mark.parametrize("key", ["iterate-VanDerPol", "iterate3-VanDerPol", "fmi3-VanDerPol", "fmi2-Stair", "fmi3-Stair"])
 def test_initialize_me_reaches_continuous_time_mode(fmus, key):
     """FMU.initialize_me leaves the FMU in Continuous-Time Mode (states readable, a second
     EnterContinuousTimeMode refused by the FMU's state machine)."""
@@ -153,7 +175,7 @@ def test_linearize_of_an_fmu_that_terminates_at_the_start_is_refused(fmus, tmp_p
 
 
 SIMULATED = [("fmi2-BouncingBall", 3.0), ("iterate-BouncingBall", 3.0), ("fmi2-Stair", 6.0), ("iterate-Stair", 6.0),
-             ("fmi3-BouncingBall", 3.0)]
+             ("fmi3-BouncingBall", 3.0), ("iterate3-BouncingBall", 3.0)]
 
 
 @pytest.mark.parametrize("key, stop", SIMULATED, ids=[k for k, _ in SIMULATED])
