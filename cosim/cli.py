@@ -615,7 +615,8 @@ def _cmd_export_ssp(args) -> int:
     from cosim.outputs import check_output
 
     check_output(args.output, "SSP file")  # before anything is built
-    path, notes = export_ssp(load_system(args.system), args.output, fmi_version=args.fmi_version)
+    path, notes = export_ssp(load_system(args.system), args.output, fmi_version=args.fmi_version,
+                             ssp_version=args.ssp_version)
     for note in notes:
         print(f"{'note' if isinstance(note, FileNote) else 'twin'}: {note}")
     print(f"wrote {path}")
@@ -852,7 +853,7 @@ def parser() -> argparse.ArgumentParser:
     library_option(run)
     run.set_defaults(func=_cmd_run)
 
-    ssp = sub.add_parser("export-ssp", help="export a system as SSP 1.0 (FMUs in resources/)",
+    ssp = sub.add_parser("export-ssp", help="export a system as SSP 1.0 or 2.0 (FMUs in resources/)",
                          formatter_class=raw,
                          epilog="The OSP fixed-step algorithm of the SSP needs a step that divides stop - start.\n\n"
                                 f"{FMU_FOLDER}\n\n{EXIT_CODES}")
@@ -862,6 +863,8 @@ def parser() -> argparse.ArgumentParser:
                      help="build every model (and Python block twin) as an FMI 2.0 or 3.0 FMU (default: each "
                           "component's fmi_version in the system file, else 2); FMU files keep theirs. "
                           "Ecos runs both, libcosim FMI 2.0 only")
+    ssp.add_argument("--ssp-version", choices=("1.0", "2.0"), default="1.0",
+                     help="the SSP version of the archive (default: 1.0, the only one Ecos reads)")
     library_option(ssp)
     ssp.set_defaults(func=_cmd_export_ssp)
 

@@ -376,31 +376,53 @@ def test_libcosim_refuses_fmi3_before_loading(ssps, fmu_dir, case, named):
 # ----------------------------------------------------------------- export-ssp --fmi-version 3
 
 
-def _schema_problems(ssp: Path) -> list[str]:
-    """Problems of SystemStructure.ssd against the SSP 1.0 schema (FMPy ships the XSDs)."""
+SSP2_SCHEMAS = ROOT / "tests" / "data" / "ssp-2.0"  # the SSP 2.0 standard's XSDs, vendored with their licence
+SSP_NS = {"ssd": "http://ssp-standard.org/SSP1/SystemStructureDescription",
+          "ssc": "http://ssp-standard.org/SSP1/SystemStructureCommon",
+          "ssv": "http://ssp-standard.org/SSP1/SystemStructureParameterValues",
+          "osp": "http://opensimulationplatform.com/SSP/OSPAnnotations",
+          "oms": "https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd"}
+
+
+def _schema_problems(ssp: Path, version: str = "1.0") -> list[str]:
+    """Problems of SystemStructure.ssd against the SSP ``version`` schema (FMPy ships the 1.0
+    XSDs; the 2.0 ones are in tests/data/ssp-2.0). Under 2.0 every inline ssv:ParameterSet is
+    also checked against the SSV 2.0 schema, which the SSD schema leaves unchecked."""
     import fmpy
     from lxml import etree
 
-    schema = etree.XMLSchema(etree.parse(str(Path(fmpy.__file__).parent / "ssp" / "schema"
-                                             / "SystemStructureDescription.xsd")))
+    folder = Path(fmpy.__file__).parent / "ssp" / "schema" if version == "1.0" else SSP2_SCHEMAS
+    schema = etree.XMLSchema(etree.parse(str(folder / "SystemStructureDescription.xsd")))
     with zipfile.ZipFile(ssp) as archive:
         document = etree.fromstring(archive.read("SystemStructure.ssd"))
-    return [] if schema.validate(document) else [str(e) for e in schema.error_log]
+    problems = [] if schema.validate(document) else [str(e) for e in schema.error_log]
+    if version == "2.0":
+        values = etree.XMLSchema(etree.parse(str(folder / "SystemStructureParameterValues.xsd")))
+        for parameter_set in document.iter(f"{{{SSP_NS['ssv']}}}ParameterSet"):
+            if not values.validate(parameter_set):
+                problems += [str(e) for e in values.error_log]
+    return problems
 
 
-@pytest.mark.parametrize("version", ["2", "3"])
-def test_cli_export_ssp_fmi_version(version, tmp_path):
-    """`cosim export-ssp --fmi-version N`: the SSD passes the SSP 1.0 schema, every component is
-    an FMU of that FMI version with its binary for this platform (FMI 3: binaries/x86_64-linux),
-    the connectors are typed ssc:Real and the parameter values bound, as for FMI 2."""
+@pytest.mark.parametrize(("ssp_version", "version"), [("1.0", "2"), ("1.0", "3"), ("2.0", "2"), ("2.0", "3")],
+                         ids=["ssp1.0-fmi2", "ssp1.0-fmi3", "ssp2.0-fmi2", "ssp2.0-fmi3"])
+def test_cli_export_ssp_fmi_version(ssp_version, version, tmp_path):
+    """`cosim export-ssp --ssp-version V --fmi-version N`: the SSD passes the SSP V schema and
+    says version V, every component is an FMU of that FMI version with its binary for this
+    platform (FMI 3: binaries/x86_64-linux), the parameter values are bound; the connectors are
+    typed ssc:Real, except FMI 3 ones under SSP 2.0 (ssc:Float64). The master settings are where
+    other engines read them: start and stop in ssd:DefaultExperiment, the step in the OSP
+    annotation and in OMSimulator's fixed-step master annotation, the first of the system's."""
     import xml.etree.ElementTree as ET
 
     system = ROOT / "cosim" / "systems" / "lqr-autopilot.toml"
+    spec = load_system(system)
     ssp = tmp_path / "lqr.ssp"
-    result = run_cli("export-ssp", str(system), "-o", str(ssp), "--fmi-version", version)
+    result = run_cli("export-ssp", str(system), "-o", str(ssp), "--fmi-version", version,
+                     *(["--ssp-version", ssp_version] if ssp_version != "1.0" else []))
     assert result.returncode == 0, result.stderr
     assert "twin: delay: Python TransportDelay -> Bicycle.Rider.PadeDelay" in result.stdout
-    assert _schema_problems(ssp) == []
+    assert _schema_problems(ssp, ssp_version) == []
     versions = _fmi_versions(ssp)
     assert sorted(versions) == [f"resources/{n}.fmu" for n in ("autopilot", "bike", "delay", "push")]
     assert set(versions.values()) == {f"{version}.0"}
@@ -411,15 +433,37 @@ def test_cli_export_ssp_fmi_version(version, tmp_path):
         with zipfile.ZipFile(io.BytesIO(archive.read("resources/bike.fmu"))) as bike:
             assert any(n.startswith(binaries) and n.endswith(".so") for n in bike.namelist())
         root = ET.fromstring(archive.read("SystemStructure.ssd"))
-    ns = {"ssd": "http://ssp-standard.org/SSP1/SystemStructureDescription",
-          "ssc": "http://ssp-standard.org/SSP1/SystemStructureCommon",
-          "ssv": "http://ssp-standard.org/SSP1/SystemStructureParameterValues"}
+    ns = SSP_NS
+    assert root.get("version") == ssp_version
+    real = "Float64" if (ssp_version, version) == ("2.0", "3") else "Real"
     bike = root.find(".//ssd:Component[@name='bike']", ns)
     connectors = {c.get("name"): c for c in bike.findall("ssd:Connectors/ssd:Connector", ns)}
     assert {"T_delta", "T_phi", "phi", "delta"} <= set(connectors)
-    assert all(c.find("ssc:Real", ns) is not None for c in connectors.values())
-    v = bike.find(".//ssv:Parameter[@name='v']/ssv:Real", ns)
+    assert all(c.find(f"ssc:{real}", ns) is not None for c in connectors.values())
+    assert {p.get("version") for p in root.iterfind(".//ssv:ParameterSet", ns)} == {ssp_version}
+    v = bike.find(f".//ssv:Parameter[@name='v']/ssv:{real}", ns)
     assert v is not None and float(v.get("value")) == 3.0
+    experiment = root.find("ssd:DefaultExperiment", ns)
+    assert (float(experiment.get("startTime")), float(experiment.get("stopTime"))) == (spec.start, spec.stop)
+    osp = experiment.find("ssd:Annotations/ssc:Annotation/osp:Algorithm/osp:FixedStepAlgorithm", ns)
+    assert float(osp.get("baseStepSize")) == spec.step
+    first = root.find("ssd:System/ssd:Annotations/ssc:Annotation", ns)  # OMSimulator reads only the first
+    assert first.get("type") == "org.openmodelica"
+    master = first.find("oms:Annotations/oms:SimulationInformation/oms:FixedStepMaster", ns)
+    assert master.get("description") == "oms-ma" and float(master.get("stepSize")) == spec.step
+
+
+def test_export_ssp_refuses_unknown_ssp_version(tmp_path):
+    """An SSP version other than 1.0 or 2.0 is refused with a message naming it, before anything
+    is built or written; the command line offers only the two."""
+    spec = load_system(ROOT / "cosim" / "systems" / "lqr-autopilot.toml")
+    with pytest.raises(SystemError_, match=r"SSP version '1\.1' cannot be exported \(choose 1\.0 or 2\.0\)"):
+        export_ssp(spec, tmp_path / "x.ssp", tmp_path / "fmus", ssp_version="1.1")
+    assert list(tmp_path.iterdir()) == []
+    result = run_cli("export-ssp", "cosim/systems/lqr-autopilot.toml", "-o", str(tmp_path / "x.ssp"),
+                     "--ssp-version", "1.1")
+    assert result.returncode == 2 and "--ssp-version" in result.stderr and "1.1" in result.stderr
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_cli_export_ssp_fmi3_notes_fmu_files_of_fmi2(fmu_dir, tmp_path):

@@ -1,8 +1,15 @@
-"""Export a system as an SSP 1.0 archive that libcosim, Ecos and other SSP tools run unmodified.
+"""Export a system as an SSP 1.0 (or 2.0) archive that libcosim, Ecos and other SSP tools run unmodified.
 
 The archive holds ``SystemStructure.ssd`` and the FMUs under ``resources/``. Parameters are
-bound inline (ssv:ParameterSet per component); the base step and per-component step sizes go
-into OSP annotations, which libcosim reads.
+bound inline (ssv:ParameterSet per component). Start and stop time are the SSP default
+experiment; the base step and per-component step sizes go into OSP annotations, which libcosim
+reads (and ``cosim``'s Ecos runner), and the base step also into OMSimulator's own annotation (a
+fixed-step master), because SSP itself has no master step size and OMSimulator otherwise steps at
+its default 1e-3 s.
+
+SSP 1.0 is the default: Ecos reads no other version. ``ssp_version="2.0"`` writes the same
+system as SSP 2.0 (the namespaces of SSP 2.0 are those of 1.0); its connectors and parameters of
+FMI 3 FMUs then carry their own FMI 3 types (``ssc:Float64``), which SSP 1.0 lacks.
 
 The models of the system are built as FMI 2.0 FMUs, or as FMI 3.0 FMUs with ``fmi_version="3"``
 (``cosim export-ssp --fmi-version 3``); SSP 1.0 types the connectors and parameters of both the
@@ -23,7 +30,12 @@ NS = {
     "ssc": "http://ssp-standard.org/SSP1/SystemStructureCommon",
     "ssv": "http://ssp-standard.org/SSP1/SystemStructureParameterValues",
     "osp": "http://opensimulationplatform.com/SSP/OSPAnnotations",
+    # OMSimulator matches the literal prefix "oms:" and declares this namespace for it itself
+    # (src/OMSimulatorLib/Snapshot.cpp).
+    "oms": "https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd",
 }
+#: The SSP versions :func:`export_ssp` writes; the first is the default.
+SSP_VERSIONS = ("1.0", "2.0")
 # One parameter-set name for all components: libcosim applies every binding; Ecos applies the
 # set named at initialization (``init(parameter_set="initialValues")``).
 PARAMETER_SET = "initialValues"
@@ -31,6 +43,8 @@ PARAMETER_SET = "initialValues"
 TYPES = {"Real": "Real", "Integer": "Integer", "Boolean": "Boolean", "String": "String",
          "Float64": "Real", "Float32": "Real", "Int32": "Integer", "Int16": "Integer", "Int8": "Integer",
          "UInt16": "Integer", "UInt8": "Integer"}
+#: SSP 2.0 types of the same variable types: SSP 2.0 has every FMI 3 type under its own name.
+TYPES_2 = {kind: kind for kind in TYPES}
 
 
 class FileNote(str):
@@ -44,18 +58,38 @@ def _q(prefix: str, tag: str) -> str:
 def _literal(value, kind: str) -> str:
     if kind == "Boolean":
         return "true" if value else "false"
-    if kind == "Integer":
+    if kind in ("Integer", "Int32", "Int16", "Int8", "UInt16", "UInt8"):
         return str(int(value))
     return repr(float(value))
 
 
-def system_structure(spec: SystemSpec, fmus: dict[str, Path]) -> bytes:
-    """The SystemStructure.ssd text; ``fmus`` maps component names to their FMU files."""
+def _omsimulator_master(parent: ET.Element, step: float) -> None:
+    """OMSimulator's annotation of a fixed-step master of step ``step`` (s) under ``parent``.
+
+    Element and attribute names follow OMSimulator's reader, src/OMSimulatorLib/ssd/Tags.cpp
+    (``oms:Annotations``, ``oms:SimulationInformation``, ``oms:FixedStepMaster``, annotation type
+    ``org.openmodelica``) and SystemWC::importFromSSD_SimulationInformation in
+    src/OMSimulatorLib/SystemWC.cpp (``description="oms-ma"``, ``stepSize``). OMSimulator reads
+    only the first ``ssc:Annotation`` of an ``ssd:Annotations``, so this one comes first.
+    """
+    annotation = ET.SubElement(parent, "ssc:Annotation", type="org.openmodelica")
+    information = ET.SubElement(ET.SubElement(annotation, "oms:Annotations"), "oms:SimulationInformation")
+    ET.SubElement(information, "oms:FixedStepMaster", description="oms-ma", stepSize=repr(float(step)))
+
+
+def system_structure(spec: SystemSpec, fmus: dict[str, Path], ssp_version: str = "1.0") -> bytes:
+    """The SystemStructure.ssd text; ``fmus`` maps component names to their FMU files.
+
+    ``ssp_version`` is one of :data:`SSP_VERSIONS`.
+    """
     from cosim.fmu.access import ALL_FMI_VERSIONS, read_fmu
 
+    if ssp_version not in SSP_VERSIONS:
+        raise SystemError_(f"SSP version '{ssp_version}' cannot be exported (choose {' or '.join(SSP_VERSIONS)})")
+    types = TYPES if ssp_version == "1.0" else TYPES_2
     # libcosim's parser wants the literal prefixes ssd: ssc: ssv: osp: declared on the root.
     root = ET.Element("ssd:SystemStructureDescription", {
-        **{f"xmlns:{k}": v for k, v in NS.items()}, "version": "1.0", "name": spec.name,
+        **{f"xmlns:{k}": v for k, v in NS.items()}, "version": ssp_version, "name": spec.name,
     })
     system = ET.SubElement(root, "ssd:System", name=spec.name)
     if spec.description:
@@ -70,18 +104,18 @@ def system_structure(spec: SystemSpec, fmus: dict[str, Path]) -> bytes:
         for v in md.modelVariables:
             if v.causality in ("input", "output") and v.type in TYPES and not getattr(v, "dimensions", None):
                 connector = ET.SubElement(connectors, "ssd:Connector", name=v.name, kind=v.causality)
-                ET.SubElement(connector, f"ssc:{TYPES[v.type]}")
+                ET.SubElement(connector, f"ssc:{types[v.type]}")
         parameters = spec.components[name].parameters
         if parameters:
             bindings = ET.SubElement(component, "ssd:ParameterBindings")
             binding = ET.SubElement(bindings, "ssd:ParameterBinding")
             values = ET.SubElement(binding, "ssd:ParameterValues")
-            parameter_set = ET.SubElement(values, "ssv:ParameterSet", version="1.0", name=PARAMETER_SET)
+            parameter_set = ET.SubElement(values, "ssv:ParameterSet", version=ssp_version, name=PARAMETER_SET)
             container = ET.SubElement(parameter_set, "ssv:Parameters")
             for pname, value in parameters.items():
                 v = variables[pname]
                 entry = ET.SubElement(container, "ssv:Parameter", name=pname)
-                ET.SubElement(entry, f"ssv:{TYPES[v.type]}", value=_literal(value, TYPES[v.type]))
+                ET.SubElement(entry, f"ssv:{types[v.type]}", value=_literal(value, types[v.type]))
         multiple = spec.components[name].step_multiple
         if multiple != 1:
             annotations = ET.SubElement(component, "ssd:Annotations")
@@ -91,6 +125,8 @@ def system_structure(spec: SystemSpec, fmus: dict[str, Path]) -> bytes:
     for c in spec.connections:
         ET.SubElement(connections, "ssd:Connection", startElement=c.source, startConnector=c.output,
                       endElement=c.target, endConnector=c.input)
+    # OMSimulator takes the master step of a system from the system's annotations.
+    _omsimulator_master(ET.SubElement(system, "ssd:Annotations"), spec.step)
     experiment = ET.SubElement(root, "ssd:DefaultExperiment", startTime=repr(spec.start), stopTime=repr(spec.stop))
     annotations = ET.SubElement(experiment, "ssd:Annotations")
     annotation = ET.SubElement(annotations, "ssc:Annotation", type="com.opensimulationplatform")
@@ -115,7 +151,7 @@ def _built_as(spec: SystemSpec, fmi_version: str) -> SystemSpec:
 
 
 def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | None = None,
-               fmi_version: str | None = None) -> tuple[Path, list[str]]:
+               fmi_version: str | None = None, ssp_version: str = "1.0") -> tuple[Path, list[str]]:
     """Write the system as an SSP archive; Python blocks are replaced by their Modelica twins.
 
     Parameters
@@ -129,6 +165,8 @@ def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | 
     fmi_version : {"2", "3"}, optional
         Build every model (and twin) as this FMI version; None: each component's own
         ``fmi_version`` (default 2). FMU files given in the system keep theirs (noted).
+    ssp_version : {"1.0", "2.0"}, optional
+        The SSP version of the archive (default 1.0, the one Ecos reads).
 
     Returns the archive path and one note per replaced block (and per FMU file of another FMI
     version than ``fmi_version``).
@@ -136,8 +174,8 @@ def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | 
     Raises
     ------
     SystemError_
-        If a Python block has no Modelica twin, ``fmi_version`` is not 2 or 3, or the system is
-        not fixed-step Jacobi.
+        If a Python block has no Modelica twin, ``fmi_version`` is not 2 or 3, ``ssp_version``
+        is not 1.0 or 2.0, or the system is not fixed-step Jacobi.
     """
     from cosim.outputs import atomic_output, check_output
     from cosim.cosimulation.factory import create_components
@@ -145,6 +183,8 @@ def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | 
     from cosim.cosimulation.modelica_twins import with_twins
 
     destination = check_output(destination, "SSP file")  # before anything is built
+    if ssp_version not in SSP_VERSIONS:
+        raise SystemError_(f"SSP version '{ssp_version}' cannot be exported (choose {' or '.join(SSP_VERSIONS)})")
     spec, notes = with_twins(spec)
     if fmi_version is not None:
         spec = _built_as(spec, str(fmi_version))
@@ -172,7 +212,7 @@ def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | 
             comp.close()
     with atomic_output(destination, "SSP file") as partial:  # the archive appears only when complete
         with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as archive:
-            archive.writestr("SystemStructure.ssd", system_structure(spec, fmus))
+            archive.writestr("SystemStructure.ssd", system_structure(spec, fmus, ssp_version))
             for name, fmu in fmus.items():
                 archive.write(fmu, f"resources/{name}.fmu")
     return destination, notes
