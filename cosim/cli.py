@@ -301,7 +301,7 @@ def _cmd_info(args) -> int:
 def _cmd_validate(args) -> int:
     """Each target is validated; one that cannot be read as an FMU (or built) gets its error
     line and the others are still checked."""
-    from cosim.fmu.access import ALL_FMI_VERSIONS
+    from cosim.fmu.access import ALL_FMI_VERSIONS, LENIENT_HINT
     from cosim.fmu.target import resolve_fmu
     from cosim.fmu.validate import validate_report
 
@@ -311,8 +311,8 @@ def _cmd_validate(args) -> int:
             fmu = resolve_fmu(target, versions=ALL_FMI_VERSIONS)
             report = validate_report(fmu, timeout=args.timeout or float("inf"))
         except CosimError as exc:
-            unreadable += 1
-            print(f"cosim validate: error: {exc}", file=sys.stderr)
+            unreadable += 1  # (validate has no --lenient: a model description's defects are its findings)
+            print(f"cosim validate: error: {str(exc).removesuffix(LENIENT_HINT)}", file=sys.stderr)
             continue
         what = f"FMI {report.fmi_version}, {len(report.checks)} checks"
         warned = f", {len(report.warnings)} warning(s)" if report.warnings else ""
@@ -416,7 +416,8 @@ def _cmd_simulate(args) -> int:
     outputs = [v.name for v in md.modelVariables if v.causality == "output"]
     try:
         result = simulate(fmu, args.stop_time, args.step, args.fmi_type, params, inputs,
-                          outputs=outputs or None, progress=sys.stderr.isatty(), timeout=args.timeout)
+                          outputs=outputs or None, progress=sys.stderr.isatty(), timeout=args.timeout,
+                          lenient=args.lenient)
     except IncompleteResult as exc:
         return _write_incomplete(exc, output, args.plot, md.modelName, "simulate")
     _write_results(result, output, args.plot, md.modelName)
@@ -462,7 +463,7 @@ def _cmd_linearize(args) -> int:
                                declared=declared)
     inputs = _operating_point(args.target, args.input, declared)
     result = linearize(resolve_fmu(args.target, versions=ALL_FMI_VERSIONS), params, inputs or None,
-                       timeout=args.timeout)
+                       timeout=args.timeout, lenient=args.lenient)
     steady = note = None
     if is_bicycle(result):  # a nonlinear bicycle: its exact lateral linearization (see the help)
         try:
@@ -681,6 +682,14 @@ def _cmd_demo(args) -> int:
 LIBRARY_VARIABLE = "COSIM_MODELICA_PATH"
 
 
+def lenient_option(p: argparse.ArgumentParser, what: str = "it") -> None:
+    """``--lenient``: open FMUs whose model description fails FMPy's checks (findings as warnings)."""
+    p.add_argument("--lenient", action="store_true",
+                   help=f"open {what} even if its modelDescription.xml fails FMPy's schema or consistency "
+                        "checks (as FMPy's validate=False does): each finding is a warning line, the run is "
+                        "attempted; unsafe archives and unsupported FMI versions are still refused")
+
+
 def library_option(p: argparse.ArgumentParser) -> None:
     """``--library DIR`` of every verb that resolves model names (see :func:`use_library`)."""
     p.add_argument("--library", default=None, metavar="DIR",
@@ -765,6 +774,7 @@ def parser() -> argparse.ArgumentParser:
     i = sub.add_parser("info", help="describe an FMU or a model", formatter_class=raw, epilog=EXIT_CODES)
     i.add_argument("target", help="FMU file or model name")
     i.add_argument("--json", action="store_true", help="print JSON instead of text")
+    lenient_option(i, "the FMU")
     library_option(i)
     i.set_defaults(func=_cmd_info)
 
@@ -807,6 +817,7 @@ def parser() -> argparse.ArgumentParser:
     s.add_argument("-o", "--output", default=None, help="result .csv or .npy (default: <model>.csv)")
     s.add_argument("--plot", default=None, help="save a plot of the result (PNG, PDF, SVG, ...)")
     timeout_option(s, "it completes no step")
+    lenient_option(s, "the FMU")
     library_option(s)
     s.set_defaults(func=_cmd_simulate)
 
@@ -829,6 +840,7 @@ def parser() -> argparse.ArgumentParser:
                           "lateral linearization")
     lin.add_argument("--json", action="store_true", help="print A, B, C, D and the eigenvalues as JSON")
     timeout_option(lin, "the linearization has not ended")
+    lenient_option(lin, "the FMU")
     library_option(lin)
     lin.set_defaults(func=_cmd_linearize)
 
@@ -850,6 +862,7 @@ def parser() -> argparse.ArgumentParser:
     run.add_argument("--plot", default=None, help="save a plot of the recorded signals (PNG, PDF, SVG, ...)")
     run.add_argument("--allow-fall", action="store_true", help="exit 0 even if the bicycle falls")
     timeout_option(run, "the system completes no communication step")
+    lenient_option(run, "every FMU component of the system")
     library_option(run)
     run.set_defaults(func=_cmd_run)
 
@@ -944,6 +957,18 @@ def _debug() -> bool:
     return os.environ.get("COSIM_DEBUG", "").strip() not in ("", "0")
 
 
+@contextlib.contextmanager
+def _lenient(args):
+    """``--lenient`` for every FMU the command opens: each finding one ``warning: FMU: ...`` line."""
+    if not getattr(args, "lenient", False):
+        yield
+        return
+    from cosim.fmu.access import lenient_reading
+
+    with lenient_reading(warn=lambda message: print(f"cosim {args.command}: warning: {message}", file=sys.stderr)):
+        yield
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run one command; see the module docstring for the exit status."""
     args = parser().parse_args(argv)
@@ -952,7 +977,7 @@ def main(argv: list[str] | None = None) -> int:
 
         args.output = DEFAULT_OUTPUT
     try:
-        with use_library(getattr(args, "library", None)):
+        with use_library(getattr(args, "library", None)), _lenient(args):
             return args.func(args)
     except ResultNotWritten as exc:  # computed, but (partly) lost to a full disk, ...
         print(f"cosim {args.command}: error: {exc}", file=sys.stderr)

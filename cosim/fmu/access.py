@@ -8,7 +8,9 @@ master go through :func:`read_fmu` / :class:`FMU`, so an FMU file is checked in 
   backslashes, symbolic links) and the unpacked size is bounded (no zip bomb);
 - ``modelDescription.xml`` exists, is well-formed XML without a DOCTYPE, declares an FMI version
   the caller runs (:func:`check_fmi_version`: FMI 2.0 by default, ``ALL_FMI_VERSIONS`` where a
-  command handles FMI 3) and passes FMPy's schema and consistency checks;
+  command handles FMI 3) and passes FMPy's schema and consistency checks (under
+  :func:`lenient_reading` or ``lenient=True``, FMPy's findings become warnings and the FMU is read
+  as ``read_model_description(validate=False)`` reads it; the checks above stay strict);
 - at instantiation, the binary for this platform exists and loads.
 
 Any failure raises :class:`cosim.errors.FMUError` naming the file and the problem.
@@ -20,7 +22,9 @@ import re
 import shutil
 import stat
 import tempfile
+import warnings
 import zipfile
+from contextlib import contextmanager
 import zlib
 from ctypes import c_double
 from pathlib import Path
@@ -38,6 +42,8 @@ ALL_FMI_VERSIONS = ("2.0", "3.0")
 #: The FMI versions whose model descriptions are read (``cosim info``; FMPy checks them against
 #: the standard's schema).
 READABLE_FMI_VERSIONS = ALL_FMI_VERSIONS
+#: The end of the refusal of a model description that fails FMPy's checks (the verbs that open FMUs take --lenient).
+LENIENT_HINT = "; use --lenient to run it anyway"
 #: Largest total unpacked size of an FMU's members [bytes]; beyond it the archive is refused.
 MAX_UNPACKED_BYTES = 2 * 1024**3
 MODEL_DESCRIPTION = "modelDescription.xml"
@@ -45,7 +51,36 @@ MODEL_DESCRIPTION = "modelDescription.xml"
 #: guard against an FMU that always asks for another one).
 MAX_EVENT_ITERATIONS = 1000
 
-_DESCRIPTIONS: dict[tuple, object] = {}  # (path, size, mtime) -> checked model description
+_DESCRIPTIONS: dict[tuple, tuple] = {}  # (path, size, mtime) -> (model description, FMPy's findings)
+_WARNED: set[tuple] = set()  # keys whose findings were reported as warnings in this process
+_LENIENT: list = []  # the warning callbacks of the open lenient_reading scopes (innermost last)
+
+
+@contextmanager
+def lenient_reading(enabled: bool = True, warn=None):
+    """Within this scope, read FMUs whose model description fails FMPy's validation (``enabled``).
+
+    Each finding is reported once per file and process as ``warn("FMU: PATH: FINDING")``
+    (default: :func:`warnings.warn`); the safety checks (member names, sizes, well-formed XML,
+    FMI version) stay strict. ``enabled=False`` leaves an enclosing scope in force, so a
+    function taking ``lenient=False`` does not undo a command's ``--lenient``.
+    """
+    if not enabled:
+        yield
+        return
+    _LENIENT.append(warn)
+    try:
+        yield
+    finally:
+        _LENIENT.pop()
+
+
+def _warn(message: str) -> None:
+    callback = next((w for w in reversed(_LENIENT) if w is not None), None)
+    if callback is None:
+        warnings.warn(message, stacklevel=3)
+    else:
+        callback(message)
 _EXTRACTED: dict[tuple, str] = {}  # (path, size, mtime) -> unzip folder
 
 
@@ -142,9 +177,15 @@ def _model_description_root(path: Path, archive: zipfile.ZipFile):
     return root
 
 
-def read_fmu(path: str | os.PathLike, versions: tuple[str, ...] = SUPPORTED_FMI_VERSIONS):
+def read_fmu(path: str | os.PathLike, versions: tuple[str, ...] = SUPPORTED_FMI_VERSIONS, lenient: bool = False):
     """The checked model description of an FMU file (cached per file version) of one of the FMI
     ``versions`` (default: the ones this package runs).
+
+    Parameters
+    ----------
+    lenient : bool
+        Read a model description that fails FMPy's schema or consistency checks anyway, each
+        finding a warning (as within :func:`lenient_reading`); the other checks stay strict.
 
     Returns
     -------
@@ -154,38 +195,65 @@ def read_fmu(path: str | os.PathLike, versions: tuple[str, ...] = SUPPORTED_FMI_
     ------
     FMUError
         If the file is missing, not a zip archive, has unsafe member names, lacks or has a broken
-        ``modelDescription.xml``, is not FMI 2.0 or fails FMPy's model-description checks.
+        ``modelDescription.xml``, is not FMI 2.0 or fails FMPy's model-description checks (not
+        lenient: the message names the findings and ``--lenient``).
     """
-    from fmpy.model_description import ValidationError, read_model_description
-
     path = Path(path)
+    lenient = lenient or bool(_LENIENT)
     with _open_archive(path) as archive:
         key = _key(path)
         if key in _DESCRIPTIONS:
-            check_fmi_version(path, _DESCRIPTIONS[key].fmiVersion, versions)
-            return _DESCRIPTIONS[key]
-        root = _model_description_root(path, archive)
-        check_fmi_version(path, root.get("fmiVersion"), versions)
+            md, problems = _DESCRIPTIONS[key]
+            check_fmi_version(path, md.fmiVersion, versions)
+        else:
+            root = _model_description_root(path, archive)
+            check_fmi_version(path, root.get("fmiVersion"), versions)
+            md, problems = _read_description(path)
+            if md.modelExchange is None and md.coSimulation is None:
+                raise FMUError(f"{path}: {MODEL_DESCRIPTION} declares neither ModelExchange nor CoSimulation")
+            if md.fmiVersion.startswith("3."):
+                _fmi3_capabilities(md, root)
+            _DESCRIPTIONS[key] = (md, problems)
+    if problems and not lenient:
+        raise FMUError(f"{path}: {_invalid(problems)}{LENIENT_HINT}")
+    if problems and key not in _WARNED:
+        _WARNED.add(key)
+        for problem in problems:
+            _warn(f"FMU: {path}: {MODEL_DESCRIPTION}: {problem}")
+    return md
+
+
+def _invalid(problems: list[str]) -> str:
+    more = f" (and {len(problems) - 3} more)" if len(problems) > 3 else ""
+    return f"{MODEL_DESCRIPTION} is invalid: {'; '.join(problems[:3])}{more}"
+
+
+def _read_description(path: Path) -> tuple:
+    """FMPy's reading of the model description and its validation findings (one line each): the
+    description as ``validate=False`` reads it where FMPy's checks find problems."""
+    from fmpy.model_description import ValidationError, read_model_description
+
+    problems: list[str] = []
+    try:
         try:
             md = read_model_description(str(path), validate=True)
         except ValidationError as exc:
-            problems = [str(p).strip() for p in exc.problems]
-            more = f" (and {len(problems) - 3} more)" if len(problems) > 3 else ""
-            raise FMUError(f"{path}: {MODEL_DESCRIPTION} is invalid: {'; '.join(problems[:3])}{more}") from None
-        except KeyError as exc:
-            if not (exc.args and isinstance(exc.args[0], int)):
-                raise FMUError(f"{path}: cannot read {MODEL_DESCRIPTION}: KeyError: {exc}") from None
-            # FMPy looks a value reference up (ModelStructure, derivative=...) that no variable has
-            raise FMUError(f"{path}: {MODEL_DESCRIPTION} refers to value reference {exc.args[0]}, which no "
-                           "variable has (or which two variables share)") from None
-        except Exception as exc:  # FMPy raises bare Exception, ValueError, ... on odd XML
-            raise FMUError(f"{path}: cannot read {MODEL_DESCRIPTION}: {type(exc).__name__}: {exc}") from None
-    if md.modelExchange is None and md.coSimulation is None:
-        raise FMUError(f"{path}: {MODEL_DESCRIPTION} declares neither ModelExchange nor CoSimulation")
-    if md.fmiVersion.startswith("3."):
-        _fmi3_capabilities(md, root)
-    _DESCRIPTIONS[key] = md
-    return md
+            problems = [" ".join(str(p).split()) for p in exc.problems]
+            try:
+                md = read_model_description(str(path), validate=False)
+            except Exception:  # defects that stop FMPy's reading too: --lenient would not help
+                raise FMUError(f"{path}: {_invalid(problems)}") from None
+    except FMUError:
+        raise
+    except KeyError as exc:
+        if not (exc.args and isinstance(exc.args[0], int)):
+            raise FMUError(f"{path}: cannot read {MODEL_DESCRIPTION}: KeyError: {exc}") from None
+        # FMPy looks a value reference up (ModelStructure, derivative=...) that no variable has
+        raise FMUError(f"{path}: {MODEL_DESCRIPTION} refers to value reference {exc.args[0]}, which no "
+                       "variable has (or which two variables share)") from None
+    except Exception as exc:  # FMPy raises bare Exception, ValueError, ... on odd XML
+        raise FMUError(f"{path}: cannot read {MODEL_DESCRIPTION}: {type(exc).__name__}: {exc}") from None
+    return md, problems
 
 
 def _fmi3_capabilities(md, root) -> None:
@@ -227,10 +295,10 @@ def _extract_members(path: Path, folder: Path) -> None:
                                   f"{exc.strerror or exc}") from None
 
 
-def _extract(path: Path, versions: tuple[str, ...] = SUPPORTED_FMI_VERSIONS):
+def _extract(path: Path, versions: tuple[str, ...] = SUPPORTED_FMI_VERSIONS, lenient: bool = False):
     """Check and unzip an FMU once per process (and file version), into a subfolder of this
     process's extraction folder (see :func:`_process_folder`)."""
-    md = read_fmu(path, versions)
+    md = read_fmu(path, versions, lenient)
     key = _key(path)
     parent = _process_folder()  # first: forgets a forked parent's extractions
     if key not in _EXTRACTED:
@@ -408,11 +476,15 @@ class FMU:
     ----------
     path : path-like
         The ``.fmu`` file.
+    versions : tuple of str
+        The FMI versions accepted (see :func:`check_fmi_version`).
+    lenient : bool
+        Open it even if its model description fails FMPy's checks (see :func:`read_fmu`).
     """
 
-    def __init__(self, path: str | Path, versions: tuple[str, ...] = SUPPORTED_FMI_VERSIONS):
+    def __init__(self, path: str | Path, versions: tuple[str, ...] = SUPPORTED_FMI_VERSIONS, lenient: bool = False):
         self.path = Path(path)
-        self.unzipdir, self.description = _extract(self.path, versions)
+        self.unzipdir, self.description = _extract(self.path, versions, lenient)
         self.variables = {v.name: v for v in self.description.modelVariables}
         self.vr = {name: v.valueReference for name, v in self.variables.items()}
 

@@ -25,8 +25,8 @@ from fmpy.fmi1 import FMICallException
 
 from cosim.errors import FMUError, ParameterError, SimulationError
 from cosim.fmu.isolation import DEFAULT_TIMEOUT, built_here, can_isolate, run_isolated
-from cosim.fmu.access import (ALL_FMI_VERSIONS, FMU, get_continuous_states, get_state_derivatives,
-                              set_continuous_states)
+from cosim.fmu.access import (ALL_FMI_VERSIONS, FMU, get_continuous_states, get_state_derivatives, lenient_reading,
+                              read_fmu, set_continuous_states)
 
 FD_STEP = 1e-6  # relative step of the central differences
 #: Largest difference between the Jacobian from directional and the one from adjoint derivatives,
@@ -141,7 +141,8 @@ class _Point:
 
 
 def linearize(fmu_path: str | Path, parameters: dict | None = None, inputs: dict | None = None,
-              method: str = "auto", isolate: bool | None = None, timeout: float | None = DEFAULT_TIMEOUT
+              method: str = "auto", isolate: bool | None = None, timeout: float | None = DEFAULT_TIMEOUT,
+              lenient: bool = False
               ) -> Linearization:
     """Linearize an FMU at its initial state (after initialization) and the given inputs.
 
@@ -163,6 +164,9 @@ def linearize(fmu_path: str | Path, parameters: dict | None = None, inputs: dict
         for every FMU not built by this project.
     timeout : float or None
         With ``isolate``: longest time [s] the linearization may take; None: no limit.
+    lenient : bool
+        Open the FMU even if its model description fails FMPy's checks, each finding a warning
+        (see :func:`cosim.fmu.access.read_fmu`).
 
     Returns
     -------
@@ -185,12 +189,14 @@ def linearize(fmu_path: str | Path, parameters: dict | None = None, inputs: dict
     --------
     steady_motion : the exact lateral dynamics of a nonlinear bicycle about upright straight running.
     """
-    if isolate is None:
-        isolate = can_isolate() and not built_here(fmu_path)
-    if isolate:
-        return run_isolated(lambda worker: _linearize(fmu_path, parameters, inputs, method, worker.doing),
-                            what=str(fmu_path), timeout=timeout)
-    return _linearize(fmu_path, parameters, inputs, method)
+    with lenient_reading(lenient):
+        read_fmu(fmu_path, ALL_FMI_VERSIONS)  # here, not in the worker: refused or warned once, in this process
+        if isolate is None:
+            isolate = can_isolate() and not built_here(fmu_path)
+        if isolate:
+            return run_isolated(lambda worker: _linearize(fmu_path, parameters, inputs, method, worker.doing),
+                                what=str(fmu_path), timeout=timeout)
+        return _linearize(fmu_path, parameters, inputs, method)
 
 
 def _linearize(fmu_path, parameters, inputs, method, doing=lambda text: None) -> Linearization:

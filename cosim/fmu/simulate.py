@@ -476,7 +476,8 @@ def check_run(md, stop_time: float | None, step: float | None, fmi_type: str, st
 def simulate(fmu: str | Path, stop_time: float | None = None, step: float | None = None, fmi_type: str = "cs",
              parameters: dict | None = None, inputs: np.ndarray | None = None, start_time: float | None = None,
              relative_tolerance: float | None = None, outputs: list[str] | None = None,
-             progress: bool = False, isolate: bool | None = None, timeout: float | None = DEFAULT_TIMEOUT) -> np.ndarray:
+             progress: bool = False, isolate: bool | None = None, timeout: float | None = DEFAULT_TIMEOUT,
+             lenient: bool = False) -> np.ndarray:
     """Simulate an FMU with FMPy and return the result as a structured array (column ``time`` first).
 
     Parameters
@@ -501,6 +502,9 @@ def simulate(fmu: str | Path, stop_time: float | None = None, step: float | None
     timeout : float or None
         With ``isolate``: longest time [s] the FMU may go without completing a step (default
         :data:`~cosim.fmu.isolation.DEFAULT_TIMEOUT`); None: no limit.
+    lenient : bool
+        Open the FMU even if its model description fails FMPy's checks, each finding a warning
+        (see :func:`cosim.fmu.access.read_fmu`).
 
     Raises
     ------
@@ -518,7 +522,8 @@ def simulate(fmu: str | Path, stop_time: float | None = None, step: float | None
     from cosim.fmu.access import ALL_FMI_VERSIONS, FMU
 
     fmu = Path(fmu)
-    handle = FMU(fmu, versions=ALL_FMI_VERSIONS)  # FMPy's simulate_fmu runs FMI 2 and FMI 3 alike
+    # FMPy's simulate_fmu runs FMI 2 and FMI 3 alike
+    handle = FMU(fmu, versions=ALL_FMI_VERSIONS, lenient=lenient)
     md = handle.description
     t0, t1 = check_run(md, stop_time, step, fmi_type, start_time, parameters)
     step = step if step is not None else default_step(md)[0]

@@ -34,7 +34,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from cosim.compiler.fmu import MANIFEST
-from cosim.fmu.access import ALL_FMI_VERSIONS, FMU
+from cosim.errors import FMUError
+from cosim.fmu.access import ALL_FMI_VERSIONS, FMU, LENIENT_HINT
 from cosim.fmu.isolation import FMUProcessError, Worker, run_isolated
 from cosim.fmu.validate_checks import CHECKS, Check, Session, run_check
 
@@ -216,7 +217,11 @@ def validate_report(path: str | Path, checks: tuple[Check, ...] = CHECKS, isolat
         unsafe member names, no or broken ``modelDescription.xml``, an FMI version other than 2.0 and 3.0.
     """
     path = Path(path)
-    with FMU(path, versions=ALL_FMI_VERSIONS) as fmu:  # refuses what must not even be unpacked
+    try:
+        fmu = FMU(path, versions=ALL_FMI_VERSIONS)  # refuses what must not even be unpacked
+    except FMUError as exc:  # validation has no --lenient: the refusal names the problem only
+        raise FMUError(str(exc).removesuffix(LENIENT_HINT)) from None
+    with fmu:
         report = ValidationReport(path, fmu.fmi_version)
         for name, function in STATIC_CHECKS:
             report.add(name, function(path, fmu))
