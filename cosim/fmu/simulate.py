@@ -9,6 +9,8 @@ What the command promises (see ``cosim simulate --help``):
 - without ``--step`` the communication step is :func:`default_step`, whatever the stop time;
 - results are written under a temporary name and renamed (:mod:`cosim.outputs`): ``.csv`` (a
   header row, then one row per output time) or ``.npy`` (a NumPy structured array);
+- an FMU that ends the run itself without an error (``terminateSimulation``) ends it normally:
+  the rows up to that time are the result (:class:`SimulationTerminated` is warned);
 - when the solver fails part-way, the rows computed up to the failure are kept: they are written
   to ``NAME.incomplete.csv`` (``.npy``) beside the requested ``NAME.csv`` and the message names
   the physical cause where the model's outputs show one: a singular configuration the model
@@ -26,6 +28,7 @@ import os
 import re
 import sys
 import tempfile
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -50,6 +53,17 @@ DEFAULT_STEP = 0.01
 INCOMPLETE_TAG = "incomplete"
 
 RESIDUAL_LIMIT = 1e-6  # m: holonomic constraint residual of the nonlinear Whipple models
+
+
+class SimulationTerminated(UserWarning):
+    """The FMU ended the run itself before the stop time, without an error (``terminateSimulation``
+    of fmi2NewDiscreteStates / fmi3UpdateDiscreteStates / fmi3DoStep, or fmi2DoStep returning
+    fmi2Discard with fmi2Terminated): a normal end of the model, whose rows :func:`simulate`
+    returns (the last row is the time of the end). ``time`` is that time [s]."""
+
+    def __init__(self, time: float):
+        super().__init__(f"the FMU ended the simulation at t = {time:g} s (terminateSimulation)")
+        self.time = time
 
 
 class IncompleteResult(SimulationError):
@@ -509,9 +523,15 @@ def simulate(fmu: str | Path, stop_time: float | None = None, step: float | None
     ParameterError
         Settings refused by :func:`check_run`.
     IncompleteResult
-        The solver failed part-way, the FMU ended the run early, its process ended abnormally or
-        stopped answering, or an output turned non-finite; carries the rows up to the failure
-        and the cause.
+        The solver failed part-way, the FMU ended the run early with an error message (or at a
+        singular configuration of the model), its process ended abnormally or stopped answering,
+        or an output turned non-finite; carries the rows up to the failure and the cause.
+
+    Warns
+    -----
+    SimulationTerminated
+        The FMU ended the run itself before the stop time without an error
+        (``terminateSimulation``): a normal end; the rows up to that time are returned.
     SimulationError
         The FMU failed before the first step (nothing computed).
     """
@@ -526,8 +546,15 @@ def simulate(fmu: str | Path, stop_time: float | None = None, step: float | None
                relative_tolerance, outputs, progress)
     if isolate is None:
         isolate = can_isolate() and not built_here(fmu)
-    result = _run_isolated(run, timeout) if isolate else run(None)
-    return _finite(fmu, md, result, t1)
+    result = _finite(fmu, md, _run_isolated(run, timeout) if isolate else run(None), t1)
+    if _ended_early(result, t1):
+        warnings.warn(SimulationTerminated(float(result["time"][-1])), stacklevel=2)
+    return result
+
+
+def _ended_early(result: np.ndarray, t1: float) -> bool:
+    """Whether the last row of ``result`` lies before the stop time ``t1`` [s]."""
+    return bool(result.size) and result["time"][-1] < t1 - 1e-9 * max(1.0, abs(t1))
 
 
 class _Run:
@@ -586,10 +613,14 @@ class _Run:
                 worker.doing(f"the clean-up ({self.prefix}Terminate, {self.prefix}FreeInstance)")
             _release(instance, state["status"], state["terminated"])
         result = np.asarray(result)
-        if result.size and result["time"][-1] < t1 - 1e-9 * max(1.0, abs(t1)):
-            # The FMU ended the run itself (fmi2Discard + fmi2Terminated): FMPy returns what it has.
+        if _ended_early(result, t1):
+            # The FMU ended the run itself (terminateSimulation; in FMI 2 CS fmi2Discard +
+            # fmi2Terminated): FMPy returns what it has. Without an error message or a physical
+            # cause that is the model's own end (see simulate); with one it is a failure.
             said = log.last_error()
             cause = _cause(md, result)
+            if not said and not cause:
+                return result
             text = f"{cause} (solver: {_first_clause(said)})" if cause and said else \
                 cause or said or "the FMU ended the run early"
             raise IncompleteResult(f"{fmu}: the simulation stopped at t = {result['time'][-1]:.6g} s of "
