@@ -8,7 +8,8 @@ What the command promises (see ``cosim simulate --help``):
   the start time acts from the start (:func:`merge_signals`);
 - without ``--step`` the communication step is :func:`default_step`, whatever the stop time;
 - results are written under a temporary name and renamed (:mod:`cosim.outputs`): ``.csv`` (a
-  header row, then one row per output time) or ``.npy`` (a NumPy structured array);
+  header row, then one row per output time; an FMI 3 array variable as one column per value,
+  ``y[1]``, ``y[2]``, ...) or ``.npy`` (a NumPy structured array);
 - an FMU that ends the run itself without an error (``terminateSimulation``) ends it normally:
   the rows up to that time are the result (:class:`SimulationTerminated` is warned);
 - when the solver fails part-way, the rows computed up to the failure are kept: they are written
@@ -910,7 +911,9 @@ def incomplete_path(path: str | Path) -> Path:
 
 
 def write_result(result: np.ndarray, path: str | Path) -> Path:
-    """Write a result array as CSV or NPY (by suffix), atomically."""
+    """Write a result array as CSV (:func:`write_csv`: arrays flattened to one column per value) or
+    NPY (by suffix), atomically. NPY keeps the structured array as it is: an array variable stays
+    one field of its shape (``numpy.load(path)["y"]`` has the shape ``(rows, n)``)."""
     path = Path(path)
     if path.suffix.lower() == ".npy":
         from cosim.outputs import atomic_output
@@ -922,14 +925,29 @@ def write_result(result: np.ndarray, path: str | Path) -> Path:
 
 
 def write_csv(result: np.ndarray, path: str | Path) -> Path:
-    """Write a result array to CSV with a header row (atomically: complete or absent)."""
+    """Write a result array to CSV with a header row (atomically: complete or absent).
+
+    One column per value: an array variable (an FMI 3 variable with dimensions, a field of shape
+    ``(n,)`` or ``(n, m, ...)``) is flattened row-major to the columns ``name[1]``, ``name[2]``, ...
+    or ``name[1,1]``, ``name[1,2]``, ... (1-based, as Modelica and FMI index arrays), so that every
+    column has its own unique name. A name holding a comma is quoted (RFC 4180)."""
     from cosim.outputs import atomic_output
 
-    names = result.dtype.names
-    data = np.column_stack([result[n].astype(float) for n in names]) if len(result) else \
-        np.zeros((0, len(names)))
+    names, columns = [], []
+    for name in result.dtype.names:
+        values = np.asarray(result[name], dtype=float)
+        shape = result.dtype[name].shape
+        if not shape:
+            names.append(name)
+            columns.append(values.reshape(len(result), 1))
+            continue
+        names += [f"{name}[{','.join(str(i + 1) for i in index)}]" for index in np.ndindex(*shape)]
+        columns.append(values.reshape(len(result), int(np.prod(shape))))  # C order: last index fastest
+    data = np.hstack(columns) if columns else np.zeros((len(result), 0))
+    header = io.StringIO()
+    csv.writer(header, lineterminator="").writerow(names)
     with atomic_output(path, "result file") as tmp:
-        np.savetxt(tmp, data, delimiter=",", header=",".join(names), comments="", fmt="%.17g")
+        np.savetxt(tmp, data, delimiter=",", header=header.getvalue(), comments="", fmt="%.17g")
     return Path(path)
 
 
