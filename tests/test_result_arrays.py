@@ -3,7 +3,8 @@
 FMPy records an array variable (an FMI 3 variable with dimensions) as one field of its shape. The
 CSV writer flattens it row-major to ``y[1]``, ``y[2]``, ... (``A[1,1]``, ``A[1,2]``, ... for more
 dimensions, 1-based), so that ``fmpy.util.read_csv`` and ``numpy.genfromtxt`` read the file back;
-NPY keeps the structured array with its subarray fields.
+NPY keeps the structured array with its subarray fields. The Reference FMU ``StateSpace`` (FMI 3,
+an output vector ``y`` of 3, tests/reference_fmus.py) is simulated and read back.
 """
 from __future__ import annotations
 
@@ -12,7 +13,37 @@ import csv
 import numpy as np
 import pytest
 
+from conftest import cli_in_process
 from cosim.fmu.simulate import write_csv, write_result
+from reference_fmus import reference_fmu
+
+STOP, STEP = 1.0, 0.05  # s
+
+
+@pytest.fixture(scope="module")
+def state_space(tmp_path_factory):
+    return reference_fmu("StateSpace", tmp_path_factory.mktemp("state-space"))
+
+
+@pytest.mark.parametrize("fmi_type", ["cs", "me"])
+def test_state_space_csv_reads_back_as_fmpy_result(state_space, tmp_path, fmi_type):
+    from fmpy import simulate_fmu
+    from fmpy.util import read_csv
+
+    out = tmp_path / "ss.csv"
+    code, stdout, stderr = cli_in_process(["simulate", str(state_space), "--stop-time", str(STOP), "--step", str(STEP),
+                                           "--fmi-type", fmi_type, "-o", str(out)], tmp_path)
+    assert code == 0, stdout + stderr
+    header = out.read_text().splitlines()[0].split(",")
+    assert header == ["time", "y[1]", "y[2]", "y[3]"] and len(set(header)) == len(header)
+    ours = read_csv(out)
+    theirs = simulate_fmu(str(state_space), stop_time=STOP, output_interval=STEP, output=["y"],
+                          fmi_type="CoSimulation" if fmi_type == "cs" else "ModelExchange")
+    assert len(ours) == len(theirs) == round(STOP / STEP) + 1
+    np.testing.assert_array_equal(ours["time"], theirs["time"])
+    for i in range(3):
+        np.testing.assert_array_equal(ours[f"y[{i + 1}]"], theirs["y"][:, i])
+    assert np.ptp(theirs["y"][:, 2]) > 1.0  # the outputs move: the comparison is not of constants
 
 
 def _recorded(rows: int = 4) -> np.ndarray:
