@@ -3,7 +3,8 @@
 Exit status of every command (also in ``cosim --help``):
 
 ====  ==========================================================================================
-0     success
+0     success (``simulate``: also an FMU that ended the run itself without an error, by
+      ``terminateSimulation``; one ``note:`` line on stderr gives the time)
 1     a check found problems (``validate``, ``compare`` beyond ``--tol``, ``matrix``)
 2     bad input or usage: one message ``cosim VERB: error: ...`` names the file, parameter, key
       or row (or the path and operation of an OS error: a FIFO given as a file, a name too long,
@@ -27,6 +28,7 @@ import math
 import os
 import sys
 import traceback
+import warnings
 from pathlib import Path
 
 from cosim import __version__
@@ -400,7 +402,7 @@ def _write_incomplete(exc, output: Path, plot_path: str | None, title: str, verb
 def _cmd_simulate(args) -> int:
     from cosim.fmu.access import ALL_FMI_VERSIONS, read_fmu
     from cosim.fmu.parameters import declarations, from_command_line
-    from cosim.fmu.simulate import IncompleteResult, check_run, input_signals, simulate
+    from cosim.fmu.simulate import IncompleteResult, SimulationTerminated, check_run, input_signals, simulate
     from cosim.fmu.target import is_fmu_path, resolve_fmu
 
     # a model first: an unknown one is named before its result file; an FMU is read for --param only
@@ -415,11 +417,18 @@ def _cmd_simulate(args) -> int:
     inputs = input_signals(fmu, args.input, t0, t1)
     outputs = [v.name for v in md.modelVariables if v.causality == "output"]
     try:
-        result = simulate(fmu, args.stop_time, args.step, args.fmi_type, params, inputs,
-                          outputs=outputs or None, progress=sys.stderr.isatty(), timeout=args.timeout,
-                          lenient=args.lenient)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", SimulationTerminated)
+            result = simulate(fmu, args.stop_time, args.step, args.fmi_type, params, inputs,
+                              outputs=outputs or None, progress=sys.stderr.isatty(), timeout=args.timeout,
+                              lenient=args.lenient)
     except IncompleteResult as exc:
         return _write_incomplete(exc, output, args.plot, md.modelName, "simulate")
+    for warning in caught:  # the model's own end is a note; any other warning is shown as usual
+        if isinstance(warning.message, SimulationTerminated):
+            print(f"cosim simulate: note: {warning.message}", file=sys.stderr)
+        else:
+            warnings.showwarning(warning.message, warning.category, warning.filename, warning.lineno)
     _write_results(result, output, args.plot, md.modelName)
     print(f"wrote {output} ({len(result)} rows: {', '.join(result.dtype.names)})")
     if args.plot:

@@ -8,7 +8,10 @@ What the command promises (see ``cosim simulate --help``):
   the start time acts from the start (:func:`merge_signals`);
 - without ``--step`` the communication step is :func:`default_step`, whatever the stop time;
 - results are written under a temporary name and renamed (:mod:`cosim.outputs`): ``.csv`` (a
-  header row, then one row per output time) or ``.npy`` (a NumPy structured array);
+  header row, then one row per output time; an FMI 3 array variable as one column per value,
+  ``y[1]``, ``y[2]``, ...) or ``.npy`` (a NumPy structured array);
+- an FMU that ends the run itself without an error (``terminateSimulation``) ends it normally:
+  the rows up to that time are the result (:class:`SimulationTerminated` is warned);
 - when the solver fails part-way, the rows computed up to the failure are kept: they are written
   to ``NAME.incomplete.csv`` (``.npy``) beside the requested ``NAME.csv`` and the message names
   the physical cause where the model's outputs show one: a singular configuration the model
@@ -26,6 +29,7 @@ import os
 import re
 import sys
 import tempfile
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -50,6 +54,17 @@ DEFAULT_STEP = 0.01
 INCOMPLETE_TAG = "incomplete"
 
 RESIDUAL_LIMIT = 1e-6  # m: holonomic constraint residual of the nonlinear Whipple models
+
+
+class SimulationTerminated(UserWarning):
+    """The FMU ended the run itself before the stop time, without an error (``terminateSimulation``
+    of fmi2NewDiscreteStates / fmi3UpdateDiscreteStates / fmi3DoStep, or fmi2DoStep returning
+    fmi2Discard with fmi2Terminated): a normal end of the model, whose rows :func:`simulate`
+    returns (the last row is the time of the end). ``time`` is that time [s]."""
+
+    def __init__(self, time: float):
+        super().__init__(f"the FMU ended the simulation at t = {time:g} s (terminateSimulation)")
+        self.time = time
 
 
 class IncompleteResult(SimulationError):
@@ -513,9 +528,15 @@ def simulate(fmu: str | Path, stop_time: float | None = None, step: float | None
     ParameterError
         Settings refused by :func:`check_run`.
     IncompleteResult
-        The solver failed part-way, the FMU ended the run early, its process ended abnormally or
-        stopped answering, or an output turned non-finite; carries the rows up to the failure
-        and the cause.
+        The solver failed part-way, the FMU ended the run early with an error message (or at a
+        singular configuration of the model), its process ended abnormally or stopped answering,
+        or an output turned non-finite; carries the rows up to the failure and the cause.
+
+    Warns
+    -----
+    SimulationTerminated
+        The FMU ended the run itself before the stop time without an error
+        (``terminateSimulation``): a normal end; the rows up to that time are returned.
     SimulationError
         The FMU failed before the first step (nothing computed).
     """
@@ -531,8 +552,15 @@ def simulate(fmu: str | Path, stop_time: float | None = None, step: float | None
                relative_tolerance, outputs, progress)
     if isolate is None:
         isolate = can_isolate() and not built_here(fmu)
-    result = _run_isolated(run, timeout) if isolate else run(None)
-    return _finite(fmu, md, result, t1)
+    result = _finite(fmu, md, _run_isolated(run, timeout) if isolate else run(None), t1)
+    if _ended_early(result, t1):
+        warnings.warn(SimulationTerminated(float(result["time"][-1])), stacklevel=2)
+    return result
+
+
+def _ended_early(result: np.ndarray, t1: float) -> bool:
+    """Whether the last row of ``result`` lies before the stop time ``t1`` [s]."""
+    return bool(result.size) and result["time"][-1] < t1 - 1e-9 * max(1.0, abs(t1))
 
 
 class _Run:
@@ -591,10 +619,14 @@ class _Run:
                 worker.doing(f"the clean-up ({self.prefix}Terminate, {self.prefix}FreeInstance)")
             _release(instance, state["status"], state["terminated"])
         result = np.asarray(result)
-        if result.size and result["time"][-1] < t1 - 1e-9 * max(1.0, abs(t1)):
-            # The FMU ended the run itself (fmi2Discard + fmi2Terminated): FMPy returns what it has.
+        if _ended_early(result, t1):
+            # The FMU ended the run itself (terminateSimulation; in FMI 2 CS fmi2Discard +
+            # fmi2Terminated): FMPy returns what it has. Without an error message or a physical
+            # cause that is the model's own end (see simulate); with one it is a failure.
             said = log.last_error()
             cause = _cause(md, result)
+            if not said and not cause:
+                return result
             text = f"{cause} (solver: {_first_clause(said)})" if cause and said else \
                 cause or said or "the FMU ended the run early"
             raise IncompleteResult(f"{fmu}: the simulation stopped at t = {result['time'][-1]:.6g} s of "
@@ -884,7 +916,9 @@ def incomplete_path(path: str | Path) -> Path:
 
 
 def write_result(result: np.ndarray, path: str | Path) -> Path:
-    """Write a result array as CSV or NPY (by suffix), atomically."""
+    """Write a result array as CSV (:func:`write_csv`: arrays flattened to one column per value) or
+    NPY (by suffix), atomically. NPY keeps the structured array as it is: an array variable stays
+    one field of its shape (``numpy.load(path)["y"]`` has the shape ``(rows, n)``)."""
     path = Path(path)
     if path.suffix.lower() == ".npy":
         from cosim.outputs import atomic_output
@@ -896,14 +930,29 @@ def write_result(result: np.ndarray, path: str | Path) -> Path:
 
 
 def write_csv(result: np.ndarray, path: str | Path) -> Path:
-    """Write a result array to CSV with a header row (atomically: complete or absent)."""
+    """Write a result array to CSV with a header row (atomically: complete or absent).
+
+    One column per value: an array variable (an FMI 3 variable with dimensions, a field of shape
+    ``(n,)`` or ``(n, m, ...)``) is flattened row-major to the columns ``name[1]``, ``name[2]``, ...
+    or ``name[1,1]``, ``name[1,2]``, ... (1-based, as Modelica and FMI index arrays), so that every
+    column has its own unique name. A name holding a comma is quoted (RFC 4180)."""
     from cosim.outputs import atomic_output
 
-    names = result.dtype.names
-    data = np.column_stack([result[n].astype(float) for n in names]) if len(result) else \
-        np.zeros((0, len(names)))
+    names, columns = [], []
+    for name in result.dtype.names:
+        values = np.asarray(result[name], dtype=float)
+        shape = result.dtype[name].shape
+        if not shape:
+            names.append(name)
+            columns.append(values.reshape(len(result), 1))
+            continue
+        names += [f"{name}[{','.join(str(i + 1) for i in index)}]" for index in np.ndindex(*shape)]
+        columns.append(values.reshape(len(result), int(np.prod(shape))))  # C order: last index fastest
+    data = np.hstack(columns) if columns else np.zeros((len(result), 0))
+    header = io.StringIO()
+    csv.writer(header, lineterminator="").writerow(names)
     with atomic_output(path, "result file") as tmp:
-        np.savetxt(tmp, data, delimiter=",", header=",".join(names), comments="", fmt="%.17g")
+        np.savetxt(tmp, data, delimiter=",", header=header.getvalue(), comments="", fmt="%.17g")
     return Path(path)
 
 
