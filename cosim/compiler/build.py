@@ -204,12 +204,8 @@ def build_versions(model_name: str, output: str | Path = DEFAULT_OUTPUT, library
     library = library or load_library()
     entry = library.entry(model_name)
     targets = {v: fmu_path(model_name, output, v) for v in versions}
-    _check_file_name(model_name, targets[versions[0]])
-    longest = name_max(output) - len("..lock")  # the FMU's lock file .NAME.fmu.lock is the longest name
+    _check_file_name(model_name, targets[versions[0]])  # (FMI 3's has the same name, in fmi3/)
     for target in targets.values():
-        if len(os.fsencode(target.name)) > longest:
-            raise OutputError(f"cannot write the FMU '{target}': File name too long ({len(os.fsencode(target.name))} "
-                              f"bytes, more than the {longest} an FMU's name may have here)")
         try:
             in_the_way = target.is_dir()
         except OSError as exc:  # e.g. a model name longer than a file name may be
@@ -229,8 +225,9 @@ def build_versions(model_name: str, output: str | Path = DEFAULT_OUTPUT, library
             raise OutputError(f"{model_name}: {message}") from None
 
 
-#: The most characters the files written beside an FMU add to its name (the temporary
-#: ``.NAME.fmu.XXXXXXXX.partial`` of :func:`cosim.compiler.fmu.pack`, the lock ``.NAME.fmu.lock``).
+#: More than the characters the files written beside an FMU add to its name: the lock
+#: ``.NAME.fmu.lock`` adds 6 (the partial file of :func:`cosim.outputs.atomic_output` keeps at most
+#: 64 characters of the name, so it is never the longest).
 _NAME_MARGIN = 18
 
 
@@ -244,10 +241,7 @@ def _check_file_name(model_name: str, target: Path) -> None:
         Naming the model, the length and the limit.
     """
     folder = next((f for f in [target.parent, *target.parents] if f.is_dir()), Path("/"))
-    try:
-        limit = os.pathconf(folder, "PC_NAME_MAX")
-    except (OSError, ValueError):
-        limit = 255  # the common limit (ext4, XFS, btrfs, APFS, NTFS)
+    limit = name_max(folder)
     length = len(os.fsencode(target.name))
     if length + _NAME_MARGIN > limit:
         raise BuildError(f"model name '{model_name}' is too long for an FMU file: its name '{target.name}' has "
