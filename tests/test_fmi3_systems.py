@@ -209,17 +209,6 @@ def test_reference_fmu_component_equals_fmpy(reference, name, outputs, loop):
     assert np.ptp(ours[f"ref.{outputs[0]}"]) > 0.5  # it moves
 
 
-def test_reference_fmu_with_state_events_refused_by_model_exchange(reference):
-    """The FMI 3 bouncing ball has an event indicator: the model-exchange coupling (no event
-    handling) refuses it with one message naming the component, before anything runs."""
-    spec = system_from_dict({"system": {"stop": 1.0, "step": 0.01, "algorithm": "model-exchange"},
-                             "components": {"ball": {"fmu": str(reference("BouncingBall"))}}, "connections": []})
-    with pytest.raises(SystemError_) as info:
-        run_system(spec)
-    assert ("component 'ball': the FMU has 1 event indicator(s) (state events); "
-            "algorithm = \"model-exchange\" handles no events") in str(info.value)
-
-
 @pytest.mark.parametrize("k,step", [(1.0, 0.1), (2.0, 0.05)], ids=["k1-h0.1", "k2-h0.05"])
 def test_reference_dahlquist_model_exchange_is_rk4(dahlquist, k, step):
     """The Reference FMU Dahlquist (x' = -k x, x(0) = 1; FMI 3.0 ME, foreign) under the master's
