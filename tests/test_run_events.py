@@ -102,6 +102,22 @@ def test_an_fmu_ending_the_run_is_a_normal_end(fmus, tmp_path, version, algorith
         np.testing.assert_array_equal(rows["ball.v"], ball["v"])
 
 
+@pytest.mark.parametrize("version", ["2", "3"], ids=["fmi2", "fmi3"])
+def test_time_events_between_communication_points(fmus, tmp_path, version):
+    """Stair's time events (every second) inside the steps of 0.35 s under model-exchange: the
+    counter at every communication point as FMPy's, and the end at t = 9 s a last row of its own."""
+    step = 0.35  # s
+    system = _system(tmp_path, {"stair": fmus[f"Stair{version}"]}, "model-exchange", STOP, step)
+    code, stdout, stderr = _run(tmp_path, system)
+    assert code == 0 and "ended the run at t = 9 s" in stderr, stdout + stderr
+    rows = _rows(tmp_path / "events.csv")
+    np.testing.assert_allclose(rows["time"], np.append(step * np.arange(int(END / step) + 1), END), rtol=0, atol=1e-12)
+    fmpy = _simulated(fmus[f"Stair{version}"], "me", STOP, step)
+    last = fmpy[np.append(np.diff(fmpy["time"]) > 0, True)]  # after the events at a time
+    at = [int(np.flatnonzero(np.abs(last["time"] - t) <= 1e-9)[0]) for t in rows["time"]]
+    np.testing.assert_array_equal(rows["stair.counter"], last["counter"][at])
+
+
 def test_an_early_return_stays_a_failure(fmus, tmp_path):
     code, stdout, stderr = _run(tmp_path, _system(tmp_path, {"stair": fmus["Early3"]}))
     assert code == 4, stdout + stderr
