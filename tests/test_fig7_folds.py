@@ -162,7 +162,7 @@ def test_two_turns_merge_and_vanish_at_the_fold(listed, fmu, variant, v, phi, de
 
 
 def test_knife_edge_fold_to_four_digits(listed):
-    """The knife-edge fold where the independent check of issue 13 found it: V = 1.7371 m/s,
+    """The knife-edge fold where an independent check found it: V = 1.7371 m/s,
     phi = 0.2345 rad; its delta = -1.9335 rad was a point of the curve next to the fold (at
     V = 1.73714 the two turns have delta = -1.9332 and -1.9342), the fold itself is at -1.9337."""
     right = [r for r in listed["knife_edge"]["folds"] if r["side"] == "phi>0"]

@@ -1,4 +1,4 @@
-"""The speed-ups of flattening change nothing but the time (issue 14).
+"""The speed-ups of flattening change nothing but the time.
 
 - cosim/compiler/pymoca_walker.py: the fast tree walk makes the same listener calls, in the same
   order, as pymoca's own walk, for pymoca's TreeWalker and the CasADi backend's GeneratorWalker;

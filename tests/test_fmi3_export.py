@@ -1,4 +1,4 @@
-"""FMI 3.0 export (issue 15): every exported model built by `cosim build --fmi-version 3` is a valid
+"""FMI 3.0 export: every exported model built by `cosim build --fmi-version 3` is a valid
 FMI 3.0 FMU (FMPy's validator, `fmutool -check` for both FMI versions, the build description's
 schema), runs in FMPy as Model Exchange (CVode) and Co-Simulation with the results of its FMI 2.0
 twin, has directional and adjoint derivatives that agree with each other and with central

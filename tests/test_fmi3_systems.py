@@ -1,4 +1,4 @@
-"""Systems with FMI 3.0 components (issue 15): the co-simulation master runs FMI 3 Co-Simulation
+"""Systems with FMI 3.0 components: the co-simulation master runs FMI 3 Co-Simulation
 FMUs beside FMI 2 ones and Python blocks, through the C stepping loop (fastloop.c's FMI 3
 adapters) and the Python loop alike; the model-exchange coupling integrates FMI 3 Model Exchange
 FMUs; `cosim export-ssp --fmi-version 3` writes an SSP of FMI 3 FMUs that Ecos runs to the

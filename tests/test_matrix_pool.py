@@ -1,4 +1,4 @@
-"""The fast path of `cosim matrix` (issue 14): forked workers, batched messages, one BLAS thread,
+"""The fast path of `cosim matrix`: forked workers, batched messages, one BLAS thread,
 the pencil's SVD without U -- each giving the same records as the per-case path.
 
 Tolerances: none where the claim is bit-for-bit identity (records compared field by field, the

@@ -1,4 +1,4 @@
-"""The nonlinear bicycle at a singular configuration (issue 13, item 7).
+"""The nonlinear bicycle at a singular configuration.
 
 The knowledge of where a model is singular lives in the model: ``Bicycle.Bicycles.Whipple`` and
 ``WhippleRider`` declare ``annotation(__Cosim(singular(delta(...), phi(...))))`` (steer and roll

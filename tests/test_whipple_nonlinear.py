@@ -74,7 +74,7 @@ def test_generated_oracle_header_and_parameters():
 
 @pytest.mark.parametrize("model", ["Whipple", "WhippleRider", "WhippleLinear"])
 def test_library_bicycle_is_an_assembly_without_generated_expressions(model):
-    """Issue 12: the library's Whipple family is component instances + connect(), short and readable."""
+    """The library's Whipple family is component instances + connect(), short and readable."""
     text = (ROOT / f"modelica/Bicycle/Bicycles/{model}.mo").read_text()
     assert "GENERATED" not in text and "cse1" not in text and "theta0_1" not in text
     assert text.count("connect(") >= 4
