@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import atexit
 import ctypes
+import importlib.util
 import os
 import pickle
 import shutil
@@ -53,6 +54,26 @@ def fmus() -> dict[str, Path]:
     """Every exported model built from the project's Modelica library: name -> FMU path (into the
     temporary COSIM_FMU_DIR, where on-demand builds of the same models then find them)."""
     return {r.model: r.fmu for r in build(output=os.environ["COSIM_FMU_DIR"], jobs=2)}
+
+
+def unavailable(reason: str):
+    """Skip with the reason on a developer's machine; fail in CI, which must have everything."""
+    if os.environ.get("CI"):
+        pytest.fail(f"{reason} (CI must install it: see .ci/run)")
+    pytest.skip(reason)
+
+
+@pytest.fixture(scope="session")
+def app_site(tmp_path_factory) -> Path:
+    """`cosim app --export` into a temporary folder, once per session (its FMUs and WebAssembly
+    modules into COSIM_FMU_DIR): the site every test of the page opens; none may change it."""
+    if importlib.util.find_spec("ziglang") is None:
+        unavailable("the ziglang wheel is not installed (pip install ziglang)")
+    folder = tmp_path_factory.mktemp("app") / "site"
+    status, out, err = cli_in_process(["app", "--export", str(folder)], folder.parent)
+    assert status == 0, err
+    assert sorted(p.name for p in folder.iterdir()) == ["bundle.js", "index.html"]
+    return folder
 
 
 def variant_library(folder: Path, models: dict[str, str], package: str = "TestVariants"):
