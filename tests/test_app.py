@@ -34,6 +34,9 @@ from cosim.cli import EXIT_INTERRUPTED
 from conftest import bound_by_permissions, cli_in_process
 from test_wasm import browser, offline_page  # noqa: F401 (browser: the shared fixture)
 
+# the quick run (-m 'not slow') leaves this module out: it drives Chromium over the exported site or animation
+pytestmark = pytest.mark.slow
+
 EIGENVALUE_TOL = 1e-6  # absolute [1/s]: page vs cosim.analytic
 SPEED_RTOL = 1e-6  # relative: weave and capsize speeds of the page vs cosim.analytic
 V_MAX = 10.0  # [m/s] the page's speed range riding forwards (bicycles.FORWARD)

@@ -25,7 +25,8 @@ import pytest
 from cosim.app.bicycles import BICYCLES
 from test_wasm import browser, offline_page  # noqa: F401 (browser: the shared fixture)
 
-pytestmark = pytest.mark.browser
+# the quick run (-m 'not slow') leaves this module out: it drives Chromium over the exported site or animation
+pytestmark = [pytest.mark.slow, pytest.mark.browser]
 
 CHOICES = [pytest.param(b.name, b.module, id=b.name) for b in BICYCLES]
 

@@ -28,6 +28,9 @@ from cosim.app import demos as demo_files
 from conftest import cli_in_process
 from test_wasm import browser, offline_page  # noqa: F401 (browser: the shared fixture)
 
+# the quick run (-m 'not slow') leaves this module out: it drives Chromium over the exported site or animation
+pytestmark = pytest.mark.slow
+
 DEMOS = demo_files.load_demos()
 NAMES = [d["name"] for d in DEMOS]
 STEP = 0.01  # [s] the page's communication step (export.RIDE_STEP)

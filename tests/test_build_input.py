@@ -14,6 +14,9 @@ from cosim.compiler.build import build, build_model
 from cosim.compiler.library import Library
 from cosim.errors import ModelicaError, ModelStructureError, OutputError, ParameterError
 
+# the quick run (-m 'not slow') leaves this module out: it builds FMUs from Modelica per test
+pytestmark = pytest.mark.slow
+
 DECAY = """within Broken;
 model Decay "dx/dt = -x"
   Real x(start = 1, fixed = true) "state";

@@ -62,6 +62,9 @@ from cosim.cosimulation.system import load_system, system_from_dict
 from cosim.fmu.linearize import linearize
 from cosim.fmu.simulate import simulate
 
+# the quick run (-m 'not slow') leaves this module out: it builds FMUs from Modelica per test
+pytestmark = pytest.mark.slow
+
 ROOT = Path(__file__).resolve().parents[1]
 LIBRARY = ROOT / "modelica" / "Bicycle"
 TOLERANCE = 1e-12  # of every FMU's integrator in the comparisons

@@ -24,6 +24,9 @@ from cosim.analytic.parameters import load_parameters
 from cosim.figures import fig7
 from cosim.nonlinear.model import MODEL, Bicycle, build
 
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = pytest.mark.slow
+
 VARIANTS = {"knife_edge": 0.0, "toroidal": fig7.CROWN}
 
 # Rough start points (two digits) of the independent solve: (variant, V [m/s], phi, delta [rad]).

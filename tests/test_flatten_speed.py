@@ -20,6 +20,9 @@ from cosim.compiler.build import _fingerprint
 from cosim.compiler.flatten import flatten
 from cosim.compiler.library import load_library
 
+# the quick run (-m 'not slow') leaves this module out: it builds FMUs from Modelica per test
+pytestmark = pytest.mark.slow
+
 MODELS = ["Bicycle.Bicycles.WhippleRider", "Bicycle.Bicycles.WhippleLinear", "Bicycle.Bicycles.SelfStabilizing",
           "Bicycle.Control.PID"]
 

@@ -26,6 +26,9 @@ from conftest import run_cli
 from cosim.compiler.build import fmu_path
 from cosim.compiler.library import DEFAULT_LIBRARY, Library
 
+# the quick run (-m 'not slow') leaves this module out: it builds FMI 3 FMUs and the Reference FMUs
+pytestmark = pytest.mark.slow
+
 EXPORTED = [e.name for e in Library(DEFAULT_LIBRARY).models(exported_only=True)]
 STOP, STEP = 2.0, 0.01  # s
 CS_EQUAL = 1e-12  # FMI 3 CS against FMI 2 CS: the same core and integrator, only the API differs

@@ -23,6 +23,9 @@ from conftest import cli_in_process, run_cli
 from cosim.fmu.simulate import default_step
 from reference_fmus import REFERENCE_MODELS, SOURCES, reference_fmu
 
+# the quick run (-m 'not slow') leaves this module out: it builds FMI 3 FMUs and the Reference FMUs
+pytestmark = pytest.mark.slow
+
 #: cosim simulate against FMPy's own simulate_fmu on the same FMU: the same integrator, so 1e-9.
 SIMULATE_TOLERANCE = 1e-9
 #: An analytic Jacobian against directional derivatives (exact in the model's C code).

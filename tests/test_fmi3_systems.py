@@ -28,6 +28,9 @@ from cosim.cosimulation.modelica_twins import with_twins
 from cosim.cosimulation.ssp import export_ssp
 from cosim.cosimulation.system import SystemError_, load_system, system_from_dict
 
+# the quick run (-m 'not slow') leaves this module out: it builds FMI 3 FMUs and the Reference FMUs
+pytestmark = pytest.mark.slow
+
 SYSTEMS = sorted((ROOT / "cosim" / "systems").glob("*.toml"))
 SAME = 1e-12      # our FMI 3 FMU against its FMI 2 twin: the same C core, round-off only (relative, floor 1)
 ECOS = 1e-9       # Ecos against our master on the same SSP, as tests/test_cosimulation.py

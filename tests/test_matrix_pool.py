@@ -21,6 +21,9 @@ from conftest import ROOT
 from cosim.matrix import classify, pool
 from cosim.matrix.spec import spec_from_dict
 
+# the quick run (-m 'not slow') leaves this module out: it runs co-simulation matrices with worker processes
+pytestmark = pytest.mark.slow
+
 VOLATILE = {"elapsed", "worker"}
 STOP = {"stop": 2.0, "step": 0.01}
 

@@ -27,6 +27,9 @@ from cosim.matrix import classify, expr
 from cosim.matrix.spec import MAX_CASES, SpecError, load_spec, spec_from_dict
 from cosim.matrix.store import read_records
 
+# the quick run (-m 'not slow') leaves this module out: it runs co-simulation matrices with worker processes
+pytestmark = pytest.mark.slow
+
 FAST = {"stop": 2.0}
 
 

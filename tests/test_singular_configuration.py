@@ -23,6 +23,9 @@ from cosim.errors import ModelicaError
 from cosim.fmu.simulate import physical_cause
 from test_runtime_c import FALLING, STEP, STOP
 
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = pytest.mark.slow
+
 NONLINEAR = ["Bicycle.Bicycles.Whipple", "Bicycle.Bicycles.WhippleRider"]
 MESSAGE = re.compile(r"^cosim simulate: incomplete: (?P<fmu>\S+): the simulation stopped at t = (?P<t>\S+) s of "
                      r"(?P<stop>\S+) s: steer angle delta = (?P<delta>\S+) rad \((?P<deg>\S+) deg\) reached "

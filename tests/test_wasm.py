@@ -30,6 +30,9 @@ from cosim.errors import BuildError, FMUError, MissingExtraError
 from cosim.wasm import build as wasm_build
 from conftest import cli_in_process, unavailable as _unavailable
 
+# the quick run (-m 'not slow') leaves this module out: it drives Chromium over the exported site or animation
+pytestmark = pytest.mark.slow
+
 CHROMIUM = Path(os.environ.get("COSIM_CHROMIUM", "/usr/bin/chromium"))
 LINEAR, NONLINEAR = "Bicycle.Bicycles.WhippleLinear", "Bicycle.Bicycles.Whipple"
 MODELS = (LINEAR, NONLINEAR)

@@ -39,6 +39,9 @@ from cosim.fmu.linearize import linearize
 from cosim.nonlinear.model import MODEL, RIDER_MODEL, Bicycle, speed_parameters
 from cosim.fmu.simulate import simulate
 
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = pytest.mark.slow
+
 ROOT = Path(__file__).resolve().parents[1]
 SETS = ("benchmark", "astrom2005", "astrom2005-riderless")
 SPEEDS = [0.5 * k for k in range(21)]  # 0 ... 10 m/s
