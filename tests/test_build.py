@@ -11,6 +11,9 @@ from conftest import ROOT
 from cosim.compiler.fmu import MANIFEST
 from cosim.compiler.library import Library
 
+# the quick run (-m 'not slow') leaves this module out: it builds FMUs from Modelica per test
+pytestmark = pytest.mark.slow
+
 MODEL = "Bicycle.Bicycles.SelfStabilizing"
 
 

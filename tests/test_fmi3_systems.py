@@ -1,4 +1,4 @@
-"""Systems with FMI 3.0 components (issue 15): the co-simulation master runs FMI 3 Co-Simulation
+"""Systems with FMI 3.0 components: the co-simulation master runs FMI 3 Co-Simulation
 FMUs beside FMI 2 ones and Python blocks, through the C stepping loop (fastloop.c's FMI 3
 adapters) and the Python loop alike; the model-exchange coupling integrates FMI 3 Model Exchange
 FMUs; `cosim export-ssp --fmi-version 3` writes an SSP of FMI 3 FMUs that Ecos runs to the
@@ -27,6 +27,9 @@ from cosim.cosimulation.master import RunFailed, System
 from cosim.cosimulation.modelica_twins import with_twins
 from cosim.cosimulation.ssp import export_ssp
 from cosim.cosimulation.system import SystemError_, load_system, system_from_dict
+
+# the quick run (-m 'not slow') leaves this module out: it builds FMI 3 FMUs and the Reference FMUs
+pytestmark = pytest.mark.slow
 
 SYSTEMS = sorted((ROOT / "cosim" / "systems").glob("*.toml"))
 SAME = 1e-12      # our FMI 3 FMU against its FMI 2 twin: the same C core, round-off only (relative, floor 1)

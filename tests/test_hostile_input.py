@@ -21,6 +21,9 @@ from pathlib import Path
 
 import pytest
 
+# the quick run (-m 'not slow') leaves this module out: it compiles and runs defective or foreign FMUs
+pytestmark = pytest.mark.slow
+
 hypothesis = pytest.importorskip("hypothesis")
 from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402

@@ -32,6 +32,9 @@ from conftest import run_cli
 from cosim.errors import ParameterError
 from cosim.fmu.linearize import linearize, linearize_speeds, parse_speeds, steady_motion
 
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = pytest.mark.slow
+
 WHIPPLE = "Bicycle.Bicycles.Whipple"
 RIDER = "Bicycle.Bicycles.WhippleRider"
 LINEAR = "Bicycle.Bicycles.WhippleLinear"

@@ -27,6 +27,9 @@ from cosim.cosimulation.master import RunFailed
 from cosim.cosimulation.registry import lookup
 from cosim.cosimulation.system import SystemError_, system_from_dict
 
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = pytest.mark.slow
+
 KI, KD, TAU, AMPLITUDE, STOP = 1.0, 1.0, 0.5, 1.0, 4.0  # 1/s, N.m.s/rad, s, rad/s, s
 SIGNALS = ["pid.T", "delay.y"]
 LOOP = ["step.y -> pid.phi_dot", "pid.T -> delay.u", "delay.y -> pid.phi"]

@@ -9,6 +9,9 @@ from conftest import run_cli
 from cosim.cosimulation.factory import run_system
 from cosim.cosimulation.system import SystemError_, system_from_dict
 
+# the quick run (-m 'not slow') leaves this module out: it runs the command line in fresh processes
+pytestmark = pytest.mark.slow
+
 BIKE = "Bicycle.Bicycles.SelfStabilizing"
 
 

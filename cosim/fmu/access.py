@@ -373,8 +373,6 @@ class FMULog:
     ``callbacks()`` gives the fmi2CallbackFunctions for ``fmi2Instantiate``; ``logger`` is the
     callable that ``fmpy.simulate_fmu(logger=...)`` takes."""
 
-    LABELS = ("OK", "Warning", "Discard", "Error", "Fatal", "Pending")
-
     def __init__(self, size: int = 50):
         from collections import deque
 

@@ -15,7 +15,6 @@ the rider can be locked exactly by its reaction torque.
 """
 from __future__ import annotations
 
-import json
 from ctypes import c_double
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -75,9 +74,6 @@ class Linearization:
             "eigenvalues": [[float(e.real), float(e.imag)] for e in self.eigenvalues],
             "method": self.method, "adjoint_difference": self.adjoint_difference,
         }
-
-    def to_json(self) -> str:
-        return json.dumps(self.to_dict(), indent=2)
 
 
 class _Point:
@@ -381,27 +377,6 @@ def check_adjoint(fmu, J: np.ndarray, J_adjoint: np.ndarray, unknowns, knowns, w
 
 # --------------------------------------------------------------------------- steady motion
 
-def in_coordinates(lin: Linearization, names) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """``A``, ``B``, operating point and its derivative in the coordinates ``z = T x`` named by
-    ``names``: each name is a state or an output that is a linear function of the states only
-    (a row of ``C`` with a zero row of ``D``), so state names of the implementation do not matter.
-
-    Returns ``(A_z, B_z, z0, zdot0)``; ``T`` must be square and invertible (for aliases of the
-    states it is a permutation, and the transformation is exact).
-
-    Raises
-    ------
-    ValueError
-        A name that is neither, an output that depends on the inputs, or names that are not
-        coordinates of the whole state (wrong number, linearly dependent).
-    """
-    T = _coordinates(lin.model, lin.states, lin.outputs, lin.C, lin.D, names)
-    A = np.linalg.solve(T.T, (T @ lin.A).T).T  # T A T^-1
-    z0 = T @ lin.x0 if lin.x0 is not None else np.full(len(names), np.nan)
-    zdot0 = T @ lin.xdot0 if lin.xdot0 is not None else np.full(len(names), np.nan)
-    return A, T @ lin.B, z0, zdot0
-
-
 #: The quantities of the nonlinear bicycles (outputs of ``Bicycle.Bicycles.Whipple`` and
 #: ``WhippleRider``) in the roles they play in upright straight running.
 IGNORABLE = ("x", "y", "psi", "thetaR", "thetaF")  # nothing depends on them but the path
@@ -521,7 +496,7 @@ def _eliminate(A, B, names, gone: str, coefficients: dict):
 def steady_motion(lin: Linearization, lock_hinge: bool = False) -> SteadyMotion:
     """Reduce a nonlinear bicycle's linearization about upright straight running exactly.
 
-    Works on the named quantities (states or outputs aliasing them, :func:`in_coordinates`):
+    Works on the named quantities (states or outputs aliasing them, :func:`_coordinates`):
 
     1. ``lock_hinge`` (models with the rider hinge ``beta``): the hinge is held at ``beta = 0``
        by its reaction torque, which acts exactly like the lean torque ``T_beta`` (a torque
@@ -560,7 +535,17 @@ def _point(x, n: int) -> np.ndarray:
 
 
 def _coordinates(model: str, states, outputs, C, D, names) -> np.ndarray:
-    """The matrix ``T`` of :func:`in_coordinates` (see there; ValueError as there)."""
+    """The matrix ``T`` of the coordinates ``z = T x`` named by ``names``: each name is a state or
+    an output that is a linear function of the states only (a row of ``C`` with a zero row of
+    ``D``), so state names of the implementation do not matter. For aliases of the states ``T`` is
+    a permutation.
+
+    Raises
+    ------
+    ValueError
+        A name that is neither, an output that depends on the inputs, or names that are not
+        coordinates of the whole state (wrong number, linearly dependent).
+    """
     index = {n: k for k, n in enumerate(states)}
     rows = []
     for name in names:

@@ -1040,7 +1040,7 @@ static int load_other(other_fmu *o, const char *path, const char *guid)
 static const char *other_paths[4];
 
 /* ------------------------------------------------------------------------------------------ */
-/* Defect tests (issue 10)                                                                      */
+/* Defect tests: foreign FMU states, refused calls                                             */
 
 /* One foreign FMU: its FMU states are refused by this model's instances and the other way round,
    in memory and serialized, and nothing of either instance changes. */
@@ -1122,7 +1122,7 @@ static void test_fmu_state_of_another_fmu_is_refused(void)
 }
 
 /* ------------------------------------------------------------------------------------------ */
-/* Initial equations (issue 12): test_model_init.c, theta solved from L sin(theta) = h + u + omega  */
+/* Initial equations: test_model_init.c, theta solved from L sin(theta) = h + u + omega  */
 
 enum { I_THETA, I_OMEGA, I_DTHETA, I_DOMEGA, I_U, I_L, I_H, I_STEP, I_Y };
 
