@@ -81,7 +81,8 @@ XML_EDITS = [
     ("guid=", "guId="),
     ("modelIdentifier=", "modelIdentifer="),
     ('causality="input"', 'causality="sideways"'),
-    ('valueReference="1"', 'valueReference="0"'),
+    ('valueReference="1"', 'valueReference="0"'),  # none the binary knows (ours start at 1)
+    ('valueReference="3"', 'valueReference="1"'),  # a duplicate
     ('valueReference="2"', 'valueReference="-4"'),
     ("<ModelStructure>", "<ModelStructure><Outputs><Unknown index=\"9999\"/></Outputs>"),
     ('numberOfEventIndicators="0"', 'numberOfEventIndicators="x"'),

@@ -46,9 +46,9 @@ def test_bad_connection(fmus, case, connections, message):
 def test_type_mismatch_is_named(fmus, tmp_path):
     """An Integer input cannot take a Real signal: a copy of the PD rider FMU whose roll input
     is declared Integer (the check reads the FMU's model description)."""
-    real = ('<ScalarVariable name="phi" valueReference="0" description="Roll angle" causality="input" '
+    real = ('<ScalarVariable name="phi" valueReference="1" description="Roll angle" causality="input" '
             'variability="continuous">\n      <Real unit="rad" displayUnit="deg" start="0.0" />')
-    integer = ('<ScalarVariable name="phi" valueReference="0" description="Roll angle" causality="input" '
+    integer = ('<ScalarVariable name="phi" valueReference="1" description="Roll angle" causality="input" '
                'variability="discrete">\n      <Integer start="0" />')
     integer_input = tmp_path / "pd_integer_input.fmu"
     with zipfile.ZipFile(fmus["Bicycle.Control.PD"]) as original, zipfile.ZipFile(integer_input, "w") as copy:
