@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 from conftest import ROOT, run_cli
 
+from cosim.cosimulation import algorithms
 from cosim.cosimulation.factory import run_system
 from cosim.cosimulation.master import RunFailed, System
 from cosim.cosimulation.modelica_twins import with_twins
@@ -105,7 +106,7 @@ def test_mixed_system_equals_all_fmi2(path, variant, fmu_dir):
 
 
 @pytest.mark.parametrize("loop", ["C", "Python"])
-@pytest.mark.parametrize("algorithm", ["jacobi", "gauss-seidel"])
+@pytest.mark.parametrize("algorithm", [a.name for a in algorithms.algorithms(in_c_loop=True)])
 def test_fmi3_bike_with_python_blocks(algorithm, loop, fmu_dir):
     """The LQR autopilot with its Python blocks (native blocks in the C loop: the exact delay, the
     pulse) and the bicycle as an FMI 3 FMU: the FMI 2 result to 1e-12 in both loops and under both

@@ -13,6 +13,7 @@ from functools import lru_cache
 import numpy as np
 
 from cosim.errors import SimulationError
+from cosim.cosimulation import algorithms
 from cosim.cosimulation.component import Component, StepFailed
 from cosim.cosimulation.system import MAX_STEPS, Connection, SystemError_, SystemSpec
 
@@ -167,7 +168,8 @@ class System:
         self.connections = list(connected.values())
         for comp in components.values():  # a delay longer than the step has no feedthrough
             comp.configure_step(spec.step)
-        self.order = self._gauss_seidel_order(where) if spec.algorithm == "gauss-seidel" else self.names
+        self.algorithm = algorithms.algorithm(spec.algorithm)
+        self.order = self._gauss_seidel_order(where) if self.algorithm.sequential else self.names
         self.fall_index = None
         if spec.fall_signal:
             comp, _, var = spec.fall_signal.partition(".")
@@ -176,7 +178,7 @@ class System:
             self.fall_index = self.offset[comp] + components[comp].outputs.index(var)
         self.record = self._record_indices(where)
         self.coupling = None
-        if spec.algorithm == "model-exchange":  # one ODE, not stepped components: its own module
+        if self.algorithm.one_ode:  # one ODE, not stepped components: its own module
             from cosim.cosimulation.model_exchange import ModelExchange
 
             self.coupling = ModelExchange(self)
@@ -300,10 +302,11 @@ class System:
             data[0, 1:] = self.signals[record_idx]
             outcome = Outcome("completed", spec.stop, _complete_message(spec.stop, n_steps, grid))
             rows = n_steps + 1
-            gauss_seidel = spec.algorithm == "gauss-seidel"
+            sequential = self.algorithm.sequential
             after_transfer = spec.sampling == "after-transfer"
             self._sampled = np.empty_like(self.signals)
-            fast = self._fast_run(data, grid, record_idx, multiples) if self.use_fast_loop else None
+            fast = (self._fast_run(data, grid, record_idx, multiples)
+                    if self.use_fast_loop and self.algorithm.fast_code is not None else None)
             if fast is not None:
                 outcome, rows = fast
                 n_steps = 0  # done
@@ -311,7 +314,7 @@ class System:
                 t = grid[k]
                 due = [n for n in self.order if k % multiples[n] == 0]
                 try:
-                    if gauss_seidel:
+                    if sequential:
                         for name in due:
                             self._feed(name)
                             self.components[name].step(t, grid[min(k + multiples[name], n_steps)] - t)
@@ -473,7 +476,7 @@ class System:
             return c_void_p(array.ctypes.data)
 
         status = lib.cosim_fast_run(
-            len(self.names), comps, order, int(spec.algorithm == "gauss-seidel"),
+            len(self.names), comps, order, self.algorithm.fast_code,
             int(spec.sampling == "after-transfer"), pointer_to(self.signals), pointer_to(self._sampled),
             len(self.signals), pointer_to(times), c_long(n_steps), len(rec_idx), pointer_to(rec_idx),
             pointer_to(data), fall, c_double(spec.fall_limit or 0.0),
