@@ -36,9 +36,9 @@ def engines(spec, steps: int, folder: Path, tmp: str) -> dict:
     from cosim.cosimulation.factory import create_components
     from cosim.cosimulation.master import assemble
     from cosim.cosimulation.ssp import PARAMETER_SET
-    from cosim.fmu.engines import ecospy
+    from cosim.engines import engine
 
-    ecospy()
+    engine("ecos").load()  # Ecos needs TBB loaded first
     from ecospy import EcosSimulation
     from libcosimpy.CosimExecution import CosimExecution
 
@@ -180,7 +180,7 @@ def main(argv=None) -> int:
     from cosim.cosimulation.modelica_twins import with_twins
     from cosim.cosimulation.ssp import export_ssp
     from cosim.cosimulation.system import load_system
-    from cosim.fmu.engines import _unpacked_ssp
+    from cosim.engines.archive import unpacked_ssp
 
     log_output_level(CosimLogLevel.WARNING)
     print(f"CPUs: {os.cpu_count()}, load average (1 min): {os.getloadavg()[0]:.2f}, "
@@ -201,7 +201,7 @@ def main(argv=None) -> int:
                 c.close()
             spec = dataclasses.replace(spec, components={
                 n: dataclasses.replace(c, kind="fmu", source=fmu_files[n]) for n, c in spec.components.items()})
-            with _unpacked_ssp(ssp) as (folder, *_):
+            with unpacked_ssp(ssp) as (folder, *_):
                 runs = engines(spec, steps, folder, tmp)
                 times = {engine: [] for engine in runs}
                 for _ in range(args.repeat):

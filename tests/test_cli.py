@@ -103,7 +103,7 @@ def test_unknown_figure(tmp_path):
 
 @pytest.mark.needs_libcosim
 def test_run_and_export_ssp(tmp_path):
-    from cosim.fmu.engines import run_ssp_libcosim
+    from cosim.engines import engine
 
     system = ROOT / "cosim" / "systems" / "rider-p-control.toml"
     npy, ssp = tmp_path / "r.npy", tmp_path / "r.ssp"
@@ -114,7 +114,7 @@ def test_run_and_export_ssp(tmp_path):
     result = run_cli("export-ssp", str(system), "-o", str(ssp))
     assert result.returncode == 0, result.stderr
     assert "twin: rider: Python Proportional -> Bicycle.Control.Proportional" in result.stdout
-    assert run_ssp_libcosim(ssp, ["bike.phi"])["bike.phi"].size == 2000
+    assert engine("libcosim").run_ssp(ssp, ["bike.phi"])["bike.phi"].size == 2000
 
 
 def test_run_reports_fall(tmp_path):

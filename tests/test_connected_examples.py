@@ -54,7 +54,7 @@ import pytest
 from scipy.linalg import expm
 
 from cosim.compiler.build import build
-from cosim.cosimulation import registry
+from cosim.cosimulation import algorithms, registry
 from cosim.cosimulation.component import FMUComponent
 from cosim.cosimulation.factory import python_block
 from cosim.cosimulation.master import run_components
@@ -428,7 +428,7 @@ def test_example_equals_continuous_closed_loop_of_bicycle_and_python_blocks(mode
     assert _difference(exact, one, case.signals) <= EXACT
 
 
-@pytest.mark.parametrize("algorithm", ["jacobi", "gauss-seidel"])
+@pytest.mark.parametrize("algorithm", [a.name for a in algorithms.algorithms(one_ode=False)])
 @pytest.mark.parametrize("example", FEEDBACK)
 def test_master_with_python_block_equals_master_with_the_examples_block(models, example, algorithm):
     """The co-simulation with the Python block equals the co-simulation with the FMU of the

@@ -12,7 +12,7 @@ from cosim.cosimulation.factory import run_system
 from cosim.cosimulation.modelica_twins import with_twins
 from cosim.cosimulation.ssp import export_ssp
 from cosim.cosimulation.system import load_system
-from cosim.fmu.engines import run_ssp_ecos, run_ssp_libcosim
+from registered_engines import engine_params
 
 # the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
 pytestmark = pytest.mark.slow
@@ -38,21 +38,19 @@ def _agree(ours: np.ndarray, other: np.ndarray, names: list[str]) -> float:
     return worst
 
 
-@pytest.mark.needs_libcosim
-@pytest.mark.needs_ecos
+@pytest.mark.parametrize("engine", engine_params("ssp", independent=True))
 @pytest.mark.parametrize("path", SYSTEMS, ids=[p.stem for p in SYSTEMS])
-def test_master_libcosim_ecos_agree(path, fmu_dir, tmp_path):
-    """Python blocks replaced by their Modelica twins: our master, libcosim running the exported
-    SSP, and Ecos running it agree to 1e-9 on every recorded signal. libcosim records outputs right
-    after the step, Ecos after the connected inputs were updated; the master does either."""
+def test_master_libcosim_ecos_agree(path, engine, fmu_dir, tmp_path):
+    """Python blocks replaced by their Modelica twins: our master and each independent engine
+    running the exported SSP (libcosim, Ecos) agree to 1e-9 on every recorded signal. libcosim
+    records outputs right after the step, Ecos after the connected inputs were updated
+    (``engine.sampling``); the master does either."""
     spec, notes = with_twins(load_system(path))
     ssp, _ = export_ssp(spec, tmp_path / f"{path.stem}.ssp", fmu_dir)
     free_running = dataclasses.replace(spec, fall_signal=None, fall_limit=None)  # the engines run to the end
-    after_step = run_system(free_running, fmu_dir)
-    after_transfer = run_system(dataclasses.replace(free_running, sampling="after-transfer"), fmu_dir)
-    names = [n for n in after_step.data.dtype.names if n != "time"]
-    assert _agree(after_step.data, run_ssp_libcosim(ssp, names), names) <= AGREEMENT
-    assert _agree(after_transfer.data, run_ssp_ecos(ssp, names), names) <= AGREEMENT
+    ours = run_system(dataclasses.replace(free_running, sampling=engine.sampling), fmu_dir)
+    names = [n for n in ours.data.dtype.names if n != "time"]
+    assert _agree(ours.data, engine.run_ssp(ssp, names), names) <= AGREEMENT
 
 
 EXPECTED = {

@@ -10,7 +10,10 @@ import sys
 
 import pytest
 
-from cosim.fmu import engines
+from cosim import engines
+from cosim.engines import ecos
+from cosim.engines.archive import fmi3_components
+from registered_engines import engine_params
 
 # the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
 pytestmark = pytest.mark.slow
@@ -29,14 +32,15 @@ def _installed(distribution: str) -> bool:
 def test_ecos_loads_with_the_tbb_wheel_alone():
     """Ecos needs libtbb.so.12; the pip tbb wheel's copy is found although the loader does not
     search <prefix>/lib. Run in a fresh interpreter so no earlier import hides the problem."""
-    code = "from cosim.fmu import engines; engines.ecospy(); print('ok')"
+    code = "from cosim import engines; engines.engine('ecos').load(); print('ok')"
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert result.returncode == 0 and result.stdout.strip() == "ok", result.stderr
 
 
-@pytest.mark.needs_libcosim
-def test_libcosim_loads():
-    assert engines.libcosimpy().__name__ == "libcosimpy"
+@pytest.mark.parametrize("engine", engine_params())
+def test_engine_loads(engine):
+    """Every registered engine loads the module it declares it runs on (libcosimpy, ecospy, ...)."""
+    assert engine.load().__name__ == engine.module
 
 
 def test_missing_engine_names_what_to_install(monkeypatch):
@@ -50,15 +54,15 @@ def test_missing_engine_names_what_to_install(monkeypatch):
             raise OSError("libtbb.so.12: cannot open shared object file: No such file or directory")
         return real_import(name, *args, **kwargs)
 
-    monkeypatch.setattr(engines, "_preload_tbb", lambda: None)
+    monkeypatch.setattr(ecos, "preload_tbb", lambda: None)
     monkeypatch.setattr(builtins, "__import__", no_tbb)
     with pytest.raises(engines.EngineUnavailable, match=r"libtbb\.so\.12.*pip install tbb.*libtbb12"):
-        engines.ecospy()
+        engines.engine("ecos").load()
 
 
 @pytest.mark.needs_ecos
 def test_ecos_runs_our_fmi3_fmu_like_its_fmi2_build():
-    """Ecos runs an FMI 3.0 Co-Simulation FMU of ours (engines.run_ecos) to the result of the FMI 2.0
+    """Ecos runs an FMI 3.0 Co-Simulation FMU of ours (its run_fmu) to the result of the FMI 2.0
     build of the same model, to 1e-12 (the same C core: round-off only)."""
     import os
 
@@ -71,14 +75,14 @@ def test_ecos_runs_our_fmi3_fmu_like_its_fmi2_build():
     for version in ("2", "3"):
         fmu = build_model("Bicycle.Bicycles.WhippleLinear", os.environ["COSIM_FMU_DIR"], load_library(),
                           fmi_version=version).fmu
-        results[version] = engines.run_ecos(fmu, 2.0, 0.01, {"v": 4.0, "phi0": 0.1}, ["phi", "delta"])
+        results[version] = engines.engine("ecos").run_fmu(fmu, 2.0, 0.01, {"v": 4.0, "phi0": 0.1}, ["phi", "delta"])
     assert len(results["3"]) == 200 and np.max(np.abs(results["3"]["phi"])) > 0.05
     for name in ("time", "phi", "delta"):
         assert np.max(np.abs(results["2"][name] - results["3"][name])) <= 1e-12
 
 
 def test_fmi3_components_of_an_ssp(tmp_path):
-    """engines.fmi3_components reads the FMI version of every component's FMU inside an SSP
+    """fmi3_components (cosim.engines.archive) reads the FMI version of every component's FMU inside an SSP
     without extracting it: only the FMI 3 ones, by component name, with their archive paths."""
     import io
     import zipfile
@@ -98,4 +102,4 @@ def test_fmi3_components_of_an_ssp(tmp_path):
         archive.writestr("SystemStructure.ssd", ssd)
         for name, version in (("a", "2.0"), ("b", "3.0"), ("c", "3.0")):
             archive.writestr(f"resources/{name}.fmu", fmu(version))
-    assert engines.fmi3_components(ssp) == {"b": "resources/b.fmu", "c": "resources/c.fmu"}
+    assert fmi3_components(ssp) == {"b": "resources/b.fmu", "c": "resources/c.fmu"}

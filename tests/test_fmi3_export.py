@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from conftest import run_cli
+from registered_engines import engine_params
 
 from cosim.compiler.build import fmu_path
 from cosim.compiler.library import DEFAULT_LIBRARY, Library
@@ -226,24 +227,22 @@ def test_model_exchange_matches_fmi2(unzipped, model):
         assert np.max(np.abs(np.interp(fmi2["time"], fmi3_result["time"], b[name]) - a[name])) <= ME_AGREEMENT * scale, name
 
 
-@pytest.mark.needs_ecos
+@pytest.mark.parametrize("engine", engine_params("fmu", "3.0", independent=True, reference=False))
 @pytest.mark.parametrize("model", EXPORTED)
-def test_co_simulation_in_ecos_equals_fmpy(fmi3, model):
-    """Ecos (an FMI 3 co-simulation engine of its own) runs the FMI 3 FMU to FMPy's CS result
+def test_co_simulation_in_ecos_equals_fmpy(fmi3, model, engine):
+    """Each independent FMI 3 co-simulation engine (Ecos) runs the FMI 3 FMU to FMPy's CS result
     (constant 0.1 on every input, fixed communication step), to 1e-9."""
     from fmpy import read_model_description, simulate_fmu
-
-    from cosim.fmu.engines import run_ecos
 
     fmu = str(fmi3[model])
     md = read_model_description(fmu)
     start = {v.name: 0.1 for v in md.modelVariables if v.causality == "input" and v.type == "Float64"}
     reference = simulate_fmu(fmu, fmi_type="CoSimulation", stop_time=STOP, output_interval=STEP, start_values=start)
     outputs = [n for n in reference.dtype.names if n != "time"]
-    ecos = run_ecos(fmu, STOP, STEP, start, outputs)
+    other = engine.run_fmu(fmu, STOP, STEP, start, outputs)
     for name in outputs:
-        scale = np.maximum(1.0, np.abs(reference[name][1:]))  # Ecos records after each step, FMPy also at t = 0
-        assert np.max(np.abs(ecos[name] - reference[name][1:]) / scale) <= 1e-9, name
+        scale = np.maximum(1.0, np.abs(reference[name][1:]))  # engines record after each step, FMPy also at t = 0
+        assert np.max(np.abs(other[name] - reference[name][1:]) / scale) <= 1e-9, name
 
 
 def _instantiate(unzipdir: str, fmi_type: str):

@@ -22,18 +22,22 @@ import numpy as np
 import pytest
 from conftest import ROOT, run_cli
 
+from cosim.cosimulation import algorithms
 from cosim.cosimulation.factory import run_system
 from cosim.cosimulation.master import RunFailed, System
 from cosim.cosimulation.modelica_twins import with_twins
 from cosim.cosimulation.ssp import export_ssp
 from cosim.cosimulation.system import SystemError_, load_system, system_from_dict
+from registered_engines import engine_params
 
 # the quick run (-m 'not slow') leaves this module out: it builds FMI 3 FMUs and the Reference FMUs
 pytestmark = pytest.mark.slow
 
 SYSTEMS = sorted((ROOT / "cosim" / "systems").glob("*.toml"))
 SAME = 1e-12      # our FMI 3 FMU against its FMI 2 twin: the same C core, round-off only (relative, floor 1)
-ECOS = 1e-9       # Ecos against our master on the same SSP, as tests/test_cosimulation.py
+ECOS = 1e-9       # an engine (Ecos) against our master on the same SSP, as tests/test_cosimulation.py
+#: The independent engines that run SSPs of FMI 3 FMUs.
+FMI3_SSP_ENGINES = engine_params("ssp", "3.0", independent=True)
 CONTAINER = 1e-12  # an fmucontainer FMI 3 wrapper of our FMI 2 FMU: see test_container_component_equals_fmi2
 
 
@@ -105,7 +109,7 @@ def test_mixed_system_equals_all_fmi2(path, variant, fmu_dir):
 
 
 @pytest.mark.parametrize("loop", ["C", "Python"])
-@pytest.mark.parametrize("algorithm", ["jacobi", "gauss-seidel"])
+@pytest.mark.parametrize("algorithm", [a.name for a in algorithms.algorithms(in_c_loop=True)])
 def test_fmi3_bike_with_python_blocks(algorithm, loop, fmu_dir):
     """The LQR autopilot with its Python blocks (native blocks in the C loop: the exact delay, the
     pulse) and the bicycle as an FMI 3 FMU: the FMI 2 result to 1e-12 in both loops and under both
@@ -290,41 +294,42 @@ def test_fmi3_without_c_compiler(container, fmu_dir, monkeypatch):
 # ----------------------------------------------------------------- SSP: Ecos runs FMI 3, libcosim refuses
 
 
-def _ecos_agrees(spec, ssp: Path, fmu_dir) -> float:
-    """Largest relative difference between Ecos running ``ssp`` and our master running ``spec``
-    (recording after the transfer, as Ecos does; the engines run to the end: no fall criterion)."""
-    from cosim.fmu.engines import run_ssp_ecos
-
-    free = dataclasses.replace(spec, fall_signal=None, fall_limit=None, sampling="after-transfer")
+def _engine_agrees(engine, spec, ssp: Path, fmu_dir) -> float:
+    """Largest relative difference between ``engine`` running ``ssp`` and our master running
+    ``spec`` (recording as the engine does, Ecos after the transfer; the engines run to the end:
+    no fall criterion)."""
+    free = dataclasses.replace(spec, fall_signal=None, fall_limit=None, sampling=engine.sampling)
     ours = run_system(free, fmu_dir).data
     names = [n for n in ours.dtype.names if n != "time"]
-    other = run_ssp_ecos(ssp, names)
+    other = engine.run_ssp(ssp, names)
     assert len(ours) - 1 == len(other)
     np.testing.assert_allclose(other["time"], ours["time"][1:], rtol=0, atol=1e-9)
     return max(float(np.max(np.abs(ours[n][1:] - other[n]) / np.maximum(1.0, np.abs(ours[n][1:])))) for n in names)
 
 
-@pytest.mark.needs_ecos
+@pytest.mark.parametrize("engine", FMI3_SSP_ENGINES)
 @pytest.mark.parametrize("path", SYSTEMS, ids=[p.stem for p in SYSTEMS])
-def test_fmi3_ssp_runs_in_ecos_like_the_master(path, fmu_dir, tmp_path):
+def test_fmi3_ssp_runs_in_ecos_like_the_master(path, engine, fmu_dir, tmp_path):
     """export_ssp(fmi_version="3"): every component of the archive is an FMI 3.0 FMU, and Ecos
-    runs the SSP to our master's result (the same system, its models built as FMI 3) to 1e-9."""
+    (each independent engine with FMI 3 SSPs) runs the SSP to our master's result (the same
+    system, its models built as FMI 3) to 1e-9."""
     spec, _ = with_twins(load_system(path))
     ssp, _ = export_ssp(spec, tmp_path / f"{path.stem}.ssp", fmu_dir, fmi_version="3")
     versions = _fmi_versions(ssp)
     assert len(versions) == len(spec.components) and set(versions.values()) == {"3.0"}, versions
-    assert _ecos_agrees(_as_fmi(spec, "3"), ssp, fmu_dir) <= ECOS
+    assert _engine_agrees(engine, _as_fmi(spec, "3"), ssp, fmu_dir) <= ECOS
 
 
-@pytest.mark.needs_ecos
-def test_container_ssp_runs_in_ecos_like_the_master(container, fmu_dir, tmp_path):
+@pytest.mark.parametrize("engine", FMI3_SSP_ENGINES)
+def test_container_ssp_runs_in_ecos_like_the_master(engine, container, fmu_dir, tmp_path):
     """An SSP mixing a foreign FMI 3.0 FMU (the container of the bicycle) and our FMI 2.0 twin of
-    the driver: Ecos runs it to the master's result to 1e-9."""
+    the driver: Ecos (each independent engine with FMI 3 SSPs) runs it to the master's result to
+    1e-9."""
     spec, _ = with_twins(load_system(ROOT / "cosim" / "systems" / "lane-change.toml"))
     spec = _with_container(spec, container)
     ssp, _ = export_ssp(spec, tmp_path / "lane-change.ssp", fmu_dir)
     assert sorted(_fmi_versions(ssp).values()) == ["2.0", "3.0"]
-    assert _ecos_agrees(spec, ssp, fmu_dir) <= ECOS
+    assert _engine_agrees(engine, spec, ssp, fmu_dir) <= ECOS
 
 
 REFUSAL = "libcosim has no FMI 3.0 support (an FMI 3 FMU crashes it)"
@@ -350,9 +355,9 @@ def test_libcosim_refuses_fmi3_before_loading(ssps, fmu_dir, case, named):
     exactly those), with one EngineUnsupported message — in a fresh interpreter in which libcosim
     is then still not loaded (it would crash on the FMU)."""
     target = fmu_dir / "fmi3" / "Bicycle_Bicycles_WhippleLinear.fmu" if case == "fmu" else ssps[case]
-    call = (f"engines.run_libcosim({str(target)!r}, 1.0, 0.01)" if case == "fmu"
-            else f"engines.run_ssp_libcosim({str(target)!r}, ['bike.phi'])")
-    code = ("import sys\nfrom cosim.fmu import engines\n"
+    call = (f"libcosim.run_fmu({str(target)!r}, 1.0, 0.01)" if case == "fmu"
+            else f"libcosim.run_ssp({str(target)!r}, ['bike.phi'])")
+    code = ("import sys\nfrom cosim import engines\nlibcosim = engines.engine('libcosim')\n"
             f"try:\n    {call}\nexcept engines.EngineUnsupported as exc:\n    print('REFUSED', exc)\n"
             "print('libcosimpy loaded' if 'libcosimpy' in sys.modules else 'libcosimpy not loaded')\n")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)

@@ -3,6 +3,7 @@ matches an independent scipy solution, exact directional derivatives, FMU state 
 rebuilds from its own sources."""
 from __future__ import annotations
 
+import functools
 import math
 import shutil
 import zipfile
@@ -11,12 +12,12 @@ import numpy as np
 import pytest
 
 from cosim.compiler.library import DEFAULT_LIBRARY, Library
-from cosim.fmu.engines import run_ecos, run_libcosim
 from cosim.analytic.twins import TWINS
 from cosim.fmu.access import FMU, set_continuous_states
 from cosim.fmu.simulate import simulate
 from cosim.fmu.validate import validate_report
 from reference import SELF_STABILIZING_DEFAULTS, simulate_self_stabilizing
+from registered_engines import engine_params
 
 # the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
 pytestmark = pytest.mark.slow
@@ -24,7 +25,9 @@ pytestmark = pytest.mark.slow
 SELF = "Bicycle.Bicycles.SelfStabilizing"
 STOP, STEP = 5.0, 0.01
 START = {"V": 6.0, "T": 1.0}  # constant steer torque from t = 0 (Figure 5 set-up)
-CS_AGREEMENT = 1e-9  # three CS engines run the same binary: agreement limited by round-off only
+CS_AGREEMENT = 1e-9  # the CS engines run the same binary: agreement limited by round-off only
+#: The independent engines checked against FMPy.
+OTHER_ENGINES = engine_params("fmu", independent=True, reference=False)
 DIRECTIONAL_RTOL = 1e-6
 
 
@@ -55,22 +58,27 @@ def _excitation(fmu) -> dict:
     return {v.name: 0.1 for v in read_model_description(str(fmu)).modelVariables if v.causality == "input"}
 
 
-@pytest.mark.needs_libcosim
-@pytest.mark.needs_ecos
+@functools.cache
+def _fmpy_me_cs(fmu) -> tuple[np.ndarray, np.ndarray]:
+    """ME and CS results of ``fmu`` in FMPy from :func:`_excitation` (once per FMU)."""
+    start = _excitation(fmu)
+    return simulate(fmu, SHORT_STOP, STEP, "me", start), simulate(fmu, SHORT_STOP, STEP, "cs", start)
+
+
+@pytest.mark.parametrize("engine", OTHER_ENGINES)
 @pytest.mark.parametrize("model", EXPORTED)
-def test_runs_in_fmpy_libcosim_and_ecos(fmus, model):
-    """ME in FMPy (CVode) and CS in FMPy, libcosim and Ecos; the three CS results agree to 1e-9."""
+def test_runs_in_fmpy_libcosim_and_ecos(fmus, model, engine):
+    """ME in FMPy (CVode) and CS in FMPy and in each independent engine (libcosim, Ecos); the
+    CS results agree to 1e-9."""
     fmu = fmus[model]
     start = _excitation(fmu)
-    me = simulate(fmu, SHORT_STOP, STEP, "me", start)
-    cs = simulate(fmu, SHORT_STOP, STEP, "cs", start)
+    me, cs = _fmpy_me_cs(fmu)
     outputs = [n for n in cs.dtype.names if n != "time"]
     assert outputs and all(np.all(np.isfinite(me[n])) for n in outputs)
-    for engine in (run_libcosim, run_ecos):
-        other = engine(fmu, SHORT_STOP, STEP, start, outputs)
-        for name in outputs:
-            scale = np.maximum(1.0, np.abs(cs[name][1:]))
-            assert np.max(np.abs(other[name] - cs[name][1:]) / scale) <= CS_AGREEMENT, (engine.__name__, name)
+    other = engine.run_fmu(fmu, SHORT_STOP, STEP, start, outputs)
+    for name in outputs:
+        scale = np.maximum(1.0, np.abs(cs[name][1:]))
+        assert np.max(np.abs(other[name] - cs[name][1:]) / scale) <= CS_AGREEMENT, (engine.name, name)
 
 
 @pytest.mark.parametrize("model", sorted(TWINS), ids=sorted(TWINS))
@@ -94,21 +102,16 @@ def test_matches_scipy_solution_of_twin(fmus, model, kind, rtol):
 
 
 @pytest.fixture(scope="module")
-def cs_results(fmus):
-    fmu = fmus[SELF]
-    fmpy_cs = simulate(fmu, STOP, STEP, "cs", START, outputs=["phi", "delta"])
-    return {
-        "fmpy": fmpy_cs[1:],  # FMPy also records t = 0; the engines record after each step
-        "libcosim": run_libcosim(fmu, STOP, STEP, START, ["phi", "delta"]),
-        "ecos": run_ecos(fmu, STOP, STEP, START, ["phi", "delta"]),
-    }
+def fmpy_cs(fmus):
+    # FMPy also records t = 0; the engines record after each step
+    return simulate(fmus[SELF], STOP, STEP, "cs", START, outputs=["phi", "delta"])[1:]
 
 
-@pytest.mark.needs_libcosim  # the module fixture cs_results runs both engines
-@pytest.mark.needs_ecos
-@pytest.mark.parametrize("engine", ["libcosim", "ecos"])
-def test_cs_engines_agree(cs_results, engine):
-    reference, other = cs_results["fmpy"], cs_results[engine]
+@pytest.mark.parametrize("engine", engine_params("fmu", reference=False))
+def test_cs_engines_agree(fmus, fmpy_cs, engine):
+    """Every engine that runs single FMUs (libcosim, Ecos, our master) runs the self-stabilizing
+    bicycle to FMPy's Co-Simulation result, to 1e-9."""
+    reference, other = fmpy_cs, engine.run_fmu(fmus[SELF], STOP, STEP, START, ["phi", "delta"])
     assert len(reference) == len(other) == round(STOP / STEP)
     np.testing.assert_allclose(other["time"], reference["time"], rtol=0, atol=1e-9)
     for signal in ("phi", "delta"):

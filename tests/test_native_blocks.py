@@ -17,7 +17,7 @@ import pytest
 
 from conftest import failing_do_step
 from cosim.compiler.build import build
-from cosim.cosimulation import fastloop, registry
+from cosim.cosimulation import algorithms, fastloop, registry
 from cosim.cosimulation.blocks import Pulse, TransportDelay
 from cosim.cosimulation.controllers import Proportional
 from cosim.cosimulation.factory import create_components
@@ -30,7 +30,7 @@ STOP, STEP = 2.995, 0.01  # s: 299 steps of 0.01 s and a last one of 0.005 s
 BLOCKS = {n: c for n, c in registry.registered().items() if c.__module__.startswith("cosim.")}
 # Parameters where the defaults would leave the loop quiet (state feedback is 0, the step on from the start).
 PARAMETERS = {"StateFeedback": {"K1": 5.0, "K2": -1.0, "K3": 0.5, "K4": 0.2}, "Step": {"start": 1.0}}
-ALGORITHMS = ["jacobi", "gauss-seidel"]
+ALGORITHMS = [a.name for a in algorithms.algorithms(in_c_loop=True)]  # both loops step these
 SAMPLINGS = ["after-step", "after-transfer"]
 MULTIPLES = {"m1": {}, "block-m3": {"block": 3}, "bike-m2": {"bike": 2}}  # step_multiple by component
 

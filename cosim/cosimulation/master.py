@@ -12,6 +12,7 @@ from functools import lru_cache
 import numpy as np
 
 from cosim.errors import SimulationError
+from cosim.cosimulation import algorithms
 from cosim.cosimulation.component import Component, SimulationEnded, StepFailed
 from cosim.cosimulation.model_exchange import ModelExchange
 from cosim.cosimulation.outcome import Outcome, RunFailed, RunResult, complete_message, finished, terminated
@@ -112,7 +113,8 @@ class System:
         self.connections = list(connected.values())
         for comp in components.values():  # a delay longer than the step has no feedthrough
             comp.configure_step(spec.step)
-        self.order = self._gauss_seidel_order(where) if spec.algorithm == "gauss-seidel" else self.names
+        self.algorithm = algorithms.algorithm(spec.algorithm)
+        self.order = self._gauss_seidel_order(where) if self.algorithm.sequential else self.names
         self.fall_index = None
         if spec.fall_signal:
             comp, _, var = spec.fall_signal.partition(".")
@@ -121,7 +123,7 @@ class System:
             self.fall_index = self.offset[comp] + components[comp].outputs.index(var)
         self.record = self._record_indices(where)
         self.coupling = None
-        if spec.algorithm == "model-exchange":  # one ODE, not stepped components: its own module
+        if self.algorithm.one_ode:  # one ODE, not stepped components: its own module
             self.coupling = ModelExchange(self)
 
     def _check(self, c: Connection, where: str) -> None:
@@ -264,7 +266,8 @@ class System:
             outcome = Outcome("completed", spec.stop, complete_message(spec.stop, n_steps, grid))
             rows = n_steps + 1
             self._sampled = np.empty_like(self.signals)
-            fast = self._fast_run(data, grid, record_idx, multiples) if self.use_fast_loop else None
+            fast = (self._fast_run(data, grid, record_idx, multiples)
+                    if self.use_fast_loop and self.algorithm.fast_code is not None else None)
             if fast is not None:
                 outcome, rows = fast
                 n_steps = 0  # done
@@ -313,7 +316,7 @@ class System:
         due = [n for n in self.order if k % multiples[n] == 0]
         done = set(self.order[:self.order.index(resume.component) + 1]) if resume is not None else set()
         ended = [resume] if resume is not None else []
-        gauss_seidel = self.spec.algorithm == "gauss-seidel"
+        gauss_seidel = self.algorithm.sequential
         if not gauss_seidel and resume is None:  # (resumed: every input was set before the first step)
             for name in due:
                 self._feed(name)
@@ -489,7 +492,7 @@ class System:
             return c_void_p(array.ctypes.data)
 
         status = lib.cosim_fast_run(
-            len(self.names), comps, order, int(spec.algorithm == "gauss-seidel"),
+            len(self.names), comps, order, self.algorithm.fast_code,
             int(spec.sampling == "after-transfer"), pointer_to(self.signals), pointer_to(self._sampled),
             len(self.signals), pointer_to(times), c_long(n_steps), len(rec_idx), pointer_to(rec_idx),
             pointer_to(data), fall, c_double(spec.fall_limit or 0.0),

@@ -14,7 +14,7 @@ FMI 3 FMUs then carry their own FMI 3 types (``ssc:Float64``), which SSP 1.0 lac
 The models of the system are built as FMI 2.0 FMUs, or as FMI 3.0 FMUs with ``fmi_version="3"``
 (``cosim export-ssp --fmi-version 3``); SSP 1.0 types the connectors and parameters of both the
 same way (FMI 3 ``Float64`` is ``ssc:Real``). Ecos runs either; libcosim has no FMI 3.0 (see
-:mod:`cosim.fmu.engines`).
+:mod:`cosim.engines`).
 """
 from __future__ import annotations
 
@@ -22,6 +22,7 @@ import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
 
+from cosim.cosimulation import algorithms
 from cosim.cosimulation.component import FMUComponent
 from cosim.cosimulation.system import SystemError_, SystemSpec
 
@@ -59,8 +60,10 @@ def _literal(value, kind: str) -> str:
     return repr(float(value))
 
 
-def _omsimulator_master(parent: ET.Element, step: float) -> None:
-    """OMSimulator's annotation of a fixed-step master of step ``step`` (s) under ``parent``.
+def _omsimulator_master(parent: ET.Element, step: float, master: str) -> None:
+    """OMSimulator's annotation of the fixed-step master ``master`` (the coupling algorithm's
+    :attr:`~cosim.cosimulation.algorithms.CouplingAlgorithm.omsimulator_master`) of step ``step``
+    (s) under ``parent``.
 
     Element and attribute names follow OMSimulator's reader, src/OMSimulatorLib/ssd/Tags.cpp
     (``oms:Annotations``, ``oms:SimulationInformation``, ``oms:FixedStepMaster``, annotation type
@@ -70,7 +73,17 @@ def _omsimulator_master(parent: ET.Element, step: float) -> None:
     """
     annotation = ET.SubElement(parent, "ssc:Annotation", type="org.openmodelica")
     information = ET.SubElement(ET.SubElement(annotation, "oms:Annotations"), "oms:SimulationInformation")
-    ET.SubElement(information, "oms:FixedStepMaster", description="oms-ma", stepSize=repr(float(step)))
+    ET.SubElement(information, "oms:FixedStepMaster", description=master, stepSize=repr(float(step)))
+
+
+def _coupling(spec: SystemSpec) -> algorithms.CouplingAlgorithm:
+    """The coupling algorithm of ``spec``; :class:`SystemError_` if SSP annotations cannot
+    describe it (of the built-in algorithms only Jacobi, OSP's FixedStepAlgorithm, can)."""
+    coupling = algorithms.algorithm(spec.algorithm)
+    if not coupling.exports_to_ssp:
+        raise SystemError_(f"{spec.path or spec.name}: SSP export describes a fixed-step Jacobi system "
+                           f"(OSP FixedStepAlgorithm); the system uses '{spec.algorithm}'")
+    return coupling
 
 
 def system_structure(spec: SystemSpec, fmus: dict[str, Path], ssp_version: str = "1.0") -> bytes:
@@ -83,6 +96,7 @@ def system_structure(spec: SystemSpec, fmus: dict[str, Path], ssp_version: str =
     if ssp_version not in SSP_VERSIONS:
         raise SystemError_(f"SSP version '{ssp_version}' cannot be exported (choose {' or '.join(SSP_VERSIONS)})")
     types = TYPES if ssp_version == "1.0" else TYPES_2
+    coupling = _coupling(spec)
     # libcosim's parser wants the literal prefixes ssd: ssc: ssv: osp: declared on the root.
     root = ET.Element("ssd:SystemStructureDescription", {
         **{f"xmlns:{k}": v for k, v in NS.items()}, "version": ssp_version, "name": spec.name,
@@ -122,12 +136,12 @@ def system_structure(spec: SystemSpec, fmus: dict[str, Path], ssp_version: str =
         ET.SubElement(connections, "ssd:Connection", startElement=c.source, startConnector=c.output,
                       endElement=c.target, endConnector=c.input)
     # OMSimulator takes the master step of a system from the system's annotations.
-    _omsimulator_master(ET.SubElement(system, "ssd:Annotations"), spec.step)
+    _omsimulator_master(ET.SubElement(system, "ssd:Annotations"), spec.step, coupling.omsimulator_master)
     experiment = ET.SubElement(root, "ssd:DefaultExperiment", startTime=repr(spec.start), stopTime=repr(spec.stop))
     annotations = ET.SubElement(experiment, "ssd:Annotations")
     annotation = ET.SubElement(annotations, "ssc:Annotation", type="com.opensimulationplatform")
     algorithm = ET.SubElement(annotation, "osp:Algorithm")
-    ET.SubElement(algorithm, "osp:FixedStepAlgorithm", baseStepSize=repr(spec.step))
+    ET.SubElement(algorithm, f"osp:{coupling.osp_algorithm}", baseStepSize=repr(spec.step))
     ET.indent(root)
     return ET.tostring(root, encoding="UTF-8", xml_declaration=True) + b"\n"
 
@@ -171,7 +185,8 @@ def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | 
     ------
     SystemError_
         If a Python block has no Modelica twin, ``fmi_version`` is not 2 or 3, ``ssp_version``
-        is not 1.0 or 2.0, or the system is not fixed-step Jacobi.
+        is not 1.0 or 2.0, or SSP annotations cannot describe the system's coupling algorithm
+        (of the built-in ones only Jacobi: OSP's FixedStepAlgorithm).
     """
     from cosim.outputs import atomic_output, check_output
     from cosim.cosimulation.factory import create_components
@@ -184,9 +199,7 @@ def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | 
     spec, notes = with_twins(spec)
     if fmi_version is not None:
         spec = _built_as(spec, str(fmi_version))
-    if spec.algorithm != "jacobi":
-        raise SystemError_(f"{spec.path or spec.name}: SSP export describes a fixed-step Jacobi system "
-                           f"(OSP FixedStepAlgorithm); the system uses '{spec.algorithm}'")
+    _coupling(spec)
     grid = step_grid(spec.start, spec.stop, spec.step)
     if len(grid) > 2 and grid[-1] - grid[-2] < 0.999999 * spec.step:
         raise SystemError_(f"{spec.path or spec.name}: step {spec.step:g} s does not divide the run from "

@@ -34,11 +34,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from cosim.errors import ParameterError
+from cosim.cosimulation import algorithms
 from cosim.outputs import check_input_file, read_text_file
 
-# Co-simulation with a zero-order hold (jacobi, gauss-seidel), or every component integrated
-# together as one ODE by RK4 at the communication step (cosim.cosimulation.model_exchange).
-ALGORITHMS = ("jacobi", "gauss-seidel", "model-exchange")
 # When outputs are recorded: right after the step (libcosim's observers) or after the connected
 # inputs were updated, so direct-feedthrough outputs already see the new inputs (Ecos).
 SAMPLINGS = ("after-step", "after-transfer")
@@ -252,7 +250,8 @@ def _settings(problems: _Problems, settings) -> dict:
     elif None not in (start, stop, step) and not (stop - start) / step <= MAX_STEPS:
         problems.add("[system] step", f"{step:g} s from {start:g} s to {stop:g} s would take "
                                       f"{(stop - start) / step:.3g} steps (at most {MAX_STEPS:,}); use a larger step")
-    out["algorithm"] = _string(problems, "[system] algorithm", settings.get("algorithm", "jacobi"), ALGORITHMS)
+    out["algorithm"] = _string(problems, "[system] algorithm", settings.get("algorithm", "jacobi"),
+                               algorithms.names())
     out["sampling"] = _string(problems, "[system] sampling", settings.get("sampling", "after-step"), SAMPLINGS)
     initialize = settings.get("initialize", True)
     if not isinstance(initialize, bool):
@@ -405,11 +404,11 @@ def system_from_dict(data: dict, path: Path | None = None) -> SystemSpec:
             connections.append(parse_connection(text, where))
         except SystemError_ as exc:
             problems.add("", str(exc).removeprefix(f"{where}: "))
-    if settings.get("algorithm") == "model-exchange":  # one ODE: every part moves with the same step
-        for component in components.values():
+    if settings.get("algorithm") and algorithms.algorithm(settings["algorithm"]).one_ode:
+        for component in components.values():  # one ODE: every part moves with the same step
             if component.step_multiple != 1:
                 problems.add(f"[components.{component.name}] step_multiple",
-                             f"must be 1 under algorithm = \"model-exchange\", got {component.step_multiple}")
+                             f"must be 1 under algorithm = \"{settings['algorithm']}\", got {component.step_multiple}")
     problems.raise_if_any()
     return SystemSpec(
         name=settings.get("name") or (path.stem if path else "system"), path=path, components=components,

@@ -11,11 +11,13 @@ Every component gets a linear model (:class:`LTI`):
 * any other FMU: its numerical linearization (:func:`cosim.fmu.linearize.linearize`).
 
 The components are connected as in the system. With ``master_lag`` the co-simulation master's own
-delays are modelled too (Jacobi, outputs sampled after the step): an input held over a
-communication step h by a component with states lags by h/2 (zero-order hold), and a component
-without states (a static gain) answers one step late, a lag of h; each lag is a second-order Pade
-approximation. Only the states that influence the observed signal are kept (the heading and path
-integrators, which never feed back, would otherwise add eigenvalues at 0).
+delays are modelled too (outputs sampled after the step), as the coupling algorithm states them
+(:meth:`~cosim.cosimulation.algorithms.CouplingAlgorithm.output_lag`,
+:meth:`~cosim.cosimulation.algorithms.CouplingAlgorithm.hold_lag`): under Jacobi an input held
+over a communication step h by a component with states lags by h/2 (zero-order hold), and a
+component without states (a static gain) answers one step late, a lag of h; each lag is a
+second-order Pade approximation. Only the states that influence the observed signal are kept (the
+heading and path integrators, which never feed back, would otherwise add eigenvalues at 0).
 
 The prediction is the largest real part of the closed-loop eigenvalues, ``max_re`` [1/s]:
 stable below ``-margin``, unstable above ``+margin``, marginal in between.
@@ -28,6 +30,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from cosim.cosimulation import algorithms
 from cosim.errors import CosimError
 
 
@@ -313,7 +316,12 @@ class Loop:
         self.models = models or {n: component_lti(n, e, fmu_paths, settings) for n, e in comps.items()}
         sysset = system.get("system", {})
         h = float(sysset.get("step", 0.01))
-        jacobi = str(sysset.get("algorithm", "jacobi")).lower() == "jacobi"
+        try:
+            coupling = algorithms.algorithm(str(sysset.get("algorithm", "jacobi")))
+        except algorithms.UnknownAlgorithm as exc:
+            raise PredictionError(str(exc)) from None
+        if not coupling.predicted:
+            raise PredictionError(f"the prediction does not model algorithm = \"{coupling.name}\"")
         blocks = dict(self.models)
         wiring = []  # (source, output, target, input)
         for text in system.get("connections", []):
@@ -328,10 +336,10 @@ class Loop:
                 src, dst = blocks[c.source], blocks[c.target]
                 m_src = int(comps[c.source].get("step_multiple", 1))
                 m_dst = int(comps[c.target].get("step_multiple", 1))
-                if jacobi and src.kind == "static" and src.D.size:
-                    lag += h * m_src
+                if src.kind == "static" and src.D.size:
+                    lag += coupling.output_lag(h * m_src)
                 if dst.kind == "dynamic" and dst.n > 0:
-                    lag += h * m_dst / 2
+                    lag += coupling.hold_lag(h * m_dst)
             if lag > 0:
                 lname = f"lag:{c}"
                 blocks[lname] = delay_lti(lag, 2, kind="delay", source=f"master lag {lag:g} s")

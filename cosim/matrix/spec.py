@@ -48,6 +48,7 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
 
+from cosim.cosimulation import algorithms
 from cosim.cosimulation.system import type_name
 from cosim.errors import CosimError, ParameterError
 from cosim.matrix import expr
@@ -78,7 +79,13 @@ RANGES = {
     "margin": (0.0, math.inf, True), "observed_margin": (0.0, math.inf, True), "extend": (0.0, 100.0, True),
     "pade_order": (1, 20, True), "timeout": (0.0, math.inf, False),
 }
-ALGORITHMS = ("jacobi", "gauss-seidel")
+
+
+def _algorithms() -> tuple[str, ...]:
+    """The coupling algorithms a study may use: those the analytic prediction models."""
+    return tuple(a.name for a in algorithms.algorithms() if a.predicted)
+
+
 MATRIX_KEYS = {"name", "description", "imports", *DEFAULTS}
 STUDY_KEYS = {"name", "title", "claim", "description", "observe", "connections", "system", "components",
               "variables", "axes", "cases", "tune", "checks", "plots", *DEFAULTS}
@@ -448,8 +455,8 @@ def _settings(table: dict, base: dict, where: str) -> dict:
                     bound = f">= {lo:g}" if closed else f"> {lo:g}"
                     rng = f"{bound} and <= {hi:g}" if math.isfinite(hi) else f"finite and {bound}"
                     raise SpecError(f"{where}: '{k}' must be {rng}, got {value!r}")
-            if k == "algorithm" and value.lower() not in ALGORITHMS:
-                raise SpecError(f"{where}: 'algorithm' must be one of {', '.join(ALGORITHMS)}, got {value!r}")
+            if k == "algorithm" and value.lower() not in _algorithms():
+                raise SpecError(f"{where}: 'algorithm' must be one of {', '.join(_algorithms())}, got {value!r}")
             out[k] = value
     if out["step"] > out["stop"]:
         raise SpecError(f"{where}: step {out['step']:g} s is longer than stop {out['stop']:g} s")
