@@ -21,7 +21,7 @@ reach 2400 rad/s2 and u_F_dot, a difference of such terms, agrees only to 1.4e-1
 * the variants ``redeclare Bicycle.Wheels.KnifeEdge rearWheel`` (and ``frontWheel``), the other wheel
   a torus, against the oracle with that crown radius 0, and both wheels redeclared in one ``extends``
   against the oracle with ``tR = tF = 0``;
-* the variant with a crowned rear roller ``redeclare Bicycle.Wheels.CrownedRoller rearWheel(R = 0.4)``
+* the variant with a crowned rear roller ``redeclare Bicycle.Wheels.Roller rearWheel(R = 0.4)``
   (rocking radius larger
   than the wheel radius), against the oracle's torus formula with ``tR = 0.4`` -- the same contact
   geometry -- and simulated for 1 s (energy conserved to 1e-8).
@@ -57,7 +57,7 @@ VARIANTS = {  # component redeclarations (two in one extends for WhippleKnifeEdg
     "WhippleKnifeEdgeRear": "redeclare Bicycle.Wheels.KnifeEdge rearWheel",
     "WhippleKnifeEdgeFront": "redeclare Bicycle.Wheels.KnifeEdge frontWheel",
     "WhippleKnifeEdgeBoth": "redeclare Bicycle.Wheels.KnifeEdge rearWheel, redeclare Bicycle.Wheels.KnifeEdge frontWheel",
-    "WhippleCrownedRoller": "redeclare Bicycle.Wheels.CrownedRoller rearWheel(R = 0.4)",
+    "WhippleCrownedRoller": "redeclare Bicycle.Wheels.Roller rearWheel(R = 0.4)",
 }
 
 

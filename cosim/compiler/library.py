@@ -1,7 +1,7 @@
 """The Modelica library on disk: parsing, the list of models, their annotations.
 
 One class per file (Modelica Standard Library layout): ``Bicycle/Components/RearFrame.mo``
-holds ``Bicycle.Components.RearFrame``; a ``package.mo`` holds its package and any classes
+holds ``Bicycle.Components.SecondOrderRearFrame``; a ``package.mo`` holds its package and any classes
 nested in it.
 
 A file that cannot be read or parsed (not UTF-8, empty, a syntax error, a class that does not

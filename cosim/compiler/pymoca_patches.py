@@ -5,15 +5,18 @@ the enclosing model correctly (to the flat name ``m``) but two later passes re-p
 reference with the component path when such a name exists there, so the binding becomes
 ``frame.m = frame.m``. References that the modification resolver already made flat are
 marked here, and both re-prefixing passes leave marked references alone.
+Report: docs/pymoca-upstream.md#name-capture.
 
 Functions: pymoca names the CasADi function of a Modelica function by its dotted class name
 (``Bicycle.Functions.f``, ``Model.helper`` for a function declared inside a model), which CasADi
 refuses as a function name. The generator is given a valid identifier instead.
+Report: docs/pymoca-upstream.md#function-names.
 
 ``fixed``: pymoca gives every variable ``fixed = false`` whether it was written or not, so
 ``Real x(start = 1)`` (where a tool takes the start value as the initial value) cannot be told
 from ``Real x(start = 1, fixed = false)`` (where the start value is only a guess for an initial
 solve). Symbols whose ``fixed`` was given explicitly are marked ``_cosim_fixed_given``.
+Report: docs/pymoca-upstream.md#fixed-given.
 
 Short connector classes (``connector RealInput = input Real "...";``, the Modelica Standard
 Library's ``Blocks.Interfaces`` style): pymoca's parser drops the ``input``/``output`` of such a
@@ -22,18 +25,21 @@ with one variable called ``Real``, so ``connect(a.y, b.u)`` becomes ``a.y.Real =
 that are not declared. The parser keeps the prefixes here (``_cosim_base_prefixes`` of the class),
 and a connector that is just a built-in type stays the scalar (or array) variable it is, so that
 its connections are the plain equations ``a.y = b.u``.
+Report: docs/pymoca-upstream.md#short-connectors.
 
 Constants of a derived type: pymoca finds the value of a constant referred to from elsewhere
 (``parameter Real w = Data.w`` with ``constant Units.Length w = 1.02`` in the package ``Data``)
 only when its type is a built-in type; for ``type Length = Real(...)`` the value sits in the
 built-in type behind the derived one and the reference stayed the undeclared name
 ``Data.Benchmark.w``. The value is looked up through the derived types here.
+Report: docs/pymoca-upstream.md#derived-type-constants.
 
 Package constants in equations: pymoca resolves the names in equations only against the flat
 variables, so ``der(x) = Data.w`` or ``f = Modelica.Constants.g`` left ``Data.w`` undeclared.
 A name that is not a flat variable is looked up from the class of the equation; a constant with
 a literal value is replaced by that value (MLS 5.6.2: constants are evaluated), anything else is
 left for the error message that names it.
+Report: docs/pymoca-upstream.md#constants-in-equations.
 
 Modified constants (MLS 7.2): in ``B b(n = 3)`` with ``J j(n = n)`` in B and ``C c(n = n)`` in J,
 the right-hand ``n`` of a modifier is that of the enclosing instance (``b.n``, then ``b.j.n``),
@@ -51,11 +57,13 @@ and what pymoca cannot evaluate stays a reference as before. Names used in an in
 in a full instance of the base class made anew from its declarations (the partial instance had
 consumed the modifiers of the extends clause and of the component), so they had the defaults as
 well: the instance's own components are put into that full instance (:func:`_graft_components`).
+Report: docs/pymoca-upstream.md#modified-constants.
 
 Inherited constants: for ``Data.w`` with ``package A extends PartialSet(w = 1.02)``, pymoca's
 name lookup finds ``w`` in the class ``PartialSet`` and instantiates that class alone, without the
 modifier of ``extends``: the constant had no value. When a constant found so has none, the package
 (``Data``) is instantiated in full and the constant's value taken from there.
+Report: docs/pymoca-upstream.md#inherited-constants.
 
 Record bindings: pymoca ignores the binding of a record component (``Mass body(b = rb)``,
 ``parameter Rec rc = rb``) without a word, so the record kept its default values. A binding to
@@ -63,6 +71,7 @@ another record component is applied here element by element (``body.b.m = rb.m``
 element, nested records included); a binding to any other expression (a record constructor
 ``Rec(m = 3)``, whose named arguments pymoca's parser drops, a function call, an array of
 records) is refused with :class:`RecordBindingError`.
+Report: docs/pymoca-upstream.md#record-bindings.
 
 Component redeclarations: for ``replaceable Knife w constrainedby PartialWheel`` redeclared as
 ``redeclare Torus w``, pymoca adds ``Torus`` as a base class of the instance of ``Knife``, so
@@ -74,6 +83,8 @@ b)``: ``b`` got the bases of both redeclarations); it is unregistered once the c
 instantiated, and made the component's: the names in it lacked the component's name (with
 ``redeclare Knife w`` the constant ``w.c.n`` of Knife's connector was also looked up as ``c.n``, a
 constant without a value).
+Reports: docs/pymoca-upstream.md#component-redeclare,
+docs/pymoca-upstream.md#two-redeclares.
 
 Constraining clauses: pymoca's parser drops ``constrainedby C(m2)``. For a component
 ``replaceable K w(m1) constrainedby C(m2)`` the modifiers ``m2`` are kept here in front of ``m1``
@@ -82,6 +93,7 @@ redeclared (MLS 7.3.2: with a constraining clause the declaration's own modifier
 default only). For a replaceable class (``replaceable model W = K(m1) constrainedby C(m2)``)
 either is refused with :class:`RedeclareError` (``m2`` at all, ``m1`` on a redeclaration), as
 pymoca would silently use the wrong modifiers.
+Report: docs/pymoca-upstream.md#constraining-clause.
 
 Array constructors: pymoca's CasADi generator keeps ``{a, b}`` as a Python list, which CasADi
 accepts only when every element is a literal number and the list is flat. So ``{1, m*x[1]}``,
@@ -92,6 +104,8 @@ arithmetic operator becomes a constant matrix; a literal array elsewhere (a para
 function argument) stays what pymoca makes of it. ``identity(n)`` and ``diagonal(v)`` are made dense
 matrices: CasADi's sparse ones made ``parameter Real K[2, 2] = -m*identity(2)`` fail ("Sparsities of
 v and vdef must match").
+Reports: docs/pymoca-upstream.md#array-constructors,
+docs/pymoca-upstream.md#dense-identity.
 """
 from __future__ import annotations
 
@@ -104,6 +118,7 @@ from cosim.compiler import pymoca_walker
 _applied = False
 
 
+# pymoca bug report: docs/pymoca-upstream.md#name-capture
 def _mark_flat(node):
     from pymoca import ast
 
@@ -134,6 +149,7 @@ def casadi_name(name: str) -> str:
     return cleaned if cleaned[:1].isalpha() else f"f_{cleaned}"
 
 
+# pymoca bug report: docs/pymoca-upstream.md#function-names
 def _named_functions(get_function):
     def patched_get_function(self, function_name):
         tree = None if function_name in self.functions else self.root.classes.get(function_name)
@@ -149,6 +165,7 @@ def _named_functions(get_function):
     return patched_get_function
 
 
+# pymoca bug report: docs/pymoca-upstream.md#fixed-given
 def _mark_fixed(resolve):
     def patched_resolve(symbol, arg, **kwargs):
         result = resolve(symbol, arg, **kwargs)
@@ -174,6 +191,7 @@ def _carry_fixed(to_ast_symbol):
 PARSE_CACHE_DB = "cosim_model_txt_cache_2.db"
 
 
+# pymoca bug report: docs/pymoca-upstream.md#short-connectors
 def _keep_base_prefix(exit_class_spec_base):
     def patched_exit(self, ctx):
         exit_class_spec_base(self, ctx)
@@ -183,6 +201,7 @@ def _keep_base_prefix(exit_class_spec_base):
     return patched_exit
 
 
+# pymoca bug report: docs/pymoca-upstream.md#constraining-clause
 def _keep_constraining_clause(exit_replaceable):
     from pymoca import ast
 
@@ -213,6 +232,7 @@ def _builtin_connector(connector_class, builtin_types) -> bool:
         and next(iter(connector_class.symbols)) in builtin_types
 
 
+# pymoca bug report: docs/pymoca-upstream.md#short-connectors
 def _scalar_connectors(add_connector_symbols, builtin_types):
     depth = 0
 
@@ -270,6 +290,8 @@ def _value_argument(type_instance, builtin_types, depth=0):
     return found
 
 
+# pymoca bug report: docs/pymoca-upstream.md#derived-type-constants
+# pymoca bug report: docs/pymoca-upstream.md#modified-constants
 def _constant_values(get_constant_value, flattening, builtin_types):
     """pymoca's _get_constant_value with the value that applies (see the module docstring:
     constants of a derived type, modified constants)."""
@@ -382,6 +404,7 @@ def _for_indices(node, found, depth=0):
     return found
 
 
+# pymoca bug report: docs/pymoca-upstream.md#constants-in-equations
 def _package_constants_in_equations(collect_and_resolve, flattening):
     from pymoca import ast
     from pymoca.tree import LookupOptions, RecursionGuard
@@ -423,6 +446,7 @@ def _package_constants_in_equations(collect_and_resolve, flattening):
     return patched_collect_and_resolve
 
 
+# pymoca bug report: docs/pymoca-upstream.md#inherited-constants
 def _inherited_constants(resolve_name, flattening):
     from pymoca import ast
     from pymoca.tree import LookupOptions, RecursionGuard
@@ -571,60 +595,6 @@ def _scope_signature(scope) -> tuple:
             tuple(map(id, scope.extends)))
 
 
-def _added_keys(symbols: dict, before: int) -> set:
-    """The keys added to ``symbols`` since it had ``before`` entries: the last ones (a dict keeps
-    insertion order, and _flatten_instance only adds to the flat class's symbols)."""
-    added = len(symbols) - before
-    return set(itertools.islice(reversed(symbols), added)) if added > 0 else set()
-
-
-def _leaf_dimensions(symbol, outer_dims) -> None:
-    """The dimensions of the built-in leaf of a component of a derived type (``Units.Length r[3]``,
-    whose flat symbol is the type's ``Real`` under the component's name): the component's own,
-    followed by the type's (``type V = Real[2]``)."""
-    def sizes(dims):
-        return [d for dl in dims or [] for d in dl if d is not None and getattr(d, "value", 0) is not None]
-
-    outer = sizes(outer_dims)
-    if outer:
-        symbol.dimensions = [outer + sizes(symbol.dimensions)]
-
-
-def _linear_new_symbols(flattening) -> None:
-    """pymoca's _flatten_instance finds the symbols a component added to the flat class by the set
-    difference of all its symbols before and after: quadratic in the size of the model (a
-    3000-state chain spent 60 % of its flattening there). The same set is the entries added last.
-
-    The same loop gives the symbols of a component the component's array dimensions, but only those
-    named ``component.element``: the flat symbol of an array component of a derived type
-    (``input Units.Length Vp[3, n]`` in a connector) is the type's ``Real`` under the component's
-    own name, which kept the type's scalar dimensions (``b.c.Vp[1, 2]``: "given an index ... but
-    this symbol is not an array"). That leaf gets the component's dimensions here.
-
-    The lines are replaced in pymoca's own source (compiled into its module, so that every other
-    patch still applies); if they are not there (another pymoca), its code stays."""
-    import inspect
-    import textwrap
-
-    source = textwrap.dedent(inspect.getsource(flattening._flatten_instance))
-    before = "symbols_before_recursive = set(flat_class.symbols.keys())"
-    after = "new_sym_names = set(flat_class.symbols.keys()) - symbols_before_recursive"
-    if not source.startswith("def _flatten_instance(") or source.count(before) != 1 or source.count(after) != 1:
-        return
-    loop = "            for sym_name in new_sym_names:\n                if sym_name.startswith(flat_name_prefix):\n"
-    if source.count(loop) != 1:
-        return
-    source = source.replace(before, "symbols_before_recursive = len(flat_class.symbols)")
-    source = source.replace(after, "new_sym_names = _cosim_added_keys(flat_class.symbols, symbols_before_recursive)")
-    source = source.replace(loop, "            for sym_name in new_sym_names:\n"
-                                  "                if sym_name == flat_name:\n"
-                                  "                    _cosim_leaf_dimensions(flat_class.symbols[sym_name], outer_dims)\n"
-                                  "                if sym_name.startswith(flat_name_prefix):\n")
-    flattening._cosim_added_keys = _added_keys
-    flattening._cosim_leaf_dimensions = _leaf_dimensions
-    exec(compile(source, flattening.__file__, "exec"), flattening.__dict__)
-
-
 class RecordBindingError(Exception):
     """A record binding that cosim's compiler cannot apply (flatten.py names its source line)."""
 
@@ -646,6 +616,7 @@ def _is_scalar(symbol) -> bool:
     return all(d is None or getattr(d, "value", 0) is None for dims in symbol.dimensions or [] for d in dims)
 
 
+# pymoca bug report: docs/pymoca-upstream.md#record-bindings
 def _record_bindings(flatten_instance, flattening):
     from pymoca import ast
     from pymoca.tree import LookupOptions, RecursionGuard
@@ -713,6 +684,9 @@ class RedeclareError(Exception):
     """A redeclaration that cosim's compiler cannot apply (flatten.py names its source line)."""
 
 
+# pymoca bug report: docs/pymoca-upstream.md#component-redeclare
+# pymoca bug report: docs/pymoca-upstream.md#two-redeclares
+# pymoca bug report: docs/pymoca-upstream.md#constraining-clause
 def _replacing_redeclares(apply_redeclares, instantiate_symbol, builtin_types):
     from pymoca import ast
     from pymoca.tree.instance import InstanceClass, InstanceSymbol
@@ -813,6 +787,8 @@ def _array(values):
 _ARRAY_OPERATORS = {"-", "+", "*", "/", "^", "mtimes", "transpose", "sum", ".*", "./", ".^", ".+", ".-"}
 
 
+# pymoca bug report: docs/pymoca-upstream.md#array-constructors
+# pymoca bug report: docs/pymoca-upstream.md#dense-identity
 def _casadi_arrays(exit_array, exit_expression):
     import casadi as ca
     from pymoca import ast
@@ -850,6 +826,8 @@ def apply() -> None:
     from pymoca.tree import _instantiation as instantiation
     from pymoca.tree.instance import InstanceSymbol, InstanceTree
 
+    from cosim.compiler import pymoca_flattening  # imports pymoca
+
     to_ast_value = flattening._to_ast_value
 
     def patched_to_ast_value(val):
@@ -880,7 +858,7 @@ def apply() -> None:
     resolve_name, flattening._resolve_modifications, flattening._resolve_dimensions = _full_scope_once(
         flattening._resolve_name, flattening._resolve_modifications, flattening._resolve_dimensions, flattening)
     flattening._resolve_name = _inherited_constants(resolve_name, flattening)
-    _linear_new_symbols(flattening)
+    flattening._flatten_instance = pymoca_flattening.flatten_instance  # vendored, see its module
     flattening._flatten_instance = _record_bindings(flattening._flatten_instance, flattening)
     instantiation._apply_redeclares, instantiation._instantiate_symbol = _replacing_redeclares(
         instantiation._apply_redeclares, instantiation._instantiate_symbol, set(InstanceTree.BUILTIN_TYPES))

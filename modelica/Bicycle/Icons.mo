@@ -100,7 +100,7 @@ package Icons "Icons of the library's packages and classes (as Modelica.Icons)"
         Text(extent = {{20, 104}, {170, 144}}, textString = "%name", textColor = {0, 0, 255}, horizontalAlignment = TextAlignment.Left)}));
   end Wheel;
 
-  partial model RearFrame "Icon of a rear frame: the frame triangles with the saddle, rear axle on the left, steer head on the right"
+  partial model RearFrameIcon "Icon of a rear frame: the frame triangles with the saddle, rear axle on the left, steer head on the right"
     annotation(
       Icon(graphics = {
         Line(points = {{-76, 0}, {2, -30}, {-30, 56}, {-76, 0}}, color = {64, 64, 64}, thickness = 1),
@@ -111,9 +111,9 @@ package Icons "Icons of the library's packages and classes (as Modelica.Icons)"
         Ellipse(extent = {{-84, -8}, {-68, 8}}, lineColor = {0, 0, 0}, fillColor = {192, 192, 192}, fillPattern = FillPattern.Solid),
         Ellipse(extent = {{-8, -38}, {12, -18}}, lineColor = {64, 64, 64}),
         Text(extent = {{-150, 110}, {150, 150}}, textString = "%name", textColor = {0, 0, 255})}));
-  end RearFrame;
+  end RearFrameIcon;
 
-  partial model FrontFrame "Icon of a front frame: handlebar, steer tube and fork on the tilted steer axis, front axle at the bottom"
+  partial model FrontFrameIcon "Icon of a front frame: handlebar, steer tube and fork on the tilted steer axis, front axle at the bottom"
     annotation(
       Icon(graphics = {
         Line(points = {{-60, 112}, {16, -100}}, color = {128, 128, 128}, pattern = LinePattern.DashDot),
@@ -123,9 +123,9 @@ package Icons "Icons of the library's packages and classes (as Modelica.Icons)"
         Line(points = {{-44, 66}, {-48, 80}, {-70, 86}, {-90, 78}, {-88, 56}, {-74, 50}}, color = {64, 64, 64}, thickness = 2, smooth = Smooth.Bezier),
         Ellipse(extent = {{-10, -90}, {10, -70}}, lineColor = {0, 0, 0}, fillColor = {192, 192, 192}, fillPattern = FillPattern.Solid),
         Text(extent = {{-150, 110}, {150, 150}}, textString = "%name", textColor = {0, 0, 255})}));
-  end FrontFrame;
+  end FrontFrameIcon;
 
-  partial model SteerAxis "Icon of the steer axis: the head tube on its axis, tilted back by lam"
+  partial model SteerAxisIcon "Icon of the steer axis: the head tube on its axis, tilted back by lam"
     annotation(
       Icon(graphics = {
         Line(points = {{-100, 0}, {-26, 0}}, color = {95, 95, 95}, thickness = 0.5),
@@ -135,9 +135,9 @@ package Icons "Icons of the library's packages and classes (as Modelica.Icons)"
         Line(origin = {-18, 46}, rotation = 20, points = {{-41.3, -15}, {-35.5, -26}, {-26.8, -34.9}, {-15.9, -41}, {-3.8, -43.8}, {8.6, -43.2}, {20.3, -39}, {30.4, -31.8}, {38.1, -22}}, color = {0, 0, 0}, arrow = {Arrow.None, Arrow.Filled}, arrowSize = 6, smooth = Smooth.Bezier),
         Text(extent = {{40, 90}, {100, 50}}, textString = "λ", textColor = {64, 64, 64}),
         Text(extent = {{-150, -110}, {150, -150}}, textString = "%name", textColor = {0, 0, 255})}));
-  end SteerAxis;
+  end SteerAxisIcon;
 
-  partial model Revolute "Icon of a revolute joint (as Modelica.Mechanics.MultiBody.Joints.Revolute)"
+  partial model RevoluteIcon "Icon of a revolute joint (as Modelica.Mechanics.MultiBody.Joints.Revolute)"
     annotation(
       Icon(graphics = {
         Rectangle(extent = {{-100, -60}, {-30, 60}}, lineColor = {64, 64, 64}, fillColor = {192, 192, 192}, fillPattern = FillPattern.HorizontalCylinder, radius = 10),
@@ -145,7 +145,7 @@ package Icons "Icons of the library's packages and classes (as Modelica.Icons)"
         Rectangle(extent = {{-30, 10}, {30, -10}}, lineColor = {64, 64, 64}, fillColor = {255, 255, 255}, fillPattern = FillPattern.Solid),
         Line(points = {{0, -90}, {0, 90}}, color = {0, 0, 0}, pattern = LinePattern.DashDot),
         Text(extent = {{-150, -110}, {150, -150}}, textString = "%name", textColor = {0, 0, 255})}));
-  end Revolute;
+  end RevoluteIcon;
 
   partial model Hinge "Icon of the rider's hip hinge: the upper body on a hinge above the seat"
     annotation(
@@ -162,7 +162,7 @@ package Icons "Icons of the library's packages and classes (as Modelica.Icons)"
         Text(extent = {{100, 20}, {260, -20}}, textString = "%name", textColor = {0, 0, 255}, horizontalAlignment = TextAlignment.Left)}));
   end Hinge;
 
-  partial model UpperBody "Icon of the rider's upper body: trunk, arms and head above the hip"
+  partial model UpperBodyIcon "Icon of the rider's upper body: trunk, arms and head above the hip"
     annotation(
       Icon(graphics = {
         Polygon(points = {{-27.5, -100}, {27.5, -100}, {37.5, 25}, {-37.5, 25}}, lineColor = {0, 0, 160}, fillColor = {120, 120, 220}, fillPattern = FillPattern.Solid),
@@ -170,9 +170,9 @@ package Icons "Icons of the library's packages and classes (as Modelica.Icons)"
         Line(points = {{-37.5, 18.8}, {-60, -50}, {-50, -100}}, color = {0, 0, 160}, thickness = 1),
         Line(points = {{37.5, 18.8}, {60, -50}, {50, -100}}, color = {0, 0, 160}, thickness = 1),
         Text(extent = {{-150, 110}, {150, 150}}, textString = "%name", textColor = {0, 0, 255})}));
-  end UpperBody;
+  end UpperBodyIcon;
 
-  partial model RigidBody "Icon of a rigid body: the body with its centre of mass, fixed to frame_a"
+  partial model RigidBodyIcon "Icon of a rigid body: the body with its centre of mass, fixed to frame_a"
     annotation(
       Icon(graphics = {
         Rectangle(extent = {{-100, 6}, {-40, -6}}, lineColor = {0, 0, 0}, fillColor = {0, 0, 0}, fillPattern = FillPattern.Solid),
@@ -182,9 +182,9 @@ package Icons "Icons of the library's packages and classes (as Modelica.Icons)"
         Ellipse(extent = {{4, -26}, {56, 26}}, lineColor = {0, 0, 0}, fillColor = {0, 0, 0}, fillPattern = FillPattern.Solid, pattern = LinePattern.None, startAngle = 180, endAngle = 270),
         Text(extent = {{-150, -70}, {150, -100}}, textString = "m=%m", textColor = {0, 0, 0}),
         Text(extent = {{-150, 110}, {150, 150}}, textString = "%name", textColor = {0, 0, 255})}));
-  end RigidBody;
+  end RigidBodyIcon;
 
-  partial model FixedTranslation "Icon of a rigid translation: a bar from frame_a to frame_b"
+  partial model FixedTranslationIcon "Icon of a rigid translation: a bar from frame_a to frame_b"
     annotation(
       Icon(graphics = {
         Rectangle(extent = {{-100, 6}, {100, -6}}, lineColor = {0, 0, 0}, fillColor = {0, 0, 0}, fillPattern = FillPattern.Solid),
@@ -192,7 +192,7 @@ package Icons "Icons of the library's packages and classes (as Modelica.Icons)"
         Line(points = {{-70, -30}, {52, -30}}, color = {0, 0, 0}),
         Text(extent = {{-150, -42}, {150, -82}}, textString = "r", textColor = {0, 0, 0}),
         Text(extent = {{-150, 40}, {150, 80}}, textString = "%name", textColor = {0, 0, 255})}));
-  end FixedTranslation;
+  end FixedTranslationIcon;
   annotation(
     Icon(graphics = {
       Rectangle(extent = {{-100, -100}, {100, 100}}, lineColor = {200, 200, 200}, fillColor = {248, 248, 248}, fillPattern = FillPattern.HorizontalCylinder, radius = 25),

@@ -16,7 +16,7 @@ model InvertedPendulum "Inverted-pendulum bicycle (1): steer angle in; roll angl
     annotation(Placement(transformation(extent = {{100, -10}, {120, 10}})));
   Bicycle.Interfaces.RealOutput eta(final quantity = "Length", final unit = "m") "Path deviation of the rear contact point, positive to the left"
     annotation(Placement(transformation(extent = {{100, -70}, {120, -50}})));
-  Bicycle.Components.RearFrame frame(m = m, h = h, b = b, J = J, D = D, V = V, g = g) "Rear frame with rider and wheels, eq (1)"
+  Bicycle.Components.SecondOrderRearFrame frame(m = m, h = h, b = b, J = J, D = D, V = V, g = g) "Rear frame with rider and wheels, eq (1)"
     annotation(Placement(transformation(extent = {{-70, -40}, {-30, 0}})));
   Bicycle.Components.SteerAngle handlebar(delta = delta) "Rider's steer angle"
     annotation(Placement(transformation(extent = {{30, -40}, {70, 0}})));

@@ -17,7 +17,7 @@ model RearSteered "Rear-wheel steered bicycle (18): model (1) driven backwards, 
     annotation(Placement(transformation(extent = {{100, -10}, {120, 10}})));
   Bicycle.Interfaces.RealOutput eta(final quantity = "Length", final unit = "m") "Path deviation of the front (unsteered) contact point, positive to the rider's left"
     annotation(Placement(transformation(extent = {{100, -70}, {120, -50}})));
-  Bicycle.Components.RearFrame frame(m = m, h = h, b = b, J = J, D = D, V = -V, g = g, phi(start = -phi0)) "Frame with rider and wheels, eq (1) at speed -V in the axes of model (1): roll angle -phi"
+  Bicycle.Components.SecondOrderRearFrame frame(m = m, h = h, b = b, J = J, D = D, V = -V, g = g, phi(start = -phi0)) "Frame with rider and wheels, eq (1) at speed -V in the axes of model (1): roll angle -phi"
     annotation(Placement(transformation(extent = {{-70, -40}, {-30, 0}})));
   Bicycle.Components.SteerAngle handlebar(delta = -delta) "Steer angle of model (1), -delta: counter-clockwise seen from above"
     annotation(Placement(transformation(extent = {{30, -40}, {70, 0}})));

@@ -21,7 +21,7 @@ model SelfStabilizing "Rear frame (14) with static front fork (11): self-stabili
     annotation(Placement(transformation(extent = {{100, -30}, {120, -10}})));
   Bicycle.Interfaces.RealOutput eta(final quantity = "Length", final unit = "m") "Path deviation of the rear contact point, positive to the left"
     annotation(Placement(transformation(extent = {{100, -70}, {120, -50}})));
-  Bicycle.Components.RearFrame frame(m = m, h = h, b = b, J = J, D = D, V = V, g = g) "Rear frame with rider and wheels, eq (1)"
+  Bicycle.Components.SecondOrderRearFrame frame(m = m, h = h, b = b, J = J, D = D, V = V, g = g) "Rear frame with rider and wheels, eq (1)"
     annotation(Placement(transformation(extent = {{-70, -40}, {-30, 0}})));
   Bicycle.Components.StaticFrontFork fork(m = m, a = a, b = b, c = c, lambda = lambda, V = V, g = g) "Front fork, eqs (7)-(13)"
     annotation(Placement(transformation(extent = {{30, -40}, {70, 0}})));

@@ -22,7 +22,7 @@ model SelfStabilizingGyro "Rear frame (14) with a front fork that includes the g
     annotation(Placement(transformation(extent = {{100, -30}, {120, -10}})));
   Bicycle.Interfaces.RealOutput eta(final quantity = "Length", final unit = "m") "Path deviation of the rear contact point, positive to the left"
     annotation(Placement(transformation(extent = {{100, -70}, {120, -50}})));
-  Bicycle.Components.RearFrame frame(m = m, h = h, b = b, J = J, D = D, V = V, g = g) "Rear frame with rider and wheels, eq (1)"
+  Bicycle.Components.SecondOrderRearFrame frame(m = m, h = h, b = b, J = J, D = D, V = V, g = g) "Rear frame with rider and wheels, eq (1)"
     annotation(Placement(transformation(extent = {{-70, -40}, {-30, 0}})));
   Bicycle.Components.GyroscopicFrontFork fork(m = m, a = a, b = b, c = c, lambda = lambda, V = V, g = g, k3 = k3) "Front fork with gyroscopic effects"
     annotation(Placement(transformation(extent = {{30, -40}, {70, 0}})));

@@ -1,39 +1,16 @@
 within Bicycle.Bicycles;
 model WhippleLinear "Linearized Whipple bicycle, eq (24): M q'' + v C1 q' + (g K0 + v^2 K2) q = [T_phi, T_delta] (Meijaard et al. 2007)"
   extends Bicycle.Icons.Bike;
+  extends Bicycle.Bicycles.PartialWhippleParameters(
+    w = Data.w, c = Data.c, lam = Data.lam, g = Data.g,
+    rR = Data.rR, mR = Data.mR, IRxx = Data.IRxx, IRyy = Data.IRyy,
+    xB = Data.xB, zB = Data.zB, mB = Data.mB,
+    IBxx = Data.IBxx, IBxz = Data.IBxz, IByy = Data.IByy, IBzz = Data.IBzz,
+    xH = Data.xH, zH = Data.zH, mH = Data.mH,
+    IHxx = Data.IHxx, IHxz = Data.IHxz, IHyy = Data.IHyy, IHzz = Data.IHzz,
+    rF = Data.rF, mF = Data.mF, IFxx = Data.IFxx, IFyy = Data.IFyy);
   replaceable package Data = Bicycle.Records.Benchmark constrainedby Bicycle.Records.PartialWhipple "Parameter set giving the defaults (Meijaard's Table 1 symbols)";
-  // Geometry and gravity (Meijaard et al. 2007, Table 1)
-  parameter Bicycle.Units.Length w(min = 1e-6) = Data.w "Wheelbase w";
-  parameter Bicycle.Units.Length c = Data.c "Trail c (positive: front contact point behind the steer axis)";
-  parameter Bicycle.Units.Angle lam(min = -1.5707963267948966, max = 1.5707963267948966) = Data.lam "Steer-axis tilt lam from the vertical (pi/2 - head angle), in (-pi/2, pi/2)";
-  parameter Bicycle.Units.Acceleration g(min = 0) = Data.g "Gravitational acceleration g";
-  // Rear wheel R
-  parameter Bicycle.Units.Length rR(min = 1e-6) = Data.rR "Rear wheel radius rR";
-  parameter Bicycle.Units.Mass mR(min = 0) = Data.mR "Rear wheel mass mR";
-  parameter Bicycle.Units.MomentOfInertia IRxx(min = 0) = Data.IRxx "Rear wheel diametral inertia IRxx = IRzz";
-  parameter Bicycle.Units.MomentOfInertia IRyy(min = 0) = Data.IRyy "Rear wheel spin inertia IRyy";
-  // Rear frame B with rider
-  parameter Bicycle.Units.Position xB = Data.xB "Rear frame centre of mass: x coordinate xB (forward)";
-  parameter Bicycle.Units.Position zB(max = 0) = Data.zB "Rear frame centre of mass: z coordinate zB (down; negative above the ground)";
-  parameter Bicycle.Units.Mass mB(min = 0) = Data.mB "Rear frame (with rider) mass mB";
-  parameter Bicycle.Units.MomentOfInertia IBxx(min = 0) = Data.IBxx "Rear frame inertia-tensor element IBxx about its centre of mass";
-  parameter Bicycle.Units.MomentOfInertia IBxz = Data.IBxz "Rear frame inertia-tensor element IBxz about its centre of mass";
-  parameter Bicycle.Units.MomentOfInertia IByy(min = 0) = Data.IByy "Rear frame inertia-tensor element IByy about its centre of mass (does not enter the linear model)";
-  parameter Bicycle.Units.MomentOfInertia IBzz(min = 0) = Data.IBzz "Rear frame inertia-tensor element IBzz about its centre of mass";
-  // Front frame H (fork and handlebar)
-  parameter Bicycle.Units.Position xH = Data.xH "Front frame centre of mass: x coordinate xH (forward)";
-  parameter Bicycle.Units.Position zH(max = 0) = Data.zH "Front frame centre of mass: z coordinate zH (down; negative above the ground)";
-  parameter Bicycle.Units.Mass mH(min = 0) = Data.mH "Front frame mass mH";
-  parameter Bicycle.Units.MomentOfInertia IHxx(min = 0) = Data.IHxx "Front frame inertia-tensor element IHxx about its centre of mass";
-  parameter Bicycle.Units.MomentOfInertia IHxz = Data.IHxz "Front frame inertia-tensor element IHxz about its centre of mass";
-  parameter Bicycle.Units.MomentOfInertia IHyy(min = 0) = Data.IHyy "Front frame inertia-tensor element IHyy about its centre of mass (does not enter the linear model)";
-  parameter Bicycle.Units.MomentOfInertia IHzz(min = 0) = Data.IHzz "Front frame inertia-tensor element IHzz about its centre of mass";
-  // Front wheel F
-  parameter Bicycle.Units.Length rF(min = 1e-6) = Data.rF "Front wheel radius rF";
-  parameter Bicycle.Units.Mass mF(min = 0) = Data.mF "Front wheel mass mF";
-  parameter Bicycle.Units.MomentOfInertia IFxx(min = 0) = Data.IFxx "Front wheel diametral inertia IFxx = IFzz";
-  parameter Bicycle.Units.MomentOfInertia IFyy(min = 0) = Data.IFyy "Front wheel spin inertia IFyy";
-  // Operating point and initial state
+  // Operating point and initial state (the 26 parameters of Meijaard's Table 1 are inherited)
   parameter Bicycle.Units.Velocity v = 5 "Forward speed v of the rear contact point (negative: riding backwards, i.e. a rear-steered bicycle)";
   parameter Bicycle.Units.Angle phi0 = 0 "Initial roll angle";
   parameter Bicycle.Units.Angle delta0 = 0 "Initial steer angle";
@@ -42,9 +19,9 @@ model WhippleLinear "Linearized Whipple bicycle, eq (24): M q'' + v C1 q' + (g K
 
   Bicycle.Linear.RearWheel rearWheel(w = w, c = c, lam = lam, g = g, v = v, r = rR, m = mR, Ixx = IRxx, Iyy = IRyy) "Rear wheel R"
     annotation(Placement(transformation(extent = {{-150, -20}, {-90, 40}})));
-  Bicycle.Linear.RearFrame rearFrame(w = w, c = c, lam = lam, g = g, v = v, m = mB, x = xB, z = zB, Ixx = IBxx, Ixz = IBxz, Iyy = IByy, Izz = IBzz) "Rear frame B with rider"
+  Bicycle.Linear.LinearizedRearFrame rearFrame(w = w, c = c, lam = lam, g = g, v = v, m = mB, x = xB, z = zB, Ixx = IBxx, Ixz = IBxz, Iyy = IByy, Izz = IBzz) "Rear frame B with rider"
     annotation(Placement(transformation(extent = {{-70, 50}, {-30, 90}})));
-  Bicycle.Linear.FrontFrame frontFrame(w = w, c = c, lam = lam, g = g, v = v, m = mH, x = xH, z = zH, Ixx = IHxx, Ixz = IHxz, Iyy = IHyy, Izz = IHzz) "Front frame H (fork and handlebar)"
+  Bicycle.Linear.LinearizedFrontFrame frontFrame(w = w, c = c, lam = lam, g = g, v = v, m = mH, x = xH, z = zH, Ixx = IHxx, Ixz = IHxz, Iyy = IHyy, Izz = IHzz) "Front frame H (fork and handlebar)"
     annotation(Placement(transformation(extent = {{30, 50}, {70, 90}})));
   Bicycle.Linear.FrontWheel frontWheel(w = w, c = c, lam = lam, g = g, v = v, r = rF, m = mF, Ixx = IFxx, Iyy = IFyy) "Front wheel F"
     annotation(Placement(transformation(extent = {{90, -20}, {150, 40}})));
@@ -123,7 +100,9 @@ each component delivers the generalized force that balances its part of eq (24),
 M_i q'' included, and the flow sum of the connection set is eq (24), which the accelerations
 shared by the set satisfy. The calculated
 parameters M11 ... K2_22 are the same sums, for inspection. The top-level parameters carry the
-names of Meijaard's Table 1; their defaults come from the replaceable package <code>Data</code>
+names of Meijaard's Table 1 (declared in <a href=\"modelica://Bicycle.Bicycles.PartialWhippleParameters\">PartialWhippleParameters</a>;
+the rear frame B includes the rider, and the inertias IByy and IHyy do not enter the linear
+model); their defaults come from the replaceable package <code>Data</code>
 (the benchmark bicycle, <a href=\"modelica://Bicycle.Records.Benchmark\">Bicycle.Records.Benchmark</a>,
 generated from <code>cosim/params/benchmark.toml</code>), for which M, C1, K0, K2 equal the
 published 14-digit values and the bicycle is self-stable for 4.292 m/s &lt; v &lt; 6.024 m/s.

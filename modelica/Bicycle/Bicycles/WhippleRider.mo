@@ -1,34 +1,16 @@
 within Bicycle.Bicycles;
 model WhippleRider "Nonlinear Whipple bicycle with a leaning rider: the upper body on a hip hinge of the rear frame (Meijaard et al. 2007 bicycle, Astrom et al. 2005 rider lean)"
   extends Bicycle.Icons.BikeRider;
+  extends Bicycle.Bicycles.PartialWhippleParameters(
+    w = Data.w, c = Data.c, lam = Data.lam, g = Data.g,
+    rR = Data.rR, mR = Data.mR, IRxx = Data.IRxx, IRyy = Data.IRyy,
+    xB = Data.xB, zB = Data.zB, mB = Data.mB,
+    IBxx = Data.IBxx, IBxz = Data.IBxz, IByy = Data.IByy, IBzz = Data.IBzz,
+    xH = Data.xH, zH = Data.zH, mH = Data.mH,
+    IHxx = Data.IHxx, IHxz = Data.IHxz, IHyy = Data.IHyy, IHzz = Data.IHzz,
+    rF = Data.rF, mF = Data.mF, IFxx = Data.IFxx, IFyy = Data.IFyy);
+  replaceable package Data = Bicycle.Records.BenchmarkRider constrainedby Bicycle.Records.PartialWhippleRider "Parameter set (the values of the parameters bound in the extends clause)";
   constant Integer n = 7 "Number of generalized speeds: 1 to 3 dependent (yaw, pitch, front wheel), 4 roll, 5 steer, 6 rear wheel, 7 lean";
-  replaceable package Data = Bicycle.Records.BenchmarkRider constrainedby Bicycle.Records.PartialWhippleRider "Parameter set (defaults of the parameters below)";
-  parameter Bicycle.Units.Length w(min = 1e-6) = Data.w "Wheelbase w";
-  parameter Bicycle.Units.Length c = Data.c "Trail c (positive: front contact point behind the steer axis)";
-  parameter Bicycle.Units.Angle lam(min = -1.5707963267948966, max = 1.5707963267948966) = Data.lam "Steer-axis tilt lam from the vertical (pi/2 - head angle)";
-  parameter Bicycle.Units.Acceleration g(min = 0) = Data.g "Gravitational acceleration g";
-  parameter Bicycle.Units.Length rR(min = 1e-6) = Data.rR "Rear wheel radius rR (centre height of the upright wheel)";
-  parameter Bicycle.Units.Mass mR(min = 0) = Data.mR "Rear wheel mass mR";
-  parameter Bicycle.Units.MomentOfInertia IRxx(min = 0) = Data.IRxx "Rear wheel diametral inertia IRxx = IRzz";
-  parameter Bicycle.Units.MomentOfInertia IRyy(min = 0) = Data.IRyy "Rear wheel spin inertia IRyy";
-  parameter Bicycle.Units.Position xB = Data.xB "Rear frame centre of mass: x coordinate xB (forward)";
-  parameter Bicycle.Units.Position zB(max = 0) = Data.zB "Rear frame centre of mass: z coordinate zB (down; negative above the ground)";
-  parameter Bicycle.Units.Mass mB(min = 0) = Data.mB "Rear frame mass mB";
-  parameter Bicycle.Units.MomentOfInertia IBxx(min = 0) = Data.IBxx "Rear frame inertia-tensor element IBxx about its centre of mass";
-  parameter Bicycle.Units.MomentOfInertia IBxz = Data.IBxz "Rear frame inertia-tensor element IBxz about its centre of mass";
-  parameter Bicycle.Units.MomentOfInertia IByy(min = 0) = Data.IByy "Rear frame inertia-tensor element IByy about its centre of mass";
-  parameter Bicycle.Units.MomentOfInertia IBzz(min = 0) = Data.IBzz "Rear frame inertia-tensor element IBzz about its centre of mass";
-  parameter Bicycle.Units.Position xH = Data.xH "Front frame centre of mass: x coordinate xH (forward)";
-  parameter Bicycle.Units.Position zH(max = 0) = Data.zH "Front frame centre of mass: z coordinate zH (down; negative above the ground)";
-  parameter Bicycle.Units.Mass mH(min = 0) = Data.mH "Front frame mass mH";
-  parameter Bicycle.Units.MomentOfInertia IHxx(min = 0) = Data.IHxx "Front frame inertia-tensor element IHxx about its centre of mass";
-  parameter Bicycle.Units.MomentOfInertia IHxz = Data.IHxz "Front frame inertia-tensor element IHxz about its centre of mass";
-  parameter Bicycle.Units.MomentOfInertia IHyy(min = 0) = Data.IHyy "Front frame inertia-tensor element IHyy about its centre of mass";
-  parameter Bicycle.Units.MomentOfInertia IHzz(min = 0) = Data.IHzz "Front frame inertia-tensor element IHzz about its centre of mass";
-  parameter Bicycle.Units.Length rF(min = 1e-6) = Data.rF "Front wheel radius rF (centre height of the upright wheel)";
-  parameter Bicycle.Units.Mass mF(min = 0) = Data.mF "Front wheel mass mF";
-  parameter Bicycle.Units.MomentOfInertia IFxx(min = 0) = Data.IFxx "Front wheel diametral inertia IFxx = IFzz";
-  parameter Bicycle.Units.MomentOfInertia IFyy(min = 0) = Data.IFyy "Front wheel spin inertia IFyy";
   parameter Bicycle.Units.Length tR(min = 0) = 0 "Rear tyre crown radius tR (toroidal wheel; 0: knife edge)";
   parameter Bicycle.Units.Position x0 = 0 "Initial x coordinate of the rear contact point";
   parameter Bicycle.Units.Position y0 = 0 "Initial y coordinate of the rear contact point (right)";

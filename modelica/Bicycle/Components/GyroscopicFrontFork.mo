@@ -1,6 +1,6 @@
 within Bicycle.Components;
 model GyroscopicFrontFork "Front fork with the gyroscopic derivative term: delta = k1*T - k2*phi - k3*der(phi)"
-  extends Bicycle.Icons.FrontFrame;
+  extends Bicycle.Icons.FrontFrameIcon;
   parameter Bicycle.Units.Mass m(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.m "Total mass m of bicycle and rider";
   parameter Bicycle.Units.Length a(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.a "Horizontal distance a from the rear contact point P1 to the centre of mass";
   parameter Bicycle.Units.Length b(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.b "Wheel base b";

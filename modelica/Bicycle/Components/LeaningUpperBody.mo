@@ -1,6 +1,6 @@
 within Bicycle.Components;
 model LeaningUpperBody "Upper body of the rider, leaning relative to the rear frame by a prescribed angle, eq (22)"
-  extends Bicycle.Icons.UpperBody;
+  extends Bicycle.Icons.UpperBodyIcon;
   parameter Bicycle.Units.Mass m_r(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.m_r "Mass m_r of the upper body";
   parameter Bicycle.Units.MomentOfInertia J_r(min = 1e-9) = Bicycle.Records.Astrom2005SecondOrder.J_r "Moment of inertia J_r of the upper body with respect to the x axis (coefficient of der(theta,2) in (22))";
   parameter Bicycle.Units.Length h_r(min = 0) = Bicycle.Records.Astrom2005SecondOrder.h_r "Distance h_r from the centre of mass of the upper body to its lean axis";

@@ -1,6 +1,6 @@
 within Bicycle.Components;
 partial model PartialRearFrame "Roll angular momentum balance of the rear frame with rider, eq (1) in momentum form (kinematics left to the extending model)"
-  extends Bicycle.Icons.RearFrame;
+  extends Bicycle.Icons.RearFrameIcon;
   parameter Bicycle.Units.Mass m(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.m "Total mass m of bicycle and rider";
   parameter Bicycle.Units.Length h(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.h "Height h of the centre of mass above the ground";
   parameter Bicycle.Units.Length b(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.b "Wheel base b";

@@ -8,8 +8,8 @@ Astrom, Klein and Lennartsson (2005),</p>
 <p>assembled from components. For a fixed geometry (wheelbase w, trail c, steer-axis tilt lam)
 M, C1, K0 and K2 are linear in the bodies' masses, first moments and inertias: each body
 (<a href=\"modelica://Bicycle.Linear.RearWheel\">RearWheel</a>,
-<a href=\"modelica://Bicycle.Linear.RearFrame\">RearFrame</a>,
-<a href=\"modelica://Bicycle.Linear.FrontFrame\">FrontFrame</a>,
+<a href=\"modelica://Bicycle.Linear.LinearizedRearFrame\">LinearizedRearFrame</a>,
+<a href=\"modelica://Bicycle.Linear.LinearizedFrontFrame\">LinearizedFrontFrame</a>,
 <a href=\"modelica://Bicycle.Linear.FrontWheel\">FrontWheel</a>) carries its own mass properties
 and computes its part of the four matrices from Meijaard's Appendix A. Through its
 <a href=\"modelica://Bicycle.Linear.RollSteer_a\">RollSteer_a</a> connector it receives the roll

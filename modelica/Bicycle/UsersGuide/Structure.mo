@@ -6,7 +6,8 @@ class Structure "The packages and how the components connect"
 <table border=\"1\" cellpadding=\"3\">
 <tr><td><code>Bicycles</code></td><td>the paper's bicycles, exported as FMUs: the second-order models
 (eqs (1)-(27)), the linear Whipple model (24) and the nonlinear Whipple bicycle (26) with and without
-the leaning rider</td></tr>
+the leaning rider; the three Whipple models extend <code>PartialWhippleParameters</code>, the 26
+parameters of Meijaard's Table 1</td></tr>
 <tr><td><code>Mechanics</code></td><td>multibody components in generalized coordinates (Kane's
 method as components): the frame and contact connectors, rigid bodies, joints that own their
 coordinates, the rear frame, steer axis and front frame, the rider's upper body on a hip hinge, and

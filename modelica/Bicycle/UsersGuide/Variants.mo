@@ -8,7 +8,7 @@ of your own, in a folder of your own (called <code>variants</code> here), e.g. a
 <pre>
 package Mine \"My bicycles\"
   model WhippleRollerRear \"benchmark bicycle on a crowned rear roller of lateral radius 0.4 m\"
-    extends Bicycle.Bicycles.Whipple(redeclare Bicycle.Wheels.CrownedRoller rearWheel(R = 0.4));
+    extends Bicycle.Bicycles.Whipple(redeclare Bicycle.Wheels.Roller rearWheel(R = 0.4));
     annotation(__Cosim(export = true));
   end WhippleRollerRear;
 

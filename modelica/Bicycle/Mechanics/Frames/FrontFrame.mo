@@ -1,6 +1,6 @@
 within Bicycle.Mechanics.Frames;
 model FrontFrame "Front frame (fork and handlebar): body and front axle"
-  extends Bicycle.Icons.FrontFrame;
+  extends Bicycle.Icons.FrontFrameIcon;
   constant Integer n = 6 "Number of generalized speeds";
   parameter Bicycle.Units.Length w "Wheelbase w";
   parameter Bicycle.Units.Length c "Trail c";

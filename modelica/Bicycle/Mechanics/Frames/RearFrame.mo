@@ -1,6 +1,6 @@
 within Bicycle.Mechanics.Frames;
 model RearFrame "Rear frame (rider rigidly attached): body, rear axle, steer-head location"
-  extends Bicycle.Icons.RearFrame;
+  extends Bicycle.Icons.RearFrameIcon;
   constant Integer n = 6 "Number of generalized speeds";
   parameter Bicycle.Units.Length w "Wheelbase w";
   parameter Bicycle.Units.Length c "Trail c";

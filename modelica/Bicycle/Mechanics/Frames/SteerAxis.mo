@@ -1,6 +1,6 @@
 within Bicycle.Mechanics.Frames;
 model SteerAxis "Steer axis: revolute joint tilted back by lam from the frame's z axis, driven by the steer torque"
-  extends Bicycle.Icons.SteerAxis;
+  extends Bicycle.Icons.SteerAxisIcon;
   extends Bicycle.Mechanics.Joints.ActuatedRevolute(final nx = sin(lam), final ny = 0, final nz = cos(lam)) annotation(IconMap(primitivesVisible = false));
   parameter Bicycle.Units.Angle lam "Steer-axis tilt lam from the vertical (pi/2 - head angle)";
   annotation(Documentation(info = "<html><p>The steer axis has the direction <code>(sin lam, 0, cos lam)</code>

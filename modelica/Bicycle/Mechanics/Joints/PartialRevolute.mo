@@ -1,6 +1,6 @@
 within Bicycle.Mechanics.Joints;
 partial model PartialRevolute "Revolute joint that owns its coordinate: frame_b turns relative to frame_a about a body-fixed axis; the angle and its rate are states of the joint"
-  extends Bicycle.Icons.Revolute;
+  extends Bicycle.Icons.RevoluteIcon;
   constant Integer n = 6 "Number of generalized speeds of the system";
   constant Integer k = 1 "Column of the joint's speed among the generalized speeds";
   parameter Real nx(final unit = "1") = 0 "Axis (unit vector): x component in frame_a axes";

@@ -1,6 +1,6 @@
 within Bicycle.Mechanics.Parts;
 model FixedTranslation "Rigid translation from frame_a to frame_b (same orientation)"
-  extends Bicycle.Icons.FixedTranslation;
+  extends Bicycle.Icons.FixedTranslationIcon;
   constant Integer n = 6 "Number of generalized speeds";
   parameter Bicycle.Units.Position rx = 0 "Vector from frame_a to frame_b: x component in frame_a axes";
   parameter Bicycle.Units.Position ry = 0 "Vector from frame_a to frame_b: y component in frame_a axes";

@@ -1,6 +1,6 @@
 within Bicycle.Mechanics.Parts;
 model RigidBody "Rigid body fixed to frame_a: mass, centre of mass, inertia tensor; gravity along the ground z axis"
-  extends Bicycle.Icons.RigidBody;
+  extends Bicycle.Icons.RigidBodyIcon;
   constant Integer n = 6 "Number of generalized speeds";
   parameter Bicycle.Units.Mass m "Mass";
   parameter Bicycle.Units.Position rx = 0 "Centre of mass: x coordinate in frame_a axes";

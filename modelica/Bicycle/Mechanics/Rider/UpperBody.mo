@@ -1,6 +1,6 @@
 within Bicycle.Mechanics.Rider;
 model UpperBody "Rider's upper body: rigid body whose centre of mass lies the distance l above the hip hinge axis"
-  extends Bicycle.Icons.UpperBody;
+  extends Bicycle.Icons.UpperBodyIcon;
   constant Integer n = 7 "Number of generalized speeds of the system";
   parameter Bicycle.Units.Mass m "Mass of the upper body";
   parameter Bicycle.Units.Length l "Height of the centre of mass above the hinge axis (along -z of frame_a)";

@@ -1,5 +1,5 @@
 within Bicycle.Wheels;
-model CrownedRoller "Crowned roller with rocking radius R (Astrom, Klein, Lennartsson 2005, eq (27) and Figure 21)"
+model Roller "Crowned roller with rocking radius R (Astrom, Klein, Lennartsson 2005, eq (27) and Figure 21)"
   extends Bicycle.Wheels.PartialWheel;
   parameter Bicycle.Units.Length R(min = 1e-6) = 0.4 "Rocking radius: radius of the lateral curvature of the roller";
 equation
@@ -27,4 +27,4 @@ formula as <code>Torus</code>, but the rocking radius is not bounded by the roll
 torus' crown radius is, <code>t &le; r</code>) and it is a parameter of the roller's shape rather
 than of a tyre. Its width is taken to be large enough for the contact to stay on the arc.</p>
 </html>"));
-end CrownedRoller;
+end Roller;

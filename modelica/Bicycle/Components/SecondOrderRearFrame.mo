@@ -1,5 +1,5 @@
 within Bicycle.Components;
-model RearFrame "Rear frame with rigidly attached rider and wheels: roll momentum balance, eq (1) in momentum form"
+model SecondOrderRearFrame "Rear frame with rigidly attached rider and wheels: roll momentum balance, eq (1) in momentum form"
   extends Bicycle.Components.PartialRearFrame(phi(start = 0, fixed = true));
   Bicycle.Interfaces.RollRateOutput rollRate "Roll rate der(phi), e.g. for the gyroscopic term of the front fork"
     annotation(Placement(transformation(extent = {{100, -50}, {120, -30}})));
@@ -15,4 +15,4 @@ effective steer angle is algebraic with a static front fork, and an input with a
 angle; neither is ever differentiated). Connected to a <code>SteerAngle</code> source it is the
 inverted-pendulum model (1); with the <code>StaticFrontFork</code> it is (14) + (11).</p>
 </html>"));
-end RearFrame;
+end SecondOrderRearFrame;
