@@ -210,6 +210,10 @@ def read_fmu(path: str | os.PathLike, versions: tuple[str, ...] = SUPPORTED_FMI_
             check_fmi_version(path, root.get("fmiVersion"), versions)
             md, problems = _read_description(path)
             if md.modelExchange is None and md.coSimulation is None:
+                if getattr(md, "scheduledExecution", None) is not None:
+                    raise FMUError(f"{path}: {md.modelName} is an FMI 3 Scheduled Execution FMU (clocked model "
+                                   "partitions), which is not supported: cosim runs Model Exchange and "
+                                   "Co-Simulation FMUs")
                 raise FMUError(f"{path}: {MODEL_DESCRIPTION} declares neither ModelExchange nor CoSimulation")
             if md.fmiVersion.startswith("3."):
                 _fmi3_capabilities(md, root)
@@ -507,8 +511,10 @@ class FMU:
         self.close()
 
     def names(self, causality: str) -> list[str]:
-        """Variable names of one causality (input, output, parameter, calculatedParameter, local)."""
-        return [v.name for v in self.description.modelVariables if v.causality == causality]
+        """Variable names of one causality (input, output, parameter, calculatedParameter, local);
+        not the FMI 3 aliases (other names of the same variables)."""
+        return [v.name for v in self.description.modelVariables
+                if v.causality == causality and getattr(v, "alias", None) is None]
 
     @property
     def states(self) -> list[str]:

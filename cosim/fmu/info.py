@@ -81,6 +81,8 @@ def fmu_info(path) -> dict:
     experiment = md.defaultExperiment
     groups: dict[str, list] = {}
     for v in md.modelVariables:
+        if getattr(v, "alias", None) is not None:  # an FMI 3 <Alias>: another name of a variable listed
+            continue
         groups.setdefault(v.causality, []).append({
             "name": v.name, "type": v.type, "unit": getattr(v, "unit", None), "start": v.start,
             "description": v.description or "", "valueReference": v.valueReference,
