@@ -180,7 +180,8 @@ def test_linearize_speed_sweep_of_an_fmi3_fmu(speed_vanderpol, tmp_path):
 def wrong_adjoint(tmp_path_factory) -> Path:
     """A VanDerPol whose fmi3GetAdjointDerivative scales every partial derivative by 1.5 (the
     directional derivatives stay right), with mu named V for the sweep."""
-    call = "CALL(getPartialDerivative(S, (ValueReference)unknowns[j], (ValueReference)knowns[i], &partialDerivative));"
+    call = ("CALL(getPartialDerivative(S, (ValueReference)unknowns[j], (ValueReference)knowns[i], "
+            "&partialDerivative));")
     return reference_fmu("VanDerPol", tmp_path_factory.mktemp("wrong-adjoint"), fmu_name="WrongAdjoint",
                          edits={"fmi3Functions.c": [(call, call + " partialDerivative *= 1.5;")],
                                 "modelDescription.xml": [('name="mu"', 'name="V"')]})

@@ -109,11 +109,11 @@ def finite_number(text: str, where: str) -> float:
     return value
 
 
-INTEGER_TYPES = {"Integer": np.int64, "Enumeration": np.int64, "Int8": np.int8, "UInt8": np.uint8,
+INTEGER_TYPES = {"Integer": np.int32, "Enumeration": np.int64, "Int8": np.int8, "UInt8": np.uint8,
                  "Int16": np.int16, "UInt16": np.uint16, "Int32": np.int32, "UInt32": np.uint32,
                  "Int64": np.int64, "UInt64": np.uint64}
-"""FMI 2 and FMI 3 integer variable types and the NumPy type of their values (FMI 2's Integer and
-Enumeration are 32-bit in the C API, FMI 3's Enumeration is an Int64)."""
+"""FMI 2 and FMI 3 integer variable types and the NumPy type of their values (FMI 2's Integer is a
+32-bit fmi2Integer; an Enumeration is set as fmi3Int64 in FMI 3, as fmi2Integer in FMI 2)."""
 
 
 def whole_number(text: str, where: str, kind=np.int64) -> int:
@@ -416,8 +416,8 @@ def input_signals(fmu: Path, specs: list[str], start_time: float, stop_time: flo
         else:
             path = check_input_file(source, InputDataError, f"--input {name}: '{source}'")
             signals[name] = read_input(path, name, parser)
-    discrete = {name for name in signals
-                if variables[name].type not in ("Real", "Float32", "Float64") or variables[name].variability == "discrete"}
+    discrete = {name for name in signals if variables[name].type not in ("Real", "Float32", "Float64")
+                or variables[name].variability == "discrete"}
     return merge_signals(signals, start_time, discrete)
 
 
@@ -714,7 +714,7 @@ class _Run:
             # fmi2Terminated): FMPy returns what it has. Without an error message or a physical
             # cause that is the model's own end (see simulate); with one it is a failure.
             said = log.last_error()
-            cause = _cause(md, result)
+            cause = _cause(md, result, fmu)
             if not said and not cause:
                 return result
             text = f"{cause} (solver: {_first_clause(said)})" if cause and said else \
@@ -923,7 +923,7 @@ def _failure(fmu: Path, md, exc: Exception, log, rows, t1: float) -> SimulationE
     text, when = _solver_message(exc, log)
     if rows is None or len(rows) == 0:
         return SimulationError(f"{fmu}: simulation failed before the first step: {text}")
-    cause = _cause(md, rows)
+    cause = _cause(md, rows, fmu)
     when = when if when is not None else float(rows["time"][-1])
     message = f"{fmu}: the solver failed at t = {when:.6g} s of {t1:g} s"
     message += f": {cause} (solver: {_first_clause(text)})" if cause else f": {text}"
@@ -948,10 +948,12 @@ def model_singularities(model_name: str):
         return ()
 
 
-def _cause(md, rows) -> str | None:
-    """:func:`physical_cause` of a failed run of the FMU described by ``md``, with the singular
-    configurations its model declares."""
-    return physical_cause(_last_values(rows), model_singularities(md.modelName))
+def _cause(md, rows, fmu: Path) -> str | None:
+    """:func:`physical_cause` of a failed run of the FMU ``fmu`` described by ``md``, with the
+    singular configurations its model declares; none for an FMU from elsewhere, whose model name
+    says nothing about this library's models (and needs no reading of the library)."""
+    singular = model_singularities(md.modelName) if built_here(fmu) else ()
+    return physical_cause(_last_values(rows), singular)
 
 
 def _last_values(rows) -> dict[str, float]:
