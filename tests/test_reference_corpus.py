@@ -5,7 +5,8 @@ Each FMU (tests/reference_fmus.py, built once per session) goes through ``cosim 
 the FMU ships (``extra/org.fmi-standard.fmi-ls-ref/NAME_out.csv``) by FMPy's cross-check measure
 ``fmpy.util.validate_result`` (the fraction of result samples outside a band around the reference),
 and ``linearize`` where the model has continuous states (against the Jacobian of its model.c).
-The Scheduled Execution model ``Clocks`` is refused with one line.
+The Scheduled Execution model ``Clocks`` is described by ``info`` and refused by the others with one
+line.
 
 Two reference results are not results of their model, and these models are compared with FMPy's own
 ``simulate_fmu`` on the same FMU instead: ``Roberts/Roberts_out.csv`` is a copy of BouncingBall's
@@ -36,7 +37,7 @@ OUTLIERS = 0.0
 #: Jacobian of linearize (central differences, or the FMU's directional derivatives) against model.c.
 JACOBIAN_TOLERANCE = 1e-8
 #: Roberts (stiff; no reference of its own) is compared with FMPy over this interval and output step [s].
-ROBERTS_STOP, ROBERTS_STEP = 40.0, 0.4
+ROBERTS_STOP, ROBERTS_STEP = 4.0, 0.04
 
 MODELS = [(3, m) for m in ALL_MODELS_FMI3 if m not in SCHEDULED_MODELS] + [(2, m) for m in ALL_MODELS_FMI2]
 #: Whose shipped reference result is not a result of the model (see the module docstring).
@@ -326,3 +327,13 @@ def test_scheduled_execution_is_refused_in_one_line(corpus, tmp_path, verb):
     assert lines[0].startswith(f"cosim {argv[0]}: error: ")
     assert "Clocks is an FMI 3 Scheduled Execution FMU" in lines[0] and "not supported" in lines[0], lines[0]
     assert list(tmp_path.iterdir()) == []
+
+
+def test_scheduled_execution_is_described(corpus, tmp_path):
+    """`cosim info` describes Clocks: its one interface and its clocks."""
+    status, out, err = cosim("info", corpus["fmi3-Clocks"], "--json", cwd=tmp_path)
+    assert status == 0, err
+    info = json.loads(out)
+    assert info["interfaces"] == ["ScheduledExecution"]
+    assert {v["name"] for v in info["variables"]["input"] if v["type"] == "Clock"} == {"inClock1", "inClock2",
+                                                                                        "inClock3"}
