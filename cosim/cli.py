@@ -416,7 +416,8 @@ def _cmd_simulate(args) -> int:
     md = read_fmu(fmu, ALL_FMI_VERSIONS)
     t0, t1 = check_run(md, args.stop_time, args.step, args.fmi_type, parameters=params)
     inputs = input_signals(fmu, args.input, t0, t1)
-    outputs = [v.name for v in md.modelVariables if v.causality == "output"]
+    # an FMI 3 <Alias> (another name, maybe another display unit, of the same value) is no column of its own
+    outputs = [v.name for v in md.modelVariables if v.causality == "output" and getattr(v, "alias", None) is None]
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", SimulationTerminated)

@@ -21,7 +21,7 @@ from lxml import etree
 
 from conftest import cli_in_process, run_cli
 from cosim.fmu.simulate import default_step
-from reference_fmus import REFERENCE_MODELS, SOURCES, reference_fmu
+from reference_fmus import REFERENCE_MODELS, model_description, reference_fmu
 
 # the quick run (-m 'not slow') leaves this module out: it builds FMI 3 FMUs and the Reference FMUs
 pytestmark = pytest.mark.slow
@@ -54,8 +54,14 @@ def read_csv(path: Path) -> np.ndarray:
 
 def outputs_of(name: str) -> list[str]:
     """The output names of a vendored Reference FMU, read from its modelDescription.xml here."""
-    root = etree.parse(str(SOURCES / name / "modelDescription.xml")).getroot()
+    root = etree.parse(str(model_description(name))).getroot()
     return [v.get("name") for v in root.find("ModelVariables") if v.get("causality") == "output"]
+
+
+def strings_of(name: str) -> set[str]:
+    """The names of the String variables of a vendored Reference FMU."""
+    root = etree.parse(str(model_description(name))).getroot()
+    return {v.get("name") for v in root.find("ModelVariables") if v.tag == "String"}
 
 
 # --------------------------------------------------------------------------- simulate
@@ -98,11 +104,13 @@ def test_simulate_equals_fmpy(reference, tmp_path, case):
                           stop_time=stop, start_values={k: float(v) for k, v in (p.split("=") for p in params)},
                           input=signals, output=outputs_of(name),
                           output_interval=default_step(read_model_description(str(fmu)))[0])
-    # every output FMPy records (not Binary ones), in FMPy's order (its recorder groups them by type)
-    assert ours.dtype.names == theirs.dtype.names
+    # every output FMPy records, in FMPy's order (its recorder groups them by type), then the String
+    # outputs, which FMPy does not record (not Binary ones)
+    strings = tuple(v for v in outputs_of(name) if v in strings_of(name))
+    assert ours.dtype.names == theirs.dtype.names + strings
     assert set(ours.dtype.names) == {"time", *outputs_of(name)} - {"Binary_output"}
     assert len(ours) == len(theirs) > 10
-    for column in ours.dtype.names:
+    for column in theirs.dtype.names:
         np.testing.assert_allclose(ours[column], theirs[column].astype(float), rtol=0, atol=SIMULATE_TOLERANCE,
                                    err_msg=f"{name} {kind}: {column}")
     if params:  # the parameter took effect: the result differs from the default run
@@ -175,7 +183,8 @@ def test_linearize_speed_sweep_of_an_fmi3_fmu(speed_vanderpol, tmp_path):
 def wrong_adjoint(tmp_path_factory) -> Path:
     """A VanDerPol whose fmi3GetAdjointDerivative scales every partial derivative by 1.5 (the
     directional derivatives stay right), with mu named V for the sweep."""
-    call = "getPartialDerivative(S, (ValueReference)unknowns[j], (ValueReference)knowns[i], &partialDerivative);"
+    call = ("CALL(getPartialDerivative(S, (ValueReference)unknowns[j], (ValueReference)knowns[i], "
+            "&partialDerivative));")
     return reference_fmu("VanDerPol", tmp_path_factory.mktemp("wrong-adjoint"), fmu_name="WrongAdjoint",
                          edits={"fmi3Functions.c": [(call, call + " partialDerivative *= 1.5;")],
                                 "modelDescription.xml": [('name="mu"', 'name="V"')]})
@@ -201,7 +210,7 @@ def test_directional_and_adjoint_derivatives_that_disagree_are_refused(wrong_adj
 
 @pytest.mark.parametrize("name", REFERENCE_MODELS)
 def test_info_shows_the_fmi3_specifics(reference, tmp_path, name):
-    root = etree.parse(str(SOURCES / name / "modelDescription.xml")).getroot()
+    root = etree.parse(str(model_description(name))).getroot()
     status, out, err = cosim("info", str(reference[name]), "--json", cwd=tmp_path)
     assert status == 0, err
     info = json.loads(out)
@@ -319,9 +328,9 @@ def broken(reference, tmp_path_factory) -> dict[str, Path]:
     folder = tmp_path_factory.mktemp("broken")
     found = {case: rewrite(reference["VanDerPol"], folder / f"{case}.fmu", how)
              for case, (how, _, _) in BROKEN.items() if how is not None}
-    found["missing-function"] = reference_fmu(  # fmi3GetFloat64 renamed: the binary does not export it
+    found["missing-function"] = reference_fmu(  # fmi3GetFloat64 renamed: hidden, the binary does not export it
         "VanDerPol", folder, fmu_name="missing-function",
-        edits={"fmi3Functions.c": [("fmi3Status fmi3GetFloat64(", "static fmi3Status hidden_GetFloat64(")]})
+        edits={"fmi3Functions.c": [("fmi3Status fmi3GetFloat64(", "fmi3Status hidden_GetFloat64(")]})
     return found
 
 

@@ -225,8 +225,8 @@ def test_fmi3_crash_in_do_step_keeps_the_rows(folder):
     """The same for an FMI 3.0 FMU: the Reference FMU VanDerPol with a segfault in fmi3DoStep."""
     from reference_fmus import reference_fmu
 
-    crash = ("    ASSERT_STATE(DoStep);\n",
-             "    ASSERT_STATE(DoStep);\n"
+    crash = ("    BEGIN_FUNCTION(DoStep);\n",
+             "    BEGIN_FUNCTION(DoStep);\n"
              "    if (currentCommunicationPoint >= 0.5) { volatile int *volatile p = 0; *p = 1; }\n")
     fmu = reference_fmu("VanDerPol", folder / "fmi3", edits={"fmi3Functions.c": [crash]}, fmu_name="crashing")
     out = folder / "vdp.csv"

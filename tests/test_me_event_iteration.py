@@ -37,13 +37,14 @@ _ITERATION_STATE = "static int pendingEventIteration = 0;  /* NewDiscreteStates 
 NEEDS_ITERATION = {"fmi2Functions.c": [
     ("fmi2Status fmi2ExitInitializationMode(fmi2Component c) {",
      _ITERATION_STATE + "fmi2Status fmi2ExitInitializationMode(fmi2Component c) {"),
-    ("        S->state = EventMode;\n    } else {",
-     "        S->state = EventMode;\n        pendingEventIteration = 2;\n    } else {"),
+    ("    S->state = S->type == ModelExchange ? EventMode : StepComplete;\n",
+     "    S->state = S->type == ModelExchange ? EventMode : StepComplete;\n"
+     "    if (S->type == ModelExchange) pendingEventIteration = 2;\n"),
     ("    eventInfo->newDiscreteStatesNeeded           = S->newDiscreteStatesNeeded;",
      "    eventInfo->newDiscreteStatesNeeded = S->newDiscreteStatesNeeded || pendingEventIteration == 2;\n"
      "    if (pendingEventIteration > 0) pendingEventIteration--;"),
-    ("    ASSERT_STATE(EnterContinuousTimeMode);\n",
-     "    ASSERT_STATE(EnterContinuousTimeMode);\n    if (pendingEventIteration > 0) {\n"
+    ("    BEGIN_FUNCTION(EnterContinuousTimeMode);\n",
+     "    BEGIN_FUNCTION(EnterContinuousTimeMode);\n    if (pendingEventIteration > 0) {\n"
      '        logError(S, "fmi2EnterContinuousTimeMode: may only be called when exited event mode");\n'
      "        return fmi2Error;\n    }\n"),
 ]}
@@ -56,8 +57,8 @@ NEEDS_ITERATION_FMI3 = {"fmi3Functions.c": [
     ("    if (discreteStatesNeedUpdate)          *discreteStatesNeedUpdate          = S->newDiscreteStatesNeeded;",
      "    if (discreteStatesNeedUpdate) *discreteStatesNeedUpdate = S->newDiscreteStatesNeeded"
      " || pendingEventIteration == 2;\n    if (pendingEventIteration > 0) pendingEventIteration--;"),
-    ("    ASSERT_STATE(EnterContinuousTimeMode);\n",
-     "    ASSERT_STATE(EnterContinuousTimeMode);\n    if (pendingEventIteration > 0) {\n"
+    ("    BEGIN_FUNCTION(EnterContinuousTimeMode);\n",
+     "    BEGIN_FUNCTION(EnterContinuousTimeMode);\n    if (pendingEventIteration > 0) {\n"
      '        logError(S, "fmi3EnterContinuousTimeMode: may only be called when exited event mode");\n'
      "        return fmi3Error;\n    }\n"),
 ]}

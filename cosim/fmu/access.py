@@ -178,7 +178,8 @@ def _model_description_root(path: Path, archive: zipfile.ZipFile):
     return root
 
 
-def read_fmu(path: str | os.PathLike, versions: tuple[str, ...] = SUPPORTED_FMI_VERSIONS, lenient: bool = False):
+def read_fmu(path: str | os.PathLike, versions: tuple[str, ...] = SUPPORTED_FMI_VERSIONS, lenient: bool = False,
+             runnable: bool = True):
     """The checked model description of an FMU file (cached per file version) of one of the FMI
     ``versions`` (default: the ones this package runs).
 
@@ -187,6 +188,9 @@ def read_fmu(path: str | os.PathLike, versions: tuple[str, ...] = SUPPORTED_FMI_
     lenient : bool
         Read a model description that fails FMPy's schema or consistency checks anyway, each
         finding a warning (as within :func:`lenient_reading`); the other checks stay strict.
+    runnable : bool
+        Require a Model Exchange or Co-Simulation interface (False: also an FMU of FMI 3
+        Scheduled Execution only, for describing it).
 
     Returns
     -------
@@ -197,7 +201,8 @@ def read_fmu(path: str | os.PathLike, versions: tuple[str, ...] = SUPPORTED_FMI_
     FMUError
         If the file is missing, not a zip archive, has unsafe member names, lacks or has a broken
         ``modelDescription.xml``, is not FMI 2.0 or fails FMPy's model-description checks (not
-        lenient: the message names the findings and ``--lenient``).
+        lenient: the message names the findings and ``--lenient``); with ``runnable``, an FMU of
+        FMI 3 Scheduled Execution only (named as not supported).
     """
     path = Path(path)
     lenient = lenient or bool(_LENIENT)
@@ -210,11 +215,15 @@ def read_fmu(path: str | os.PathLike, versions: tuple[str, ...] = SUPPORTED_FMI_
             root = _model_description_root(path, archive)
             check_fmi_version(path, root.get("fmiVersion"), versions)
             md, problems = _read_description(path)
-            if md.modelExchange is None and md.coSimulation is None:
+            scheduled = getattr(md, "scheduledExecution", None) is not None
+            if md.modelExchange is None and md.coSimulation is None and not scheduled:
                 raise FMUError(f"{path}: {MODEL_DESCRIPTION} declares neither ModelExchange nor CoSimulation")
             if md.fmiVersion.startswith("3."):
                 _fmi3_capabilities(md, root)
             _DESCRIPTIONS[key] = (md, problems)
+    if runnable and md.modelExchange is None and md.coSimulation is None:
+        raise FMUError(f"{path}: {md.modelName} is an FMI 3 Scheduled Execution FMU (clocked model partitions), "
+                       "which is not supported: cosim runs Model Exchange and Co-Simulation FMUs")
     if problems and not lenient:
         raise FMUError(f"{path}: {_invalid(problems)}{LENIENT_HINT}")
     if problems and key not in _WARNED:
@@ -553,8 +562,10 @@ class FMU:
         self.close()
 
     def names(self, causality: str) -> list[str]:
-        """Variable names of one causality (input, output, parameter, calculatedParameter, local)."""
-        return [v.name for v in self.description.modelVariables if v.causality == causality]
+        """Variable names of one causality (input, output, parameter, calculatedParameter, local);
+        not the FMI 3 aliases (other names of the same variables)."""
+        return [v.name for v in self.description.modelVariables
+                if v.causality == causality and getattr(v, "alias", None) is None]
 
     @property
     def states(self) -> list[str]:

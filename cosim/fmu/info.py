@@ -77,10 +77,12 @@ def fmu_info(path) -> dict:
     """Model description of an FMU as a plain dict."""
     from cosim.fmu.access import READABLE_FMI_VERSIONS, read_fmu
 
-    md = read_fmu(path, versions=READABLE_FMI_VERSIONS)
+    md = read_fmu(path, versions=READABLE_FMI_VERSIONS, runnable=False)
     experiment = md.defaultExperiment
     groups: dict[str, list] = {}
     for v in md.modelVariables:
+        if getattr(v, "alias", None) is not None:  # an FMI 3 <Alias>: another name of a variable listed
+            continue
         groups.setdefault(v.causality, []).append({
             "name": v.name, "type": v.type, "unit": getattr(v, "unit", None), "start": v.start,
             "description": v.description or "", "valueReference": v.valueReference,
@@ -93,7 +95,8 @@ def fmu_info(path) -> dict:
         "guid": md.guid,
         "generationTool": md.generationTool,
         "fmiVersion": md.fmiVersion,
-        "interfaces": [k for k, s in (("ModelExchange", md.modelExchange), ("CoSimulation", md.coSimulation)) if s],
+        "interfaces": [k for k, s in (("ModelExchange", md.modelExchange), ("CoSimulation", md.coSimulation),
+                                      ("ScheduledExecution", getattr(md, "scheduledExecution", None))) if s],
         "capabilities": _capabilities(md),
         "states": [d.variable.derivative.name for d in md.derivatives],
         "defaultExperiment": {

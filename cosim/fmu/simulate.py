@@ -109,14 +109,75 @@ def finite_number(text: str, where: str) -> float:
     return value
 
 
-def read_input(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
+INTEGER_TYPES = {"Integer": np.int32, "Enumeration": np.int64, "Int8": np.int8, "UInt8": np.uint8,
+                 "Int16": np.int16, "UInt16": np.uint16, "Int32": np.int32, "UInt32": np.uint32,
+                 "Int64": np.int64, "UInt64": np.uint64}
+"""FMI 2 and FMI 3 integer variable types and the NumPy type of their values (FMI 2's Integer is a
+32-bit fmi2Integer; an Enumeration is set as fmi3Int64 in FMI 3, as fmi2Integer in FMI 2)."""
+
+
+def whole_number(text: str, where: str, kind=np.int64) -> int:
+    """``text`` as an integer within the range of the NumPy integer type ``kind``, exactly (also the
+    64-bit extremes, which a float cannot hold); :class:`InputDataError` naming ``where`` otherwise.
+    A number with a zero fraction (``3.0``) is accepted."""
+    try:
+        value = int(text)
+    except ValueError:
+        number = finite_number(text, where)
+        if not number.is_integer():
+            raise InputDataError(f"{where}: '{text}' is not a whole number (the input is an integer)") from None
+        value = int(number)
+    info = np.iinfo(kind)
+    if not info.min <= value <= info.max:
+        raise InputDataError(f"{where}: {value} is outside the range of {np.dtype(kind).name} "
+                             f"({info.min} .. {info.max})")
+    return value
+
+
+def truth_value(text: str, where: str) -> bool:
+    """``text`` (true/false or 1/0, any case) as a bool; :class:`InputDataError` naming ``where``
+    otherwise."""
+    word = text.strip().lower()
+    if word in ("true", "1", "1.0"):
+        return True
+    if word in ("false", "0", "0.0"):
+        return False
+    raise InputDataError(f"{where}: '{text}' is not a Boolean (true, false, 1 or 0)")
+
+
+def value_parser(variable):
+    """How the values of an input ``variable`` are read: (parser of one cell, NumPy type), the
+    parser called as ``parser(text, where)``; None for a real-valued variable (:func:`finite_number`)."""
+    if variable is None:
+        return None
+    if variable.type in INTEGER_TYPES:
+        kind = INTEGER_TYPES[variable.type]
+        return (lambda text, where: whole_number(text, where, kind)), kind
+    if variable.type == "Boolean":
+        return truth_value, np.bool_
+    return None
+
+
+def read_input(path: Path, name: str, parser=None) -> tuple[np.ndarray, np.ndarray]:
     """Time [s] and value columns of the input file of ``--input NAME=FILE``: ``.npy`` by
-    :func:`read_input_npy`, any other suffix as CSV by :func:`read_input_csv`."""
+    :func:`read_input_npy`, any other suffix as CSV by :func:`read_input_csv` (``parser``: see
+    :func:`value_parser`; None: real values)."""
     path = Path(path)
-    return read_input_npy(path, name) if path.suffix.lower() == ".npy" else read_input_csv(path, name)
+    if path.suffix.lower() == ".npy":
+        times, values = read_input_npy(path, name)
+        if parser is not None:
+            values = _parsed(values, parser, f"--input {name}: {path}")
+        return times, values
+    return read_input_csv(path, name, parser)
 
 
-def read_input_csv(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
+def _parsed(values: np.ndarray, parser, label: str) -> np.ndarray:
+    """Real ``values`` of an ``.npy`` input converted by ``parser`` (rows counted from 1)."""
+    parse, kind = parser
+    return np.array([parse(repr(v), f"{label}: row {i + 1}") for i, v in enumerate(values.tolist())], dtype=kind)
+
+
+def read_input_csv(path: Path, name: str, parser=None) -> tuple[np.ndarray, np.ndarray]:
     """Time [s] and value columns of an input CSV file, every cell checked.
 
     The file has a header row, then one row per time stamp. The value column is the column
@@ -138,6 +199,8 @@ def read_input_csv(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
     """
     label = f"--input {name}: {path}"
     text = read_text_file(path, InputDataError, label, encoding="utf-8-sig")
+    if parser is not None:  # integers and Booleans exactly, cell by cell
+        return _read_csv_checked(text, name, label, parser)
     columns = _parse_plain_csv(text, name, label)
     return columns if columns is not None else _read_csv_checked(text, name, label)
 
@@ -174,13 +237,14 @@ def _parse_plain_csv(text: str, name: str, label: str) -> tuple[np.ndarray, np.n
     return np.ascontiguousarray(times), np.ascontiguousarray(values)
 
 
-def _read_csv_checked(text: str, name: str, label: str) -> tuple[np.ndarray, np.ndarray]:
+def _read_csv_checked(text: str, name: str, label: str, parser=None) -> tuple[np.ndarray, np.ndarray]:
     """:func:`read_input_csv` row by row, every cell checked (one pass)."""
+    parse, kind = parser if parser is not None else (finite_number, np.float64)
     reader = csv.reader(io.StringIO(text))
     header: list[str] | None = None
     column = 1
     times: list[float] = []
-    values: list[float] = []
+    values: list = []
     try:
         for row in reader:
             line = reader.line_num
@@ -194,7 +258,7 @@ def _read_csv_checked(text: str, name: str, label: str) -> tuple[np.ndarray, np.
                 raise InputDataError(f"{label}:{line}: {len(cells)} column(s), but the header has "
                                      f"{len(header)} ({','.join(header)})")
             t = finite_number(cells[0], f"{label}:{line}: column 1 ({header[0]})")
-            value = finite_number(cells[column], f"{label}:{line}: column {column + 1} ({header[column]})")
+            value = parse(cells[column], f"{label}:{line}: column {column + 1} ({header[column]})")
             if times and t < times[-1]:
                 raise InputDataError(f"{label}:{line}: column 1 ({header[0]}): time {t:g} s is before the "
                                      f"previous row's {times[-1]:g} s (times must not decrease)")
@@ -207,7 +271,7 @@ def _read_csv_checked(text: str, name: str, label: str) -> tuple[np.ndarray, np.
                              "and rows of time,value)")
     if not times:
         raise InputDataError(f"{label}: no data rows after the header")
-    return np.array(times), np.array(values)
+    return np.array(times), np.array(values, dtype=kind)
 
 
 def _input_header(cells: list[str], name: str, where: str) -> tuple[list[str], int]:
@@ -293,23 +357,27 @@ def read_input_npy(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
     return times, values
 
 
-def _step_signal(name: str, source: str, base: float, start_time: float, stop_time: float):
+def _step_signal(name: str, source: str, base, start_time: float, stop_time: float, parser=None):
+    parse, kind = parser if parser is not None else (finite_number, np.float64)
     parts = source.split(":")
     if len(parts) != 3:
         raise ParameterError(f"--input {name}: expected step:T0:VALUE, got '{source}'")
     t0 = finite_number(parts[1], f"--input {name}: step time T0")
-    value = finite_number(parts[2], f"--input {name}: step value")
+    value = parse(parts[2], f"--input {name}: step value")
     t0 = min(max(t0, start_time), stop_time)
-    return np.array([start_time, t0, t0, stop_time]), np.array([base, base, value, value])
+    return np.array([start_time, t0, t0, stop_time]), np.array([base, base, value, value], dtype=kind)
 
 
 def input_signals(fmu: Path, specs: list[str], start_time: float, stop_time: float) -> np.ndarray | None:
     """Build FMPy's structured input array from ``NAME=FILE.csv``, ``NAME=FILE.npy`` or
     ``NAME=step:T0:VALUE``.
 
-    A file is read by :func:`read_input`; values between rows are interpolated linearly, a
-    repeated time marks a jump (the value before and the value after it), and before the first
-    and after the last row the first and the last value hold. The array starts at
+    A file is read by :func:`read_input`; values of a continuous real input between rows are
+    interpolated linearly, those of a discrete input (an integer, Boolean or enumeration, or a real
+    of variability discrete) hold from their row to the next, as FMI defines a discrete signal
+    (integers exactly, also beyond a float's 53 bits); a repeated time marks a jump (the value
+    before and the value after it), and before the first and after the last row the first and
+    the last value hold. The array starts at
     ``start_time`` with the value each signal has right after it: a jump at the start time (a
     step at T0 = the start time, or a file whose value jumps there) acts from the start, as a
     file holding the new value from the start would. Time and memory grow linearly with the
@@ -318,7 +386,8 @@ def input_signals(fmu: Path, specs: list[str], start_time: float, stop_time: flo
     Raises
     ------
     ParameterError
-        For an unknown input, an input given twice or a malformed step.
+        For an unknown input, an input given twice, a malformed step or a String or Binary
+        input (FMPy sets real, integer, Boolean and enumeration inputs only).
     InputDataError
         For a file that is missing or has a bad value (file, row and column named).
     """
@@ -336,17 +405,28 @@ def input_signals(fmu: Path, specs: list[str], start_time: float, stop_time: flo
             raise ParameterError(f"--input: {what}; inputs are: {known}")
         if name in signals:
             raise ParameterError(f"--input {name} is given twice")
+        if variable.type in ("String", "Binary"):
+            raise ParameterError(f"--input {name}: {variable.type} inputs are not supported (real, integer, "
+                                 "Boolean and enumeration inputs are)")
+        parser = value_parser(variable)
         if source.startswith("step:"):
-            base = float(variable.start) if variable.start not in (None, "") else 0.0
-            signals[name] = _step_signal(name, source, base, start_time, stop_time)
+            start = variable.start if variable.start not in (None, "") else "0"
+            base = (parser[0] if parser else finite_number)(str(start), f"--input {name}: start value")
+            signals[name] = _step_signal(name, source, base, start_time, stop_time, parser)
         else:
             path = check_input_file(source, InputDataError, f"--input {name}: '{source}'")
-            signals[name] = read_input(path, name)
-    return merge_signals(signals, start_time)
+            signals[name] = read_input(path, name, parser)
+    discrete = {name for name in signals if variables[name].type not in ("Real", "Float32", "Float64")
+                or variables[name].variability == "discrete"}
+    return merge_signals(signals, start_time, discrete)
 
 
-def merge_signals(signals: dict[str, tuple[np.ndarray, np.ndarray]], start_time: float) -> np.ndarray:
+def merge_signals(signals: dict[str, tuple[np.ndarray, np.ndarray]], start_time: float,
+                  discrete: set[str] | frozenset[str] = frozenset()) -> np.ndarray:
     """FMPy's structured input array (``time`` first) of signals given as (times [s], values).
+
+    Between its own time stamps a signal is interpolated linearly, one named in ``discrete`` holds
+    its value from one stamp to the next (and keeps its NumPy type: integers stay exact).
 
     The rows are the start time and every time stamp of any signal after it; where a signal
     jumps (a repeated time stamp) two rows of that time carry the values before and after the
@@ -355,23 +435,33 @@ def merge_signals(signals: dict[str, tuple[np.ndarray, np.ndarray]], start_time:
     initialization, and handles no input event at the start time itself). Vectorized: time and
     memory grow linearly with the rows (and a sort of the time stamps).
     """
-    stamps = np.unique(np.concatenate([t for t, _ in signals.values()]))
-    grid = np.concatenate([[start_time], stamps[stamps > start_time]])
+    stamps, where = np.unique(np.concatenate([t for t, _ in signals.values()]), return_inverse=True)
+    later = stamps > start_time
+    grid = np.concatenate([[start_time], stamps[later]])
     before, after = [], []
-    for times, values in signals.values():
-        first = np.searchsorted(times, grid, side="left")
-        last = np.searchsorted(times, grid, side="right") - 1
+    offset = 0
+    for name, (times, values) in signals.items():
+        # rows of this signal at or before each grid time (counted, not searched: linear in the rows)
+        count = np.bincount(where.ravel()[offset:offset + len(times)], minlength=len(stamps))
+        offset += len(times)
+        upto = np.cumsum(count)
+        at_start = np.searchsorted(times, start_time, side="left"), np.searchsorted(times, start_time, side="right")
+        first = np.concatenate([[at_start[0]], (upto - count)[later]])  # rows before the time
+        last = np.concatenate([[at_start[1]], upto[later]]) - 1  # the last row at or before it
         stamped = last >= first  # the signal has a row at this time: its first and last value there
-        between = np.interp(grid, times, values)  # holds the end values outside the signal's times
+        if name in discrete:  # the value of the last row at or before the time (the first one before it)
+            between = values[np.maximum(last, 0)]
+        else:  # holds the end values outside the signal's times
+            between = np.interp(grid, times, np.asarray(values, dtype=np.float64))
         before.append(np.where(stamped, values[np.minimum(first, len(times) - 1)], between))
         after.append(np.where(stamped, values[np.maximum(last, 0)], between))
-    before, after = np.array(before), np.array(after)
-    before[:, 0] = after[:, 0]  # the start row: the values right after the start time
-    jump = np.any(before != after, axis=0)
+        before[-1][0] = after[-1][0]  # the start row: the values right after the start time
+    jump = np.any([b != a for b, a in zip(before, after)], axis=0)
     index = np.repeat(np.arange(len(grid)), 1 + jump)
     right = np.zeros(len(index), dtype=bool)
     right[np.cumsum(1 + jump) - 1] = jump  # the second of the two rows of a jump
-    dtype = [("time", np.float64)] + [(n, np.float64) for n in signals]
+    dtype = [("time", np.float64)] + [(n, v.dtype if n in discrete else np.float64)
+                                      for n, (_, v) in signals.items()]
     rows = np.empty(len(index), dtype=dtype)
     rows["time"] = grid[index]
     for k, name in enumerate(signals):
@@ -552,7 +642,7 @@ def simulate(fmu: str | Path, stop_time: float | None = None, step: float | None
                relative_tolerance, outputs, progress)
     if isolate is None:
         isolate = can_isolate() and not built_here(fmu)
-    result = _finite(fmu, md, _run_isolated(run, timeout) if isolate else run(None), t1)
+    result = _finite(fmu, md, text_as_str(_run_isolated(run, timeout) if isolate else run(None)), t1)
     if _ended_early(result, t1):
         warnings.warn(SimulationTerminated(float(result["time"][-1])), stacklevel=2)
     return result
@@ -601,7 +691,7 @@ class _Run:
         state = {"status": 0, "terminated": False}
         quiet = _solver_output_hidden(bar) if self.kind == "me" else contextlib.nullcontext()
         try:
-            with quiet:
+            with quiet, _strings_recorded():
                 result = simulate_fmu(
                     handle.unzipdir, start_time=self.t0, stop_time=t1, output_interval=self.step,
                     fmi_type="CoSimulation" if self.kind == "cs" else "ModelExchange",
@@ -624,7 +714,7 @@ class _Run:
             # fmi2Terminated): FMPy returns what it has. Without an error message or a physical
             # cause that is the model's own end (see simulate); with one it is a failure.
             said = log.last_error()
-            cause = _cause(md, result)
+            cause = _cause(md, result, fmu)
             if not said and not cause:
                 return result
             text = f"{cause} (solver: {_first_clause(said)})" if cause and said else \
@@ -632,6 +722,67 @@ class _Run:
             raise IncompleteResult(f"{fmu}: the simulation stopped at t = {result['time'][-1]:.6g} s of "
                                    f"{t1:g} s: {text}", result, float(result["time"][-1]), cause or text)
         return result
+
+
+@contextlib.contextmanager
+def _strings_recorded():
+    """FMPy's recorder samples numbers only: within this context it also records the scalar String
+    outputs it is asked for (one column each, the text at every sample, after the numbers)."""
+    import fmpy.simulation
+
+    original = fmpy.simulation.Recorder
+
+    class Recorder(original):
+        def __init__(self, fmu, modelDescription, variableNames=None, interval=None):
+            super().__init__(fmu, modelDescription, variableNames=variableNames, interval=interval)
+            wanted = set(variableNames) if variableNames is not None else \
+                {v.name for v in modelDescription.modelVariables if v.causality == "output"}
+            self.text = [v for v in modelDescription.modelVariables
+                         if v.name in wanted and v.type == "String" and not getattr(v, "dimensions", None)]
+            self.cols += [(v.name, object) for v in self.text]
+
+        def sample(self, time, force=False):
+            super().sample(time, force=force)
+            if self.text:
+                values = self.fmu.getString([v.valueReference for v in self.text])
+                self.rows[-1] += tuple(_text(v) for v in values)
+
+    fmpy.simulation.Recorder = Recorder
+    try:
+        yield
+    finally:
+        fmpy.simulation.Recorder = original
+
+
+def _text(value) -> str:
+    """A String value as FMPy returns it (FMI 2: bytes or None, FMI 3: str) as str."""
+    if value is None:
+        return ""
+    return value.decode("utf-8", "replace") if isinstance(value, bytes) else str(value)
+
+
+def numeric_names(result: np.ndarray) -> list[str]:
+    """The columns of ``result`` other than ``time`` that hold numbers (not String outputs)."""
+    return [n for n in result.dtype.names if n != "time" and result.dtype[n].base.kind in "biuf"]
+
+
+def text_as_str(result: np.ndarray) -> np.ndarray:
+    """``result`` with its String columns (Python objects as recorded) as NumPy str fields, which
+    ``numpy.save`` stores without pickling."""
+    result = np.asarray(result)
+    if result.dtype.names is None or not any(result.dtype[n].kind == "O" for n in result.dtype.names):
+        return result
+    fields = []
+    for n in result.dtype.names:
+        if result.dtype[n].kind == "O":
+            width = max([len(_text(v)) for v in result[n]] + [1])
+            fields.append((n, f"<U{width}"))
+        else:
+            fields.append((n, result.dtype[n]))
+    converted = np.empty(result.shape, dtype=fields)
+    for n in result.dtype.names:
+        converted[n] = [_text(v) for v in result[n]] if result.dtype[n].kind == "O" else result[n]
+    return converted
 
 
 @contextlib.contextmanager
@@ -704,7 +855,7 @@ def _run_isolated(run: _Run, timeout: float | None) -> np.ndarray:
 def _finite(fmu: Path, md, result: np.ndarray, t1: float) -> np.ndarray:
     """``result`` if every recorded value is finite; else the rows before the first non-finite one
     as an IncompleteResult naming the variable and the time."""
-    names = [n for n in result.dtype.names if n != "time"]
+    names = numeric_names(result)
     if not names or not len(result):
         return result
     table = np.column_stack([result[n] for n in names])
@@ -772,7 +923,7 @@ def _failure(fmu: Path, md, exc: Exception, log, rows, t1: float) -> SimulationE
     text, when = _solver_message(exc, log)
     if rows is None or len(rows) == 0:
         return SimulationError(f"{fmu}: simulation failed before the first step: {text}")
-    cause = _cause(md, rows)
+    cause = _cause(md, rows, fmu)
     when = when if when is not None else float(rows["time"][-1])
     message = f"{fmu}: the solver failed at t = {when:.6g} s of {t1:g} s"
     message += f": {cause} (solver: {_first_clause(text)})" if cause else f": {text}"
@@ -797,16 +948,18 @@ def model_singularities(model_name: str):
         return ()
 
 
-def _cause(md, rows) -> str | None:
-    """:func:`physical_cause` of a failed run of the FMU described by ``md``, with the singular
-    configurations its model declares."""
-    return physical_cause(_last_values(rows), model_singularities(md.modelName))
+def _cause(md, rows, fmu: Path) -> str | None:
+    """:func:`physical_cause` of a failed run of the FMU ``fmu`` described by ``md``, with the
+    singular configurations its model declares; none for an FMU from elsewhere, whose model name
+    says nothing about this library's models (and needs no reading of the library)."""
+    singular = model_singularities(md.modelName) if built_here(fmu) else ()
+    return physical_cause(_last_values(rows), singular)
 
 
 def _last_values(rows) -> dict[str, float]:
     if rows is None or len(rows) == 0:
         return {}
-    return {n: float(rows[n][-1]) for n in rows.dtype.names if n != "time"}
+    return {n: float(rows[n][-1]) for n in numeric_names(rows) if not rows.dtype[n].shape}
 
 
 def physical_cause(values: dict[str, float], singular=None) -> str | None:
@@ -924,7 +1077,7 @@ def write_result(result: np.ndarray, path: str | Path) -> Path:
         from cosim.outputs import atomic_output
 
         with atomic_output(path, "result file") as tmp:
-            np.save(tmp, np.asarray(result), allow_pickle=False)
+            np.save(tmp, text_as_str(result), allow_pickle=False)
         return path
     return write_csv(result, path)
 
@@ -938,22 +1091,43 @@ def write_csv(result: np.ndarray, path: str | Path) -> Path:
     column has its own unique name. A name holding a comma is quoted (RFC 4180)."""
     from cosim.outputs import atomic_output
 
-    names, columns = [], []
+    # 64-bit integers (FMI 3 Int64, UInt64) are written exactly, which a float cannot hold; the text
+    # of a String output as it is (quoted where RFC 4180 asks for it)
+    wide = any((result.dtype[n].base.kind in "iu" and result.dtype[n].base.itemsize == 8)
+               or result.dtype[n].base.kind in "OUS" for n in result.dtype.names)
+    names, columns, formats = [], [], []
     for name in result.dtype.names:
-        values = np.asarray(result[name], dtype=float)
+        base = result.dtype[name].base
+        exact = wide and base.kind in "iub"
+        text = base.kind in "OUS"
+        values = np.asarray(result[name], dtype=object if exact or text else float)
+        if exact:
+            values = np.vectorize(int, otypes=[object])(values) if values.size else values
+        if text:
+            values = np.array([_csv_cell(_text(v)) for v in values.ravel()], dtype=object).reshape(values.shape)
         shape = result.dtype[name].shape
+        count = int(np.prod(shape)) if shape else 1
+        formats += ["%s" if text else "%d" if exact else "%.17g"] * count
         if not shape:
             names.append(name)
             columns.append(values.reshape(len(result), 1))
             continue
         names += [f"{name}[{','.join(str(i + 1) for i in index)}]" for index in np.ndindex(*shape)]
-        columns.append(values.reshape(len(result), int(np.prod(shape))))  # C order: last index fastest
+        columns.append(values.reshape(len(result), count))  # C order: last index fastest
     data = np.hstack(columns) if columns else np.zeros((len(result), 0))
     header = io.StringIO()
     csv.writer(header, lineterminator="").writerow(names)
     with atomic_output(path, "result file") as tmp:
-        np.savetxt(tmp, data, delimiter=",", header=header.getvalue(), comments="", fmt="%.17g")
+        np.savetxt(tmp, data, delimiter=",", header=header.getvalue(), comments="",
+                   fmt=formats if wide else "%.17g")
     return Path(path)
+
+
+def _csv_cell(text: str) -> str:
+    """``text`` as one CSV cell: quoted (quotes doubled) if it holds a comma, a quote or a line break."""
+    if any(c in text for c in ',"\r\n'):
+        return '"' + text.replace('"', '""') + '"'
+    return text
 
 
 def plot(result: np.ndarray, path: str | Path, title: str = "") -> Path:
@@ -965,7 +1139,7 @@ def plot(result: np.ndarray, path: str | Path, title: str = "") -> Path:
 
     from cosim.outputs import atomic_output
 
-    names = [n for n in result.dtype.names if n != "time"]
+    names = numeric_names(result)
     fig, axes = plt.subplots(len(names) or 1, 1, sharex=True, figsize=(7, 1.8 * max(1, len(names))), squeeze=False)
     try:
         for ax, name in zip(axes[:, 0], names):

@@ -8,9 +8,8 @@
 #define CO_SIMULATION
 #define MODEL_EXCHANGE
 
-// define model size
-#define NX 2
-#define NZ 1
+#define MAX_CONTINUOUS_STATES 2
+#define MAX_EVENT_INDICATORS 1
 
 #define SET_FLOAT64
 #define GET_OUTPUT_DERIVATIVE

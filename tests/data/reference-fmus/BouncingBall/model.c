@@ -7,42 +7,59 @@
 #define EVENT_EPSILON (1e-10)
 
 
-void setStartValues(ModelInstance *comp) {
+Status setStartValues(ModelInstance *comp) {
+    ASSERT_NOT_NULL2(comp);
+
     M(h) =  1;
     M(v) =  0;
     M(g) = -9.81;
     M(e) =  0.7;
+
+    comp->isDirtyValues = true;
+
+    return OK;
 }
 
 Status calculateValues(ModelInstance *comp) {
-    UNUSED(comp);
-    // nothing to do
+    ASSERT_NOT_NULL2(comp);
+
+    comp->isDirtyValues = false;
+
     return OK;
 }
 
 Status getFloat64(ModelInstance* comp, ValueReference vr, double values[], size_t nValues, size_t* index) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
-    ASSERT_NVALUES(1);
+    calculateValues(comp);
 
     switch (vr) {
         case vr_time:
+            ASSERT_NVALUES(1);
             values[(*index)++] = comp->time;
             return OK;
         case vr_h:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(h);
             return OK;
         case vr_der_h:
         case vr_v:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(v);
             return OK;
         case vr_der_v:
         case vr_g:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(g);
             return OK;
         case vr_e:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(e);
             return OK;
         case vr_v_min:
+            ASSERT_NVALUES(1);
             values[(*index)++] = V_MIN;
             return OK;
         default:
@@ -51,34 +68,49 @@ Status getFloat64(ModelInstance* comp, ValueReference vr, double values[], size_
     }
 }
 
-Status setFloat64(ModelInstance* comp, ValueReference vr, const double value[], size_t nValues, size_t* index) {
-
-    ASSERT_NVALUES(1);
+Status setFloat64(ModelInstance* comp, ValueReference vr, const double values[], size_t nValues, size_t* index) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
     switch (vr) {
 
         case vr_h:
-            M(h) = value[(*index)++];
-            return OK;
+            if (comp->state != Instantiated &&
+                comp->state != InitializationMode &&
+                comp->state != ContinuousTimeMode &&
+                comp->state != EventMode) {
+                logError(comp, "Variable \"h\" can only be set in Instantiated Mode, Initialization Mode, Continuous Time Mode, and Event Mode.");
+                return Error;
+            }
+            ASSERT_NVALUES(1);
+            M(h) = values[(*index)++];
+            break;
 
         case vr_v:
-            M(v) = value[(*index)++];
-            return OK;
+            if (comp->state != Instantiated &&
+                comp->state != InitializationMode &&
+                comp->state != ContinuousTimeMode &&
+                comp->state != EventMode) {
+                logError(comp, "Variable \"v\" can only be set in Instantiated Mode, Initialization Mode, Continuous Time Mode, and Event Mode.");
+                return Error;
+            }
+            ASSERT_NVALUES(1);
+            M(v) = values[(*index)++];
+            break;
 
         case vr_g:
-#if FMI_VERSION > 1
             if (comp->type == ModelExchange &&
                 comp->state != Instantiated &&
                 comp->state != InitializationMode) {
                 logError(comp, "Variable g can only be set after instantiation or in initialization mode.");
                 return Error;
             }
-#endif
-            M(g) = value[(*index)++];
-            return OK;
+            ASSERT_NVALUES(1);
+            M(g) = values[(*index)++];
+            break;
 
         case vr_e:
-#if FMI_VERSION > 1
             if (comp->type == ModelExchange &&
                 comp->state != Instantiated &&
                 comp->state != InitializationMode &&
@@ -86,9 +118,9 @@ Status setFloat64(ModelInstance* comp, ValueReference vr, const double value[], 
                 logError(comp, "Variable e can only be set after instantiation, in initialization mode or event mode.");
                 return Error;
             }
-#endif
-            M(e) = value[(*index)++];
-            return OK;
+            ASSERT_NVALUES(1);
+            M(e) = values[(*index)++];
+            break;
 
         case vr_v_min:
             logError(comp, "Variable v_min (value reference %u) is constant and cannot be set.", vr_v_min);
@@ -98,14 +130,21 @@ Status setFloat64(ModelInstance* comp, ValueReference vr, const double value[], 
             logError(comp, "Unexpected value reference: %u.", vr);
             return Error;
     }
+
+    comp->isDirtyValues = true;
+
+    return OK;
 }
 
 Status getOutputDerivative(ModelInstance *comp, ValueReference valueReference, int order, double *value) {
-
+    ASSERT_NOT_NULL2(comp);
     if (order != 1) {
         logError(comp, "The output derivative order %d for value reference %u is not available.", order, valueReference);
         return Error;
     }
+    ASSERT_NOT_NULL2(value);
+
+    calculateValues(comp);
 
     switch (valueReference) {
     case vr_h:
@@ -120,7 +159,8 @@ Status getOutputDerivative(ModelInstance *comp, ValueReference valueReference, i
     }
 }
 
-void eventUpdate(ModelInstance *comp) {
+Status eventUpdate(ModelInstance *comp) {
+    ASSERT_NOT_NULL2(comp);
 
     if (M(h) <= 0 && M(v) < 0) {
 
@@ -133,9 +173,6 @@ void eventUpdate(ModelInstance *comp) {
             M(g) = 0;
         }
 
-        // reset previous event indicators
-        getEventIndicators(comp, comp->z, NZ);
-
         comp->valuesOfContinuousStatesChanged = true;
     } else {
         comp->valuesOfContinuousStatesChanged = false;
@@ -144,29 +181,80 @@ void eventUpdate(ModelInstance *comp) {
     comp->nominalsOfContinuousStatesChanged = false;
     comp->terminateSimulation  = false;
     comp->nextEventTimeDefined = false;
+
+    comp->isDirtyValues = true;
+
+    return OK;
 }
 
-void getContinuousStates(ModelInstance *comp, double x[], size_t nx) {
-    UNUSED(nx);
+size_t getNumberOfEventIndicators(ModelInstance* comp) {
+    UNUSED(comp);
+    return MAX_EVENT_INDICATORS;
+}
+
+size_t getNumberOfContinuousStates(ModelInstance* comp) {
+    UNUSED(comp);
+    return MAX_CONTINUOUS_STATES;
+}
+
+Status getContinuousStates(ModelInstance *comp, double x[], size_t nx) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(x);
+    ASSERT_SIZE_T(nx, MAX_CONTINUOUS_STATES);
+
+    calculateValues(comp);
+
     x[0] = M(h);
     x[1] = M(v);
+
+    return OK;
 }
 
-void setContinuousStates(ModelInstance *comp, const double x[], size_t nx) {
-    UNUSED(nx);
+Status getNominalsOfContinuousStates(ModelInstance* comp, double nominals[], size_t nx) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(nominals);
+    ASSERT_SIZE_T(nx, MAX_CONTINUOUS_STATES);
+
+    calculateValues(comp);
+
+    nominals[0] = 1.0;
+    nominals[1] = 1.0;
+
+    return OK;
+}
+
+Status setContinuousStates(ModelInstance *comp, const double x[], size_t nx) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(x);
+    ASSERT_SIZE_T(nx, MAX_CONTINUOUS_STATES);
+
     M(h) = x[0];
     M(v) = x[1];
+
+    comp->isDirtyValues = true;
+
+    return OK;
 }
 
-void getDerivatives(ModelInstance *comp, double dx[], size_t nx) {
-    UNUSED(nx);
+Status getDerivatives(ModelInstance *comp, double dx[], size_t nx) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(dx);
+    ASSERT_SIZE_T(nx, MAX_CONTINUOUS_STATES);
+
+    calculateValues(comp);
+
     dx[0] = M(v);
     dx[1] = M(g);
+
+    return OK;
 }
 
-void getEventIndicators(ModelInstance *comp, double z[], size_t nz) {
+Status getEventIndicators(ModelInstance *comp, double z[], size_t nz) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(z);
+    ASSERT_SIZE_T(nz, MAX_EVENT_INDICATORS);
 
-    UNUSED(nz);
+    calculateValues(comp);
 
     if (M(h) > -EVENT_EPSILON && M(h) <= 0 && M(v) > 0) {
         // hysteresis for better stability
@@ -174,4 +262,6 @@ void getEventIndicators(ModelInstance *comp, double z[], size_t nz) {
     } else {
         z[0] = M(h);
     }
+
+    return OK;
 }

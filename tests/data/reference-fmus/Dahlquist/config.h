@@ -8,9 +8,7 @@
 #define CO_SIMULATION
 #define MODEL_EXCHANGE
 
-// define model size
-#define NX 1
-#define NZ 0
+#define MAX_CONTINUOUS_STATES 1
 
 #define SET_FLOAT64
 

@@ -12,9 +12,6 @@
 #define CO_SIMULATION
 #define MODEL_EXCHANGE
 
-#define NX 0
-#define NZ 0
-
 #define GET_FLOAT32
 #define GET_FLOAT64
 #define GET_INT8
@@ -94,7 +91,8 @@ typedef enum {
     vr_Boolean_input,
     vr_Boolean_output,
 
-    vr_String_parameter,
+    vr_String_input,
+    vr_String_output,
 
     vr_Binary_input,
     vr_Binary_output,
@@ -150,7 +148,8 @@ typedef struct {
     bool Boolean_input;
     bool Boolean_output;
 
-    char String_parameter[STRING_MAX_LEN];
+    char String_input[STRING_MAX_LEN];
+    char String_output[STRING_MAX_LEN];
 
     size_t Binary_input_size;
     char Binary_input[BINARY_MAX_LEN];

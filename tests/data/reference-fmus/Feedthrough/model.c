@@ -10,7 +10,8 @@
 #define STRING_START "Set me!"
 #define BINARY_START "foo"
 
-void setStartValues(ModelInstance *comp) {
+Status setStartValues(ModelInstance *comp) {
+    ASSERT_NOT_NULL2(comp);
 
     M(Float32_continuous_input)  = 0.0f;
     M(Float32_continuous_output) = 0.0f;
@@ -51,7 +52,8 @@ void setStartValues(ModelInstance *comp) {
     M(Boolean_input)  = false;
     M(Boolean_output) = false;
 
-    strncpy(M(String_parameter), STRING_START, STRING_MAX_LEN);
+    strncpy(M(String_input), STRING_START, STRING_MAX_LEN);
+    strncpy(M(String_output), STRING_START, STRING_MAX_LEN);
 
     M(Binary_input_size) = strlen(BINARY_START);
     strncpy(M(Binary_input), BINARY_START, BINARY_MAX_LEN);
@@ -60,6 +62,10 @@ void setStartValues(ModelInstance *comp) {
 
     M(Enumeration_input)  = Option1;
     M(Enumeration_output) = Option1;
+
+    comp->isDirtyValues = true;
+
+    return OK;
 }
 
 Status calculateValues(ModelInstance *comp) {
@@ -88,29 +94,40 @@ Status calculateValues(ModelInstance *comp) {
 
     M(Boolean_output) = M(Boolean_input);
 
+    strncpy(M(String_output), M(String_input), STRING_MAX_LEN);
+
     M(Binary_output_size) = M(Binary_input_size);
     memcpy(M(Binary_output), M(Binary_input), M(Binary_input_size));
 
     M(Enumeration_output) = M(Enumeration_input);
 
+    comp->isDirtyValues = false;
+
     return OK;
 }
 
 Status getFloat32(ModelInstance* comp, ValueReference vr, float values[], size_t nValues, size_t* index) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
-    ASSERT_NVALUES(1);
+    calculateValues(comp);
 
     switch (vr) {
         case vr_Float32_continuous_input:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Float32_continuous_input);
             break;
         case vr_Float32_continuous_output:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Float32_continuous_output);
             break;
         case vr_Float32_discrete_input:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Float32_discrete_input);
             break;
         case vr_Float32_discrete_output:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Float32_discrete_output);
             break;
         default:
@@ -122,29 +139,39 @@ Status getFloat32(ModelInstance* comp, ValueReference vr, float values[], size_t
 }
 
 Status getFloat64(ModelInstance* comp, ValueReference vr, double values[], size_t nValues, size_t* index) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
-    ASSERT_NVALUES(1);
+    calculateValues(comp);
 
     switch (vr) {
         case vr_time:
+            ASSERT_NVALUES(1);
             values[(*index)++] = comp->time;
             break;
         case vr_Float64_fixed_parameter:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Float64_fixed_parameter);
             break;
         case vr_Float64_tunable_parameter:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Float64_tunable_parameter);
             break;
         case vr_Float64_continuous_input:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Float64_continuous_input);
             break;
         case vr_Float64_continuous_output:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Float64_continuous_output);
             break;
         case vr_Float64_discrete_input:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Float64_discrete_input);
             break;
         case vr_Float64_discrete_output:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Float64_discrete_output);
             break;
         default:
@@ -156,14 +183,19 @@ Status getFloat64(ModelInstance* comp, ValueReference vr, double values[], size_
 }
 
 Status getInt8(ModelInstance* comp, ValueReference vr, int8_t values[], size_t nValues, size_t* index) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
-    ASSERT_NVALUES(1);
+    calculateValues(comp);
 
     switch (vr) {
         case vr_Int8_input:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Int8_input);
             break;
         case vr_Int8_output:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Int8_output);
             break;
         default:
@@ -175,14 +207,19 @@ Status getInt8(ModelInstance* comp, ValueReference vr, int8_t values[], size_t n
 }
 
 Status getUInt8(ModelInstance* comp, ValueReference vr, uint8_t values[], size_t nValues, size_t* index) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
-    ASSERT_NVALUES(1);
+    calculateValues(comp);
 
     switch (vr) {
         case vr_UInt8_input:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(UInt8_input);
             break;
         case vr_UInt8_output:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(UInt8_output);
             break;
         default:
@@ -194,14 +231,19 @@ Status getUInt8(ModelInstance* comp, ValueReference vr, uint8_t values[], size_t
 }
 
 Status getInt16(ModelInstance* comp, ValueReference vr, int16_t values[], size_t nValues, size_t* index) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
-    ASSERT_NVALUES(1);
+    calculateValues(comp);
 
     switch (vr) {
         case vr_Int16_input:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Int16_input);
             break;
         case vr_Int16_output:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Int16_output);
             break;
         default:
@@ -213,14 +255,19 @@ Status getInt16(ModelInstance* comp, ValueReference vr, int16_t values[], size_t
 }
 
 Status getUInt16(ModelInstance* comp, ValueReference vr, uint16_t values[], size_t nValues, size_t* index) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
-    ASSERT_NVALUES(1);
+    calculateValues(comp);
 
     switch (vr) {
         case vr_UInt16_input:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(UInt16_input);
             break;
         case vr_UInt16_output:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(UInt16_output);
             break;
         default:
@@ -232,21 +279,28 @@ Status getUInt16(ModelInstance* comp, ValueReference vr, uint16_t values[], size
 }
 
 Status getInt32(ModelInstance* comp, ValueReference vr, int32_t values[], size_t nValues, size_t* index) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
-    ASSERT_NVALUES(1);
+    calculateValues(comp);
 
     switch (vr) {
         case vr_Int32_input:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Int32_input);
             break;
         case vr_Int32_output:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Int32_output);
             break;
-#if FMI_VERSION == 1 || FMI_VERSION == 2
+#if FMI_VERSION == 2
         case vr_Enumeration_input:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Enumeration_input);
             break;
         case vr_Enumeration_output:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Enumeration_output);
             break;
 #endif
@@ -259,14 +313,19 @@ Status getInt32(ModelInstance* comp, ValueReference vr, int32_t values[], size_t
 }
 
 Status getUInt32(ModelInstance* comp, ValueReference vr, uint32_t values[], size_t nValues, size_t* index) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
-    ASSERT_NVALUES(1);
+    calculateValues(comp);
 
     switch (vr) {
         case vr_UInt32_input:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(UInt32_input);
             break;
         case vr_UInt32_output:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(UInt32_output);
             break;
         default:
@@ -278,21 +337,28 @@ Status getUInt32(ModelInstance* comp, ValueReference vr, uint32_t values[], size
 }
 
 Status getInt64(ModelInstance* comp, ValueReference vr, int64_t values[], size_t nValues, size_t* index) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
-    ASSERT_NVALUES(1);
+    calculateValues(comp);
 
     switch (vr) {
         case vr_Int64_input:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Int64_input);
             break;
         case vr_Int64_output:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Int64_output);
             break;
 #if FMI_VERSION == 3
         case vr_Enumeration_input:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Enumeration_input);
             break;
         case vr_Enumeration_output:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Enumeration_output);
             break;
 #endif
@@ -305,14 +371,19 @@ Status getInt64(ModelInstance* comp, ValueReference vr, int64_t values[], size_t
 }
 
 Status getUInt64(ModelInstance* comp, ValueReference vr, uint64_t values[], size_t nValues, size_t* index) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
-    ASSERT_NVALUES(1);
+    calculateValues(comp);
 
     switch (vr) {
         case vr_UInt64_input:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(UInt64_input);
             break;
         case vr_UInt64_output:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(UInt64_output);
             break;
         default:
@@ -324,14 +395,19 @@ Status getUInt64(ModelInstance* comp, ValueReference vr, uint64_t values[], size
 }
 
 Status getBoolean(ModelInstance* comp, ValueReference vr, bool values[], size_t nValues, size_t* index) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
-    ASSERT_NVALUES(1);
+    calculateValues(comp);
 
     switch (vr) {
         case vr_Boolean_input:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Boolean_input);
             break;
         case vr_Boolean_output:
+            ASSERT_NVALUES(1);
             values[(*index)++] = M(Boolean_output);
             break;
         default:
@@ -343,15 +419,20 @@ Status getBoolean(ModelInstance* comp, ValueReference vr, bool values[], size_t 
 }
 
 Status getBinary(ModelInstance* comp, ValueReference vr, size_t sizes[], const char* values[], size_t nValues, size_t* index) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
-    ASSERT_NVALUES(1);
+    calculateValues(comp);
 
     switch (vr) {
         case vr_Binary_input:
+            ASSERT_NVALUES(1);
             values[*index]    = M(Binary_input);
             sizes[(*index)++] = M(Binary_input_size);
             break;
         case vr_Binary_output:
+            ASSERT_NVALUES(1);
             values[*index]    = M(Binary_output);
             sizes[(*index)++] = M(Binary_output_size);
             break;
@@ -364,12 +445,20 @@ Status getBinary(ModelInstance* comp, ValueReference vr, size_t sizes[], const c
 }
 
 Status getString(ModelInstance* comp, ValueReference vr, const char* values[], size_t nValues, size_t* index) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
-    ASSERT_NVALUES(1);
+    calculateValues(comp);
 
     switch (vr) {
-        case vr_String_parameter:
-            values[(*index)++] = M(String_parameter);
+        case vr_String_input:
+            ASSERT_NVALUES(1);
+            values[(*index)++] = M(String_input);
+            break;
+        case vr_String_output:
+            ASSERT_NVALUES(1);
+            values[(*index)++] = M(String_output);
             break;
         default:
             logError(comp, "Get String is not allowed for value reference %u.", vr);
@@ -380,22 +469,24 @@ Status getString(ModelInstance* comp, ValueReference vr, const char* values[], s
 }
 
 Status setFloat32(ModelInstance* comp, ValueReference vr, const float values[], size_t nValues, size_t* index) {
-
-    ASSERT_NVALUES(1);
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
     switch (vr) {
         case vr_Float32_continuous_input:
+            ASSERT_NVALUES(1);
             M(Float32_continuous_input) = values[(*index)++];
             break;
         case vr_Float32_discrete_input:
-#if FMI_VERSION > 1
             if (comp->type == ModelExchange &&
+                comp->state != Instantiated &&
                 comp->state != InitializationMode &&
                 comp->state != EventMode) {
-                logError(comp, "Variable Float32_discrete_input can only be set in initialization mode or event mode.");
+                logError(comp, "Variable Float32_discrete_input can only be set in after instantiation, in Initialization Mode, and in Event Mode.");
                 return Error;
             }
-#endif
+            ASSERT_NVALUES(1);
             M(Float32_discrete_input) = values[(*index)++];
             break;
         default:
@@ -403,29 +494,30 @@ Status setFloat32(ModelInstance* comp, ValueReference vr, const float values[], 
             return Error;
     }
 
+    comp->isDirtyValues = true;
+
     return OK;
 }
 
 Status setFloat64(ModelInstance* comp, ValueReference vr, const double values[], size_t nValues, size_t* index) {
-
-    ASSERT_NVALUES(1);
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
     switch (vr) {
 
         case vr_Float64_fixed_parameter:
-#if FMI_VERSION > 1
             if (comp->type == ModelExchange &&
                 comp->state != Instantiated &&
                 comp->state != InitializationMode) {
                 logError(comp, "Variable Float64_fixed_parameter can only be set after instantiation or in initialization mode.");
                 return Error;
             }
-#endif
+            ASSERT_NVALUES(1);
             M(Float64_fixed_parameter) = values[(*index)++];
             break;
 
         case vr_Float64_tunable_parameter:
-#if FMI_VERSION > 1
             if (comp->type == ModelExchange &&
                 comp->state != Instantiated &&
                 comp->state != InitializationMode &&
@@ -433,16 +525,16 @@ Status setFloat64(ModelInstance* comp, ValueReference vr, const double values[],
                 logError(comp, "Variable Float64_tunable_parameter can only be set after instantiation, in initialization mode or event mode.");
                 return Error;
             }
-#endif
+            ASSERT_NVALUES(1);
             M(Float64_tunable_parameter) = values[(*index)++];
             break;
 
         case vr_Float64_continuous_input:
+            ASSERT_NVALUES(1);
             M(Float64_continuous_input) = values[(*index)++];
             break;
 
         case vr_Float64_discrete_input:
-#if FMI_VERSION > 1
             if (comp->type == ModelExchange &&
                 comp->state != Instantiated &&
                 comp->state != InitializationMode &&
@@ -450,7 +542,7 @@ Status setFloat64(ModelInstance* comp, ValueReference vr, const double values[],
                 logError(comp, "Variable Float64_discrete_input can only be set after instantiation, in initialization mode or event mode.");
                 return Error;
             }
-#endif
+            ASSERT_NVALUES(1);
             M(Float64_discrete_input) = values[(*index)++];
             break;
 
@@ -459,15 +551,19 @@ Status setFloat64(ModelInstance* comp, ValueReference vr, const double values[],
             return Error;
     }
 
+    comp->isDirtyValues = true;
+
     return OK;
 }
 
 Status setInt8(ModelInstance* comp, ValueReference vr, const int8_t values[], size_t nValues, size_t* index) {
-
-    ASSERT_NVALUES(1);
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
     switch (vr) {
         case vr_Int8_input:
+            ASSERT_NVALUES(1);
             M(Int8_input) = values[(*index)++];
             break;
         default:
@@ -475,15 +571,19 @@ Status setInt8(ModelInstance* comp, ValueReference vr, const int8_t values[], si
             return Error;
     }
 
+    comp->isDirtyValues = true;
+
     return OK;
 }
 
 Status setUInt8(ModelInstance* comp, ValueReference vr, const uint8_t values[], size_t nValues, size_t* index) {
-
-    ASSERT_NVALUES(1);
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
     switch (vr) {
         case vr_UInt8_input:
+            ASSERT_NVALUES(1);
             M(UInt8_input) = values[(*index)++];
             break;
         default:
@@ -491,15 +591,19 @@ Status setUInt8(ModelInstance* comp, ValueReference vr, const uint8_t values[], 
             return Error;
     }
 
+    comp->isDirtyValues = true;
+
     return OK;
 }
 
 Status setInt16(ModelInstance* comp, ValueReference vr, const int16_t values[], size_t nValues, size_t* index) {
-
-    ASSERT_NVALUES(1);
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
     switch (vr) {
         case vr_Int16_input:
+            ASSERT_NVALUES(1);
             M(Int16_input) = values[(*index)++];
             break;
         default:
@@ -513,11 +617,13 @@ Status setInt16(ModelInstance* comp, ValueReference vr, const int16_t values[], 
 }
 
 Status setUInt16(ModelInstance* comp, ValueReference vr, const uint16_t values[], size_t nValues, size_t* index) {
-
-    ASSERT_NVALUES(1);
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
     switch (vr) {
         case vr_UInt16_input:
+            ASSERT_NVALUES(1);
             M(UInt16_input) = values[(*index)++];
             break;
         default:
@@ -530,21 +636,23 @@ Status setUInt16(ModelInstance* comp, ValueReference vr, const uint16_t values[]
     return OK;
 }
 
-
 Status setInt32(ModelInstance* comp, ValueReference vr, const int32_t values[], size_t nValues, size_t* index) {
-
-    ASSERT_NVALUES(1);
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
     switch (vr) {
         case vr_Int32_input:
+            ASSERT_NVALUES(1);
             M(Int32_input) = values[(*index)++];
             break;
-#if FMI_VERSION == 1 || FMI_VERSION == 2
+#if FMI_VERSION == 2
         case vr_Enumeration_input:
             if (values[*index] != Option1 && values[*index] != Option2) {
                 logError(comp, "%d is not a legal value for Enumeration_input.", values[*index]);
                 return Error;
             }
+            ASSERT_NVALUES(1);
             M(Enumeration_input) = values[(*index)++];
             break;
 #endif
@@ -559,11 +667,13 @@ Status setInt32(ModelInstance* comp, ValueReference vr, const int32_t values[], 
 }
 
 Status setUInt32(ModelInstance* comp, ValueReference vr, const uint32_t values[], size_t nValues, size_t* index) {
-
-    ASSERT_NVALUES(1);
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
     switch (vr) {
         case vr_UInt32_input:
+            ASSERT_NVALUES(1);
             M(UInt32_input) = values[(*index)++];
             break;
         default:
@@ -577,11 +687,13 @@ Status setUInt32(ModelInstance* comp, ValueReference vr, const uint32_t values[]
 }
 
 Status setInt64(ModelInstance* comp, ValueReference vr, const int64_t values[], size_t nValues, size_t* index) {
-
-    ASSERT_NVALUES(1);
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
     switch (vr) {
         case vr_Int64_input:
+            ASSERT_NVALUES(1);
             M(Int64_input) = values[(*index)++];
             break;
 #if FMI_VERSION == 3
@@ -590,6 +702,7 @@ Status setInt64(ModelInstance* comp, ValueReference vr, const int64_t values[], 
                 logError(comp, "%llu is not a legal value for Enumeration_input.", values[*index]);
                 return Error;
             }
+            ASSERT_NVALUES(1);
             M(Enumeration_input) = values[(*index)++];
             break;
 #endif
@@ -604,11 +717,13 @@ Status setInt64(ModelInstance* comp, ValueReference vr, const int64_t values[], 
 }
 
 Status setUInt64(ModelInstance* comp, ValueReference vr, const uint64_t values[], size_t nValues, size_t* index) {
-
-    ASSERT_NVALUES(1);
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
     switch (vr) {
         case vr_UInt64_input:
+            ASSERT_NVALUES(1);
             M(UInt64_input) = values[(*index)++];
             break;
         default:
@@ -622,14 +737,17 @@ Status setUInt64(ModelInstance* comp, ValueReference vr, const uint64_t values[]
 }
 
 Status setBoolean(ModelInstance* comp, ValueReference vr, const bool values[], size_t nValues, size_t* index) {
-
-    ASSERT_NVALUES(1);
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
     switch (vr) {
         case vr_Boolean_input:
+            ASSERT_NVALUES(1);
             M(Boolean_input) = values[(*index)++];
             break;
         case vr_Boolean_output:
+            ASSERT_NVALUES(1);
             M(Boolean_output) = values[(*index)++];
             break;
         default:
@@ -643,16 +761,18 @@ Status setBoolean(ModelInstance* comp, ValueReference vr, const bool values[], s
 }
 
 Status setString(ModelInstance* comp, ValueReference vr, const char *const values[], size_t nValues, size_t* index) {
-
-    ASSERT_NVALUES(1);
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
     switch (vr) {
-        case vr_String_parameter:
+        case vr_String_input:
             if (strlen(values[*index]) >= STRING_MAX_LEN) {
                 logError(comp, "Max. string length is %d bytes.", STRING_MAX_LEN);
                 return Error;
             }
-            strcpy(M(String_parameter), values[(*index)++]);
+            ASSERT_NVALUES(1);
+            strcpy(M(String_input), values[(*index)++]);
             break;
         default:
             logError(comp, "Set String is not allowed for value reference %u.", vr);
@@ -665,8 +785,9 @@ Status setString(ModelInstance* comp, ValueReference vr, const char *const value
 }
 
 Status setBinary(ModelInstance* comp, ValueReference vr, const size_t size[], const char* const values[], size_t nValues, size_t* index) {
-
-    ASSERT_NVALUES(1);
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
     switch (vr) {
         case vr_Binary_input:
@@ -674,6 +795,7 @@ Status setBinary(ModelInstance* comp, ValueReference vr, const size_t size[], co
                 logError(comp, "Max. binary size is %d bytes.", BINARY_MAX_LEN);
                 return Error;
             }
+            ASSERT_NVALUES(1);
             M(Binary_input_size) = size[*index];
             memcpy((void *)M(Binary_input), values[(*index)++], M(Binary_input_size));
             break;
@@ -687,9 +809,15 @@ Status setBinary(ModelInstance* comp, ValueReference vr, const size_t size[], co
     return OK;
 }
 
-void eventUpdate(ModelInstance *comp) {
+Status eventUpdate(ModelInstance *comp) {
+    ASSERT_NOT_NULL2(comp);
+
     comp->valuesOfContinuousStatesChanged   = false;
     comp->nominalsOfContinuousStatesChanged = false;
     comp->terminateSimulation               = false;
     comp->nextEventTimeDefined              = false;
+
+    comp->isDirtyValues = true;
+
+    return OK;
 }

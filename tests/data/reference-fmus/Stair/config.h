@@ -8,11 +8,9 @@
 #define CO_SIMULATION
 #define MODEL_EXCHANGE
 
-// define model size
-#define NX 0
-#define NZ 0
-
 #define GET_INT32
+#define SET_INT32
+
 #define EVENT_UPDATE
 
 #define FIXED_SOLVER_STEP 0.2

@@ -7,9 +7,7 @@
 #define MODEL_IDENTIFIER StateSpace
 #define INSTANTIATION_TOKEN "{D773325B-AB94-4630-BF85-643EB24FCB78}"
 
-// define model size: the vendored common/ has a fixed number of states (n keeps its start value 3)
-#define NX 3
-#define NZ 0
+#define MAX_CONTINUOUS_STATES 5
 
 #define CO_SIMULATION
 #define MODEL_EXCHANGE

@@ -2,7 +2,8 @@
 #include "model.h"
 
 
-void setStartValues(ModelInstance *comp) {
+Status setStartValues(ModelInstance *comp) {
+    ASSERT_NOT_NULL2(comp);
 
     M(m) = 3;
     M(n) = 3;
@@ -31,9 +32,12 @@ void setStartValues(ModelInstance *comp) {
     }
 
     comp->isDirtyValues = true;
+
+    return OK;
 }
 
 Status calculateValues(ModelInstance *comp) {
+    ASSERT_NOT_NULL2(comp);
 
     // der(x) = Ax + Bu
     for (size_t i = 0; i < M(n); i++) {
@@ -75,6 +79,9 @@ Status calculateValues(ModelInstance *comp) {
 }
 
 Status getFloat64(ModelInstance* comp, ValueReference vr, double values[], size_t nValues, size_t* index) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
     calculateValues(comp);
 
@@ -152,6 +159,9 @@ Status getFloat64(ModelInstance* comp, ValueReference vr, double values[], size_
 }
 
 Status setFloat64(ModelInstance* comp, ValueReference vr, const double values[], size_t nValues, size_t* index) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
     switch (vr) {
     case vr_A:
@@ -219,6 +229,9 @@ Status setFloat64(ModelInstance* comp, ValueReference vr, const double values[],
 }
 
 Status getUInt64(ModelInstance* comp, ValueReference vr, uint64_t values[], size_t nValues, size_t* index) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
     switch (vr) {
         case vr_m:
@@ -240,6 +253,9 @@ Status getUInt64(ModelInstance* comp, ValueReference vr, uint64_t values[], size
 }
 
 Status setUInt64(ModelInstance* comp, ValueReference vr, const uint64_t values[], size_t nValues, size_t* index) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(values);
+    ASSERT_NOT_NULL2(index);
 
     if (comp->state != ConfigurationMode && comp->state != ReconfigurationMode) {
         logError(comp, "Structural variables can only be set in Configuration Mode or Reconfiguration Mode.");
@@ -283,30 +299,86 @@ Status setUInt64(ModelInstance* comp, ValueReference vr, const uint64_t values[]
     return OK;
 }
 
-void eventUpdate(ModelInstance *comp) {
+Status eventUpdate(ModelInstance *comp) {
+    ASSERT_NOT_NULL2(comp);
 
     comp->valuesOfContinuousStatesChanged   = false;
     comp->nominalsOfContinuousStatesChanged = false;
     comp->terminateSimulation               = false;
     comp->nextEventTimeDefined              = false;
+
+    return OK;
 }
 
-void getContinuousStates(ModelInstance *comp, double x[], size_t nx) {
-    for (size_t i = 0; i < nx && i < M(n); i++) {
+size_t getNumberOfContinuousStates(ModelInstance* comp) {
+    ASSERT_NOT_NULL2(comp);
+    return (size_t)M(n);
+}
+
+Status getContinuousStates(ModelInstance* comp, double x[], size_t nx) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(x);
+
+    if (nx != M(n)) {
+        logError(comp, "Expected nx=%zu but was %zu.", M(n), nx);
+        return Error;
+    }
+
+    for (size_t i = 0; i < M(n); i++) {
         x[i] = M(x)[i];
     }
+
+    return OK;
 }
 
-void setContinuousStates(ModelInstance *comp, const double x[], size_t nx) {
-    for (size_t i = 0; i < nx && i < M(n); i++) {
+Status getNominalsOfContinuousStates(ModelInstance* comp, double nominals[], size_t nx) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(nominals);
+
+    if (nx != M(n)) {
+        logError(comp, "Expected nx=%zu but was %zu.", M(n), nx);
+        return Error;
+    }
+
+    for (size_t i = 0; i < M(n); i++) {
+        nominals[i] = 1.0;
+    }
+
+    return OK;
+}
+
+Status setContinuousStates(ModelInstance* comp, const double x[], size_t nx) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(x);
+
+    if (nx != M(n)) {
+        logError(comp, "Expected nx=%zu but was %zu.", M(n), nx);
+        return Error;
+    }
+
+    for (size_t i = 0; i < M(n); i++) {
         M(x)[i] = x[i];
     }
+
     comp->isDirtyValues = true;
+
+    return OK;
 }
 
-void getDerivatives(ModelInstance *comp, double dx[], size_t nx) {
+Status getDerivatives(ModelInstance* comp, double dx[], size_t nx) {
+    ASSERT_NOT_NULL2(comp);
+    ASSERT_NOT_NULL2(dx);
+
+    if (nx != M(n)) {
+        logError(comp, "Expected nx=%zu but was %zu.", M(n), nx);
+        return Error;
+    }
+
     calculateValues(comp);
-    for (size_t i = 0; i < nx && i < M(n); i++) {
+
+    for (size_t i = 0; i < M(n); i++) {
         dx[i] = M(der_x)[i];
     }
+
+    return OK;
 }
