@@ -4,8 +4,7 @@
   fmi2Discard with fmi2Terminated, FMI 3 ``fmi3DoStep``'s out-argument, or a Model Exchange event
   update) ends the run normally there: exit 0, the result under its final name up to that time,
   one note naming the component and the time. The Reference FMU ``Stair`` counts the seconds and
-  asks to terminate when its counter reaches 10 (t = 9 s); the FMI 3 variant ``StairEnds`` passes
-  the flag out of fmi3DoStep (tests/test_fmu_terminate.py). An early return stays a failure.
+  asks to terminate when its counter reaches 10 (t = 9 s). An early return stays a failure.
 - The model-exchange coupling handles the FMUs' events (:mod:`cosim.fmu.access`): time events
   (Stair), state events located by bisection (``BouncingBall``), step events. The bouncing ball
   falls freely between bounces, a parabola that RK4 integrates exactly, so the coupling's result
@@ -29,9 +28,8 @@ from cosim.fmu.access import indicators_crossed, locate_state_event
 STOP = 20.0  # s, after Stair's end
 STEP = 0.2  # s
 END = 9.0  # s, where Stair's counter reaches 10
-PASS_TERMINATE = {"fmi3Functions.c": [("*terminateSimulation = fmi3False;",
-                                       "*terminateSimulation = S->terminateSimulation;")]}
-ALWAYS_EARLY = {"fmi3Functions.c": [("*earlyReturn = !nextCommunicationPointReached;", "*earlyReturn = fmi3True;")]}
+ALWAYS_EARLY = {"fmi3Functions.c": [("*earlyReturn         = S->earlyReturnAllowed && !nextCommunicationPointReached;",
+                                     "*earlyReturn = fmi3True;")]}
 EXACT = 1e-9  # [m, m/s] the coupling's bouncing ball against the closed form: bisection to 1e-10 of a step
 CVODE_H, CVODE_V = 5e-4, 2e-2  # [m, m/s] FMPy's CVode (rtol 1e-4): its bounce times are off by ~1e-4 s by t = 2.5 s
 GRAVITY, RESTITUTION, V_MIN = 9.81, 0.7, 0.1  # BouncingBall's g [m/s^2], e, v_min [m/s]
@@ -41,7 +39,7 @@ GRAVITY, RESTITUTION, V_MIN = 9.81, 0.7, 0.1  # BouncingBall's g [m/s^2], e, v_m
 def fmus(tmp_path_factory):
     folder = tmp_path_factory.mktemp("events")
     return {"Stair2": reference_fmu2("Stair", folder / "fmi2"),
-            "Stair3": reference_fmu("Stair", folder / "fmi3", edits=PASS_TERMINATE, fmu_name="StairEnds"),
+            "Stair3": reference_fmu("Stair", folder / "fmi3"),
             "BouncingBall2": reference_fmu2("BouncingBall", folder / "fmi2"),
             "BouncingBall3": reference_fmu("BouncingBall", folder / "fmi3"),
             "Early3": reference_fmu("Stair", folder / "early", edits=ALWAYS_EARLY, fmu_name="StairEarly")}

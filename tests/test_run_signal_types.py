@@ -24,6 +24,12 @@ from reference_fmus import reference_fmu, reference_fmu2
 STARTS = {"model.c": [("M(Int32_input)   = 0;", "M(Int32_input)   = 7;"),
                       ("M(Boolean_input)  = false;", "M(Boolean_input)  = true;"),
                       ("M(Enumeration_input)  = Option1;", "M(Enumeration_input)  = Option2;")]}
+# String_input declared a tunable parameter: a String value set from the system file
+STRING_PARAMETER = {
+    "2": ('<ScalarVariable name="String_input" valueReference="29" causality="input" variability="discrete">',
+          '<ScalarVariable name="String_input" valueReference="29" causality="parameter" variability="tunable">'),
+    "3": ('<String name="String_input" valueReference="29" causality="input">',
+          '<String name="String_input" valueReference="29" causality="parameter" variability="tunable">')}
 PASSED = {"Int32": 7.0, "Boolean": 1.0, "Enumeration": 2.0}  # the started inputs, through two FMUs
 STEP_AMPLITUDE = 2.0  # the Step block on the Float64 path, from t = 0.5 s
 
@@ -31,8 +37,9 @@ STEP_AMPLITUDE = 2.0  # the Step block on the Float64 path, from t = 0.5 s
 @pytest.fixture(scope="module")
 def feedthrough(tmp_path_factory):
     folder = tmp_path_factory.mktemp("feedthrough")
-    return {"2": reference_fmu2("Feedthrough", folder / "fmi2", edits=STARTS, fmu_name="FeedthroughStarts"),
-            "3": reference_fmu("Feedthrough", folder / "fmi3", edits=STARTS, fmu_name="FeedthroughStarts")}
+    edits = {v: {**STARTS, "modelDescription.xml": [STRING_PARAMETER[v]]} for v in STRING_PARAMETER}
+    return {"2": reference_fmu2("Feedthrough", folder / "fmi2", edits=edits["2"], fmu_name="FeedthroughStarts"),
+            "3": reference_fmu("Feedthrough", folder / "fmi3", edits=edits["3"], fmu_name="FeedthroughStarts")}
 
 
 def _system(folder, fmus: tuple, connections: list[str], algorithm: str = "jacobi", record=None,
@@ -59,7 +66,7 @@ def test_signals_of_one_type_connect(feedthrough, tmp_path, versions, algorithm)
     connections = ["a.Int32_output -> b.Int32_input", "a.Boolean_output -> b.Boolean_input", f"a.{enumeration}",
                    "src.y -> a.Float64_continuous_input", "a.Float64_continuous_output -> b.Float64_continuous_input"]
     record = [f"b.{t}_output" for t in PASSED] + ["a.Float64_continuous_output", "b.Float64_continuous_output"]
-    system = _system(tmp_path, (a, b), connections, algorithm, record, 'String_parameter = "set from the system"')
+    system = _system(tmp_path, (a, b), connections, algorithm, record, 'String_input = "set from the system"')
     code, stdout, stderr = cli_in_process(["run", system, "-o", "types.csv"], tmp_path)
     assert code == 0 and not stderr, stdout + stderr
     rows = np.genfromtxt(tmp_path / "types.csv", delimiter=",", names=True, deletechars="")
@@ -112,12 +119,12 @@ def test_discrete_inputs_under_model_exchange(feedthrough, tmp_path, version):
 
 
 @pytest.mark.parametrize("value, message", [
-    ("3", "parameter 'String_parameter' is a String; got 3"),
-    ("true", "parameter 'String_parameter' is a String; got True"),
+    ("3", "parameter 'String_input' is a String; got 3"),
+    ("true", "parameter 'String_input' is a String; got True"),
     ('"x", unknown = 1', "unknown parameter 'unknown'"),
 ], ids=["number-for-string", "boolean-for-string", "unknown"])
 def test_parameters_of_other_types_are_checked(feedthrough, tmp_path, value, message):
-    system = _system(tmp_path, (feedthrough["3"],) * 2, [], parameters=f"String_parameter = {value}")
+    system = _system(tmp_path, (feedthrough["3"],) * 2, [], parameters=f"String_input = {value}")
     code, stdout, stderr = cli_in_process(["run", system, "-o", "types.csv"], tmp_path)
     assert code == 2 and stderr.count("\n") == 1, stdout + stderr
     assert "component 'a': " in stderr and message in stderr

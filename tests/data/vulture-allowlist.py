@@ -7,8 +7,6 @@ _.expected_poles  # analytic/compare.py: a field of PairComparison, read by asdi
 _.expected_zeros  # analytic/compare.py: a field of PairComparison, read by asdict in to_dict
 _.expected_gain  # analytic/compare.py: a field of PairComparison, read by asdict in to_dict
 _.log_message  # app/server.py: overrides http.server's request log (silenced)
-_._cosim_added_keys  # compiler/pymoca_patches.py: called by the patched pymoca source text it execs
-_._cosim_leaf_dimensions  # compiler/pymoca_patches.py: called by the patched pymoca source text it execs
 PadeDelay  # cosimulation/blocks.py: a Python block, found by its class name from system files
 PD  # cosimulation/controllers.py: a Python block, found by its class name from system files
 PID  # cosimulation/controllers.py: a Python block, found by its class name from system files
@@ -35,3 +33,10 @@ _._print_Symbol  # nonlinear/modelica.py: sympy's printer dispatches on the meth
 rational  # nonlinear/modelica.py: a parameter of sympy's _print_Pow signature
 _.terminal  # nonlinear/periodic.py: scipy's solve_ivp reads an event function's attribute
 _.lean_only  # nonlinear/rider.py: a field of the PathZeros result, beside steer_only and both
+_.in_c_loop  # cosimulation/algorithms/base.py: read by name through algorithms(in_c_loop=True)
+GaussSeidel  # cosimulation/algorithms/gauss_seidel.py: registered by its decorator, found by name
+ModelExchangeCoupling  # cosimulation/algorithms/model_exchange.py: registered by its decorator
+CosimMaster  # engines/cosim_master.py: an engine registered by its decorator, found by name
+Ecos  # engines/ecos.py: an engine registered by its decorator, found by name
+FMPy  # engines/fmpy_simulate.py: an engine registered by its decorator, found by name
+Libcosim  # engines/libcosim.py: an engine registered by its decorator, found by name
