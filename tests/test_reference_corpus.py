@@ -295,6 +295,71 @@ def test_validate_and_info(corpus, tmp_path, version, name):
     assert info["interfaces"] == ["ModelExchange", "CoSimulation"]
 
 
+#: `run` against `simulate` of the same FMU on the same communication grid: the same calls of the
+#: same binary, so the same numbers but for the last bits of the time grid's sums.
+RUN_EQUALS_SIMULATE = 1e-12
+
+
+def system_file(folder: Path, fmu: Path, start: float, stop: float, step: float) -> Path:
+    """A system of the one FMU ``fmu`` as component ``m``, every output recorded."""
+    path = folder / "one.toml"
+    path.write_text(f'[system]\nname = "one"\nstart = {start!r}\nstop = {stop!r}\nstep = {step!r}\n'
+                    f'[components.m]\nfmu = "{fmu}"\n')
+    return path
+
+
+@pytest.mark.parametrize("version, name", MODELS, ids=[model_id(v, m) for v, m in MODELS])
+def test_run_as_a_component(corpus, tmp_path, version, name):
+    """`cosim run` of a system with the Reference FMU as its one component records every numeric and
+    Boolean output (arrays element by element, ``m.y[1]``, ...) equal to `cosim simulate` of the FMU
+    on the same grid, and within the band of the reference result; Stair ends the run at 9 s with
+    exit 0 and a note."""
+    fmu = corpus[model_id(version, name)]
+    stop = ROBERTS_STOP if name in NO_REFERENCE else experiment(version, name)["stopTime"]
+    step = ROBERTS_STEP if name in NO_REFERENCE else 0.01
+    start = experiment(version, name).get("startTime", 0.0)
+    status, out, err = cosim("run", system_file(tmp_path, fmu, start, stop, step), "-o", "run.csv", cwd=tmp_path)
+    assert status == 0, err
+    if name == "Stair":
+        assert err.strip().splitlines() == ["cosim run: note: component 'm' ended the run at t = 9 s "
+                                            "(terminateSimulation)"], err
+    else:
+        assert err == "", err
+    ran = fmpy.read_csv(tmp_path / "run.csv")
+    status, _, err = cosim("simulate", fmu, "--fmi-type", "cs", "--stop-time", stop, "--step", step,
+                           "-o", "simulate.csv", cwd=tmp_path)
+    assert status == 0, err
+    simulated, _ = read_result(tmp_path / "simulate.csv", name == "Feedthrough")
+    recorded = [n for n in ran.dtype.names[1:]]
+    assert recorded, "nothing recorded"
+    numeric = [n for n in simulated.dtype.names[1:] if f"m.{n}" in recorded]
+    assert {f"m.{n}" for n in numeric} == {n for n in recorded if n != "m.h_ft"}, (recorded, numeric)
+    np.testing.assert_allclose(ran["time"], simulated["time"], rtol=0, atol=RUN_EQUALS_SIMULATE)
+    for n in numeric:
+        np.testing.assert_allclose(ran[f"m.{n}"], simulated[n], rtol=0, atol=RUN_EQUALS_SIMULATE, err_msg=n)
+    if name in NO_REFERENCE:
+        return
+    reference, _ = read_table(reference_output(name))
+    as_result = np.empty(len(ran), dtype=[("time", float)] + [(n, float) for n in numeric])
+    as_result["time"] = ran["time"]
+    for n in numeric:
+        as_result[n] = ran[f"m.{n}"]
+    kept = ["time"] + [n for n in reference.dtype.names[1:] if n in numeric]
+    assert len(kept) > 1, reference.dtype.names
+    assert_within_band(as_result, reference[kept], f"{model_id(version, name)} run")
+
+
+def test_run_refuses_scheduled_execution(corpus, tmp_path):
+    """A Scheduled Execution FMU as a component of a system: one line, exit 2, nothing written."""
+    status, out, err = cosim("run", system_file(tmp_path, corpus["fmi3-Clocks"], 0.0, 1.0, 0.1), "-o", "run.csv",
+                             cwd=tmp_path)
+    assert status == 2, (out, err)
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("cosim run: error: ") and "Traceback" not in err, err
+    assert "Clocks" in lines[0], lines[0]
+    assert not (tmp_path / "run.csv").exists()
+
+
 LINEARIZED = [(v, m) for v, m in MODELS if m in JACOBIANS]
 
 

@@ -223,12 +223,20 @@ class FMUComponent(Component):
         signals = {kind: ([v.name for v in md.modelVariables if v.causality == kind and _is_real_scalar(v)],
                           [v.name for v in md.modelVariables if v.causality == kind and _is_other_scalar(v)])
                    for kind in ("input", "output")}
+        # FMI 3 array outputs of these types are signals element by element (``y[1]``, ``y[2]``, ...:
+        # recorded and connectable as scalars), read by one call per array.
+        elements = {v.name: self.fmu.elements([v.name]) for v in md.modelVariables
+                    if v.causality == "output" and getattr(v, "dimensions", None)
+                    and (v.type == "Float64" or v.type in OTHER_SIGNAL_TYPES)}
+        signals["output"][1].extend(e for array in elements.values() for e in array)
         self.inputs = signals["input"][0] + signals["input"][1]
         self.outputs = signals["output"][0] + signals["output"][1]
         self.other_inputs, self.other_outputs = signals["input"][1], signals["output"][1]
         #: The type of every signal, as connections are checked (:func:`connection_type`).
         self.signal_types = {v.name: connection_type(v) for v in md.modelVariables
                              if v.name in self.inputs or v.name in self.outputs}
+        self.signal_types.update({e: connection_type(self.fmu.variables[name])
+                                  for name, array in elements.items() for e in array})
         self.parameters = dict(parameters or {})
         self.tolerance = tolerance
         self._depends = self._output_dependencies()

@@ -784,16 +784,45 @@ class FMU:
         getters = _GETTERS[self.fmi_version[:1]]
         values = np.zeros(len(names))
         groups: dict[str, tuple[list, list]] = {}
+        arrays: dict[str, list[tuple[int, int]]] = {}  # an array's name -> (slot, element index)
         for k, name in enumerate(names):
-            v = self.variables[name]
+            v, index = self.element(name)
             if v.type not in getters or v.type == "String":
                 raise FMUError(f"{self.path}: variable '{name}' has type {v.type}, which cannot be read as a number")
+            if index is not None:
+                arrays.setdefault(v.name, []).append((k, index))
+                continue
             slots, vrs = groups.setdefault(getters[v.type], ([], []))
             slots.append(k)
             vrs.append(v.valueReference)
         for getter, (slots, vrs) in groups.items():
             values[slots] = np.asarray(getattr(instance, getter)(vrs), dtype=float)
+        for name, wanted in arrays.items():  # one call per array: its values in one value reference
+            v = self.variables[name]
+            array = np.asarray(getattr(instance, getters[v.type])([v.valueReference], nValues=self.size(name)),
+                               dtype=float)
+            for k, index in wanted:
+                values[k] = array[index]
         return values
+
+    def element(self, name: str):
+        """The variable of ``name`` and, for an element ``x[k]`` of an FMI 3 array ``x`` (1-based,
+        as :meth:`elements` names them), its 0-based index in the array's values (else None).
+
+        Raises
+        ------
+        KeyError
+            If ``name`` is neither a variable nor an element of an array variable.
+        """
+        v = self.variables.get(name)
+        if v is not None:
+            return v, None
+        match = re.fullmatch(r"(.+)\[([1-9][0-9]*)\]", name)
+        if match and getattr(self.variables.get(match.group(1)), "dimensions", None):
+            index = int(match.group(2)) - 1
+            if index < self.size(match.group(1)):
+                return self.variables[match.group(1)], index
+        raise KeyError(name)
 
     def get_real(self, instance, names: list[str]) -> np.ndarray:
         """The values of real (FMI 3: Float64) variables by name."""
