@@ -32,6 +32,7 @@ import warnings
 from pathlib import Path
 
 from cosim import __version__
+from cosim.cli_options import LIBRARY_VARIABLE, library_option, positive_int
 from cosim.errors import CosimError, OutputError, ParameterError, ResultNotWritten
 from cosim.outputs import os_error_message
 
@@ -164,17 +165,6 @@ Run `cosim VERB --help` for the options of a command.
 {ENVIRONMENT}
 
 {EXIT_CODES}"""
-
-
-def positive_int(text: str) -> int:
-    """argparse type of counts such as -j/--jobs and --workers: an integer >= 1."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got '{text}'") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
-    return value
 
 
 def _port(text: str) -> int:
@@ -688,23 +678,12 @@ def _cmd_demo(args) -> int:
     return EXIT_OK
 
 
-LIBRARY_VARIABLE = "COSIM_MODELICA_PATH"
-
-
 def lenient_option(p: argparse.ArgumentParser, what: str = "it") -> None:
     """``--lenient``: open FMUs whose model description fails FMPy's checks (findings as warnings)."""
     p.add_argument("--lenient", action="store_true",
                    help=f"open {what} even if its modelDescription.xml fails FMPy's schema or consistency "
                         "checks (as FMPy's validate=False does): each finding is a warning line, the run is "
                         "attempted; unsafe archives and unsupported FMI versions are still refused")
-
-
-def library_option(p: argparse.ArgumentParser) -> None:
-    """``--library DIR`` of every verb that resolves model names (see :func:`use_library`)."""
-    p.add_argument("--library", default=None, metavar="DIR",
-                   help=f"folder of your own Modelica packages (several: separated by '{os.pathsep}'), searched "
-                        "before the library shipped with the package, which model names always resolve in "
-                        f"too (default: ${LIBRARY_VARIABLE}); the first folder holding a top-level package wins")
 
 
 @contextlib.contextmanager

@@ -7,9 +7,9 @@ from __future__ import annotations
 import argparse
 import sys
 
-from cosim.cli import library_option, positive_int
+from cosim.cli_options import library_option, positive_int
 
-__all__ = ["add_parser", "run", "main"]
+__all__ = ["add_parser", "run"]
 
 EPILOG = """\
 an output folder that already holds results is refused unless --resume (keep them: run only the
@@ -107,10 +107,3 @@ def run(args) -> int:
         print(f"{'PASS' if result.passed else 'FAIL'}: report in {result.report.get('markdown')} and "
               f"{result.report.get('html')}")
     return result.exit_code
-
-
-def main(argv: list[str] | None = None) -> int:
-    """``python -m cosim.matrix ARGS``: ``cosim matrix ARGS`` (one error handling for both)."""
-    from cosim.cli import main as cosim_main
-
-    return cosim_main(["matrix", *(sys.argv[1:] if argv is None else argv)])
