@@ -54,6 +54,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from cosim.matrix.pencil import MODAL_SIGNIFICANT, SMALL_ORDER, SMALL_PENCIL, ModalFit
+from cosim.matrix.pencil import native as native_pencil
+
 UNSTABLE = ("unstable", "fell", "diverged")
 
 #: A modal fit is accepted when ||x - fit|| / ||x|| is at most this (co-simulations: ~1e-7).
@@ -69,40 +72,6 @@ MODAL_MAX_ORDER = 30
 #: bicycle's modes (tests/test_matrix.py::test_modal_fit_recovers_the_exact_growth_rate) 200
 #: samples find all four modes where 400 missed one at 6 and 8 m/s (rate error 3.6e-8 vs 1e-10 1/s).
 MODAL_SAMPLES = 200
-#: The pencil parameter tried first (a Hankel matrix of 25 columns instead of n/3 = 67: the SVD
-#: that was most of a ten-second case's CPU time costs a sixth), kept when it finds at most
-#: :data:`SMALL_ORDER` modes -- most runs have 2 to 8 -- else the fit is redone with n/3. Over the
-#: 641 classifications of cosim/matrix/specs/paper.toml and benchmarks/matrix.py's workloads it
-#: changed no class and no growth method and moved the growth rates of the 485 runs that did not
-#: fall by a median 1.9e-9 1/s, at most 1.9e-6 1/s (the solver's tolerance); exact sums of modes
-#: are identified to 1e-8 either way (tests/test_matrix_robustness.py). Runs that fell keep the
-#: n/3 pencil (``observe``; their 156 rates are unchanged bit for bit): near a fall the signal is
-#: no sum of modes, and the reported rate depends on the averaging over n/3 columns (the small
-#: pencil moved it by up to 0.9 1/s and turned 10 of those modal fits into envelope ones).
-SMALL_PENCIL = 24
-SMALL_ORDER = SMALL_PENCIL // 2 - 2
-#: A mode counts when its largest contribution |a| max_k |z|^k is at least this fraction of the peak
-#: of |x| (and 100 times the fit's RMS residual): smaller ones are fitting noise.
-MODAL_SIGNIFICANT = 1e-6
-
-
-@dataclass
-class ModalFit:
-    """Exponents of ``x(t) ~ sum_m a_m exp(lambda_m (t - t_m))`` fitted to uniform samples.
-
-    ``rate`` [1/s] is the largest Re(lambda) of the significant modes, ``modes`` those exponents
-    [1/s] (largest real part first), ``contributions`` their largest |a_m exp(lambda_m t)| over
-    the window relative to the peak of |x|, ``residual`` the relative 2-norm error of the fit,
-    ``start`` [s] the beginning of the fitted window."""
-
-    rate: float
-    modes: list
-    contributions: list
-    residual: float
-    order: int
-    start: float
-
-
 def _median(a: np.ndarray) -> float:
     """``np.median`` of a non-empty 1-D array without NaN, bit for bit, at a third of its cost (a
     case calls it twice, and numpy's checks and dispatch cost more than the partition)."""
@@ -233,9 +202,7 @@ def modal_fit(t, x, *, max_samples: int = MODAL_SAMPLES, max_order: int = MODAL_
         and over its later two thirds (where the response to a pulse has become free).
     """
     if native:
-        from cosim.matrix.pencil import native as compiled
-
-        fitter = compiled()
+        fitter = native_pencil()
         if fitter is not None:
             return fitter.modal_fit(t, x, max_samples, max_order, max_residual, small)
     t = np.asarray(t, float)
