@@ -38,7 +38,7 @@ def engines(spec, steps: int, folder: Path, tmp: str) -> dict:
     from cosim.cosimulation.factory import create_components
     from cosim.cosimulation.master import assemble
     from cosim.cosimulation.ssp import PARAMETER_SET
-    from cosim.fmu.engines import ecospy
+    from cosim.cosimulation.engines import ecospy
 
     ecospy()
     from ecospy import EcosSimulation
@@ -182,7 +182,7 @@ def main(argv=None) -> int:
     from cosim.cosimulation.modelica_twins import with_twins
     from cosim.cosimulation.ssp import export_ssp
     from cosim.cosimulation.system import load_system
-    from cosim.fmu.engines import _unpacked_ssp
+    from cosim.cosimulation.engines import _unpacked_ssp
 
     log_output_level(CosimLogLevel.WARNING)
     print(f"CPUs: {os.cpu_count()}, load average (1 min): {os.getloadavg()[0]:.2f}, "

@@ -157,7 +157,7 @@ def pytest_runtest_call(item):
     the reason (e.g. Ecos without libtbb.so.12), not failed: one clear line in the summary.
     tests/test_engines.py fails instead when the test extra is installed and an engine still
     does not load."""
-    from cosim.fmu.engines import EngineUnavailable
+    from cosim.cosimulation.engines import EngineUnavailable
 
     try:
         return (yield)

@@ -100,7 +100,7 @@ def test_unknown_figure(tmp_path):
 
 @pytest.mark.needs_libcosim
 def test_run_and_export_ssp(tmp_path):
-    from cosim.fmu.engines import run_ssp_libcosim
+    from cosim.cosimulation.engines import run_ssp_libcosim
 
     system = ROOT / "cosim" / "systems" / "rider-p-control.toml"
     npy, ssp = tmp_path / "r.npy", tmp_path / "r.ssp"

@@ -12,7 +12,7 @@ from cosim.cosimulation.factory import run_system
 from cosim.cosimulation.modelica_twins import with_twins
 from cosim.cosimulation.ssp import export_ssp
 from cosim.cosimulation.system import load_system
-from cosim.fmu.engines import run_ssp_ecos, run_ssp_libcosim
+from cosim.cosimulation.engines import run_ssp_ecos, run_ssp_libcosim
 
 SYSTEMS = sorted((Path(__file__).resolve().parents[1] / "cosim" / "systems").glob("*.toml"))
 AGREEMENT = 1e-9  # same binaries, same algorithm: only round-off may differ (relative, floor 1)

@@ -10,7 +10,7 @@ import sys
 
 import pytest
 
-from cosim.fmu import engines
+from cosim.cosimulation import engines
 
 
 def _installed(distribution: str) -> bool:
@@ -26,7 +26,7 @@ def _installed(distribution: str) -> bool:
 def test_ecos_loads_with_the_tbb_wheel_alone():
     """Ecos needs libtbb.so.12; the pip tbb wheel's copy is found although the loader does not
     search <prefix>/lib. Run in a fresh interpreter so no earlier import hides the problem."""
-    code = "from cosim.fmu import engines; engines.ecospy(); print('ok')"
+    code = "from cosim.cosimulation import engines; engines.ecospy(); print('ok')"
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert result.returncode == 0 and result.stdout.strip() == "ok", result.stderr
 

@@ -230,7 +230,7 @@ def test_co_simulation_in_ecos_equals_fmpy(fmi3, model):
     (constant 0.1 on every input, fixed communication step), to 1e-9."""
     from fmpy import read_model_description, simulate_fmu
 
-    from cosim.fmu.engines import run_ecos
+    from cosim.cosimulation.engines import run_ecos
 
     fmu = str(fmi3[model])
     md = read_model_description(fmu)

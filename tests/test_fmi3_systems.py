@@ -301,7 +301,7 @@ def test_fmi3_without_c_compiler(container, fmu_dir, monkeypatch):
 def _ecos_agrees(spec, ssp: Path, fmu_dir) -> float:
     """Largest relative difference between Ecos running ``ssp`` and our master running ``spec``
     (recording after the transfer, as Ecos does; the engines run to the end: no fall criterion)."""
-    from cosim.fmu.engines import run_ssp_ecos
+    from cosim.cosimulation.engines import run_ssp_ecos
 
     free = dataclasses.replace(spec, fall_signal=None, fall_limit=None, sampling="after-transfer")
     ours = run_system(free, fmu_dir).data
@@ -360,7 +360,7 @@ def test_libcosim_refuses_fmi3_before_loading(ssps, fmu_dir, case, named):
     target = fmu_dir / "fmi3" / "Bicycle_Bicycles_WhippleLinear.fmu" if case == "fmu" else ssps[case]
     call = (f"engines.run_libcosim({str(target)!r}, 1.0, 0.01)" if case == "fmu"
             else f"engines.run_ssp_libcosim({str(target)!r}, ['bike.phi'])")
-    code = ("import sys\nfrom cosim.fmu import engines\n"
+    code = ("import sys\nfrom cosim.cosimulation import engines\n"
             f"try:\n    {call}\nexcept engines.EngineUnsupported as exc:\n    print('REFUSED', exc)\n"
             "print('libcosimpy loaded' if 'libcosimpy' in sys.modules else 'libcosimpy not loaded')\n")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)

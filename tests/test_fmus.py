@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from cosim.compiler.library import DEFAULT_LIBRARY, Library
-from cosim.fmu.engines import run_ecos, run_libcosim
+from cosim.cosimulation.engines import run_ecos, run_libcosim
 from cosim.analytic.twins import TWINS
 from cosim.fmu.access import FMU, set_continuous_states
 from cosim.fmu.simulate import simulate

@@ -14,7 +14,7 @@ FMI 3 FMUs then carry their own FMI 3 types (``ssc:Float64``), which SSP 1.0 lac
 The models of the system are built as FMI 2.0 FMUs, or as FMI 3.0 FMUs with ``fmi_version="3"``
 (``cosim export-ssp --fmi-version 3``); SSP 1.0 types the connectors and parameters of both the
 same way (FMI 3 ``Float64`` is ``ssc:Real``). Ecos runs either; libcosim has no FMI 3.0 (see
-:mod:`cosim.fmu.engines`).
+:mod:`cosim.cosimulation.engines`).
 """
 from __future__ import annotations
 

@@ -18,6 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
+from cosim.cosimulation.ssp import PARAMETER_SET
+from cosim.cosimulation.system import SystemError_
 from cosim.errors import CosimError, SimulationError
 
 NANOSECONDS = 1_000_000_000
@@ -56,7 +58,7 @@ def _refuse_fmi3_fmu_in_libcosim(fmu: str | Path) -> None:
         return
     if version and version.startswith("3."):
         raise EngineUnsupported(f"{fmu}: {LIBCOSIM_NO_FMI3}, and this FMU is FMI {version}; run it in Ecos "
-                                "(cosim.fmu.engines.run_ecos) or use its FMI 2.0 build (cosim build --fmi-version 2)")
+                                "(cosim.cosimulation.engines.run_ecos) or use its FMI 2.0 build (cosim build --fmi-version 2)")
 
 
 def fmi3_components(ssp: str | Path) -> dict[str, str]:
@@ -88,7 +90,7 @@ def _refuse_fmi3_ssp_in_libcosim(ssp: str | Path) -> None:
         listed = ", ".join(f"{name} ({source})" for name, source in found.items())
         raise EngineUnsupported(f"{ssp}: {LIBCOSIM_NO_FMI3}, and component{'s' if len(found) > 1 else ''} "
                                 f"{listed} {'are' if len(found) > 1 else 'is'} FMI 3.0; run the SSP in Ecos "
-                                "(cosim.fmu.engines.run_ssp_ecos) or export it with FMI 2.0 components "
+                                "(cosim.cosimulation.engines.run_ssp_ecos) or export it with FMI 2.0 components "
                                 "(cosim export-ssp --fmi-version 2)")
 
 
@@ -250,8 +252,6 @@ def run_ssp_libcosim(ssp: str | Path, signals: list[str], stop_time: float | Non
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
     from libcosimpy.CosimObserver import CosimObserver
 
-    from cosim.cosimulation.system import SystemError_
-
     log_output_level(CosimLogLevel.WARNING)
     with _unpacked_ssp(ssp) as (folder, start, stop, base):
         execution = (CosimExecution.from_ssp_file(str(folder), step) if step
@@ -287,8 +287,6 @@ def run_ssp_ecos(ssp: str | Path, signals: list[str], stop_time: float | None = 
     ("component.variable") after each step."""
     ecospy()
     from ecospy import EcosSimulation
-
-    from cosim.cosimulation.ssp import PARAMETER_SET
 
     with _unpacked_ssp(ssp) as (folder, start, stop, base):
         h = step or base
