@@ -390,8 +390,9 @@ def _write_incomplete(exc, output: Path, plot_path: str | None, title: str, verb
 
 
 def _cmd_simulate(args) -> int:
+    from cosim.bicycle.parameters import from_command_line
     from cosim.fmu.access import ALL_FMI_VERSIONS, read_fmu
-    from cosim.fmu.parameters import declarations, from_command_line
+    from cosim.fmu.parameters import declarations
     from cosim.fmu.simulate import IncompleteResult, SimulationTerminated, check_run, input_signals, simulate
     from cosim.fmu.target import is_fmu_path, resolve_fmu
 
@@ -445,9 +446,11 @@ def _operating_point(target: str, assignments: list[str], declared: dict | None 
 
 
 def _cmd_linearize(args) -> int:
+    from cosim.bicycle.linearize import NotSteadyMotion, is_bicycle, steady_motion
+    from cosim.bicycle.parameters import from_command_line
     from cosim.fmu.access import ALL_FMI_VERSIONS
-    from cosim.fmu.linearize import NotSteadyMotion, is_bicycle, linearize, steady_motion
-    from cosim.fmu.parameters import declarations, from_command_line
+    from cosim.fmu.linearize import linearize
+    from cosim.fmu.parameters import declarations
     from cosim.fmu.target import resolve_fmu
 
     if args.speeds is not None:
@@ -506,10 +509,11 @@ def _cmd_linearize(args) -> int:
 
 
 def _linearize_sweep(args) -> int:
-    """``cosim linearize MODEL --speeds ...``: :func:`cosim.fmu.linearize.linearize_speeds`."""
+    """``cosim linearize MODEL --speeds ...``: :func:`cosim.bicycle.linearize.linearize_speeds`."""
     from cosim.fmu.access import ALL_FMI_VERSIONS
-    from cosim.fmu.linearize import NotSteadyMotion, linearize_speeds, parse_speeds
-    from cosim.fmu.parameters import declarations, forward_speed, from_command_line
+    from cosim.bicycle.linearize import NotSteadyMotion, linearize_speeds, parse_speeds
+    from cosim.bicycle.parameters import forward_speed, from_command_line
+    from cosim.fmu.parameters import declarations
     from cosim.fmu.target import resolve_fmu
 
     speeds = parse_speeds(args.speeds)
@@ -562,8 +566,10 @@ def _linearize_sweep(args) -> int:
 
 
 def _cmd_compare(args) -> int:
-    from cosim.analytic.compare import compare_model, format_table, parse_speeds
-    from cosim.fmu.parameters import forward_speed, split_assignment
+    from cosim.analytic.compare import format_table
+    from cosim.bicycle.compare import compare_model, parse_speeds
+    from cosim.bicycle.parameters import forward_speed
+    from cosim.fmu.parameters import split_assignment
 
     if not args.tol > 0:
         raise ParameterError(f"--tol must be > 0, got {args.tol:g}")

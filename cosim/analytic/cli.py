@@ -11,6 +11,9 @@ import argparse
 import json
 import math
 
+from cosim.analytic.parameters import MAX_SPEED, Waiver, load_set_for_models
+from cosim.errors import ParameterError
+
 __all__ = ["add_parser", "run", "analytic_report", "format_report"]
 
 MATRIX_UNITS = {"M": "kg m^2", "C1": "kg m (times v)", "K0": "kg m (times g)", "K2": "kg (times v^2)"}
@@ -37,20 +40,15 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 def analytic_report(params_name: str, speeds: list[float]) -> dict:
     """Everything `cosim analytic` prints, as a JSON-ready dict."""
-    from cosim.analytic import whipple as W
-    from cosim.fmu.parameters import parameter_set_waiver
-    from cosim.fmu.stability import parameters_for_model
-
-    from cosim.errors import ParameterError
-    from cosim.fmu.linearize import MAX_SPEED
+    from cosim.analytic import whipple as W  # imports numpy: not when the parser of every verb is built
 
     for v in speeds:
         if not math.isfinite(v):
             raise ParameterError(f"--speed must be finite, got {v}")
         if abs(v) > MAX_SPEED:
             raise ParameterError(f"--speed {v:g}: at most {MAX_SPEED:g} m/s in magnitude")
-    params = parameters_for_model(params_name)
-    waiver = parameter_set_waiver(params_name)  # the checks the set's file waives, reported with it
+    loaded = load_set_for_models(params_name)
+    params, waiver = loaded.values, loaded.waiver  # the checks the set's file waives, reported with it
     M, C1, K0, K2 = W.matrices(params)
     weave = W.weave_speed(params)
     capsize = W.capsize_speed(params)
@@ -90,8 +88,6 @@ def format_report(report: dict) -> str:
              "  M q'' + v C1 q' + (g K0 + v^2 K2) q = [T_phi, T_delta],  q = [phi, delta] "
              "(roll right, steer right positive)"]
     if report.get("waiver"):
-        from cosim.analytic.parameters import Waiver
-
         waiver = report["waiver"]
         lines.append(f"  {Waiver(tuple(waiver['checks']), waiver['reason']).describe()}")
     for name in ("M", "C1", "K0", "K2"):

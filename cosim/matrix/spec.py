@@ -48,6 +48,7 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
 
+from cosim.analytic.parameters import parameters_for_model
 from cosim.cosimulation.system import type_name
 from cosim.errors import CosimError, ParameterError
 from cosim.matrix import expr
@@ -270,8 +271,6 @@ class MatrixSpec:
 
 @lru_cache(maxsize=32)
 def _parameter_set_cached(name: str) -> tuple:
-    from cosim.fmu.stability import parameters_for_model
-
     return tuple(parameters_for_model(name).items())
 
 
