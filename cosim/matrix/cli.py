@@ -5,9 +5,12 @@
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 
 from cosim.cli_options import library_option, positive_int
+from cosim.matrix.runner import run_matrix
+from cosim.matrix.spec import MAX_CASES, bundled_specs
 
 __all__ = ["add_parser", "run"]
 
@@ -27,8 +30,6 @@ Bundled specs (give the name instead of a file): {bundled}
 
 
 def _bundled() -> list[str]:
-    from cosim.matrix.spec import bundled_specs
-
     return bundled_specs()
 
 
@@ -47,8 +48,6 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 
 def _arguments(p: argparse.ArgumentParser) -> None:
-    from cosim.matrix.spec import MAX_CASES
-
     p.add_argument("spec", help="matrix spec (TOML file) or the name of a bundled spec")
     p.add_argument("--workers", type=positive_int, default=None, metavar="N",
                    help="local worker processes, >= 1 (default: number of CPUs)")
@@ -82,10 +81,6 @@ def run(args) -> int:
     CosimError
         For a spec, output-folder or usage error (printed by :func:`cosim.cli.main`).
     """
-    import json
-
-    from cosim.matrix.runner import run_matrix
-
     try:
         result = run_matrix(args.spec, args.output, workers=args.workers, scheduler=args.scheduler,
                             resume=args.resume, force=args.force, keep_failed=args.keep_failed,
