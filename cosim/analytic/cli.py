@@ -11,7 +11,6 @@ import argparse
 import json
 import math
 
-from cosim.analytic.parameters import MAX_SPEED, Waiver, load_set_for_models
 from cosim.errors import ParameterError
 
 __all__ = ["add_parser", "run", "analytic_report", "format_report"]
@@ -40,7 +39,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 def analytic_report(params_name: str, speeds: list[float]) -> dict:
     """Everything `cosim analytic` prints, as a JSON-ready dict."""
-    from cosim.analytic import whipple as W  # imports numpy: not when the parser of every verb is built
+    # not at the top: `cosim VERB` for every verb builds this parser, and these load numpy and dataclasses
+    from cosim.analytic import whipple as W
+    from cosim.analytic.parameters import MAX_SPEED, load_set_for_models
 
     for v in speeds:
         if not math.isfinite(v):
@@ -88,6 +89,8 @@ def format_report(report: dict) -> str:
              "  M q'' + v C1 q' + (g K0 + v^2 K2) q = [T_phi, T_delta],  q = [phi, delta] "
              "(roll right, steer right positive)"]
     if report.get("waiver"):
+        from cosim.analytic.parameters import Waiver
+
         waiver = report["waiver"]
         lines.append(f"  {Waiver(tuple(waiver['checks']), waiver['reason']).describe()}")
     for name in ("M", "C1", "K0", "K2"):

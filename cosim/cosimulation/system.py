@@ -33,7 +33,6 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from cosim.analytic.parameters import parameters_for_model
 from cosim.errors import ParameterError
 from cosim.outputs import check_input_file, read_text_file
 
@@ -338,6 +337,9 @@ def _component(problems: _Problems, name: str, entry, path: Path | None) -> Comp
     if kind == "fmu" and path is not None and not Path(source).is_absolute():
         source = os.path.abspath(path.parent / source)  # (not resolve(): a loop of links is named later)
     if parameter_set is not None:
+        # not at the top: `cosim --help` loads this module, and parameter sets rarely
+        from cosim.analytic.parameters import parameters_for_model
+
         if path is not None and (parameter_set.endswith(".toml") or "/" in parameter_set):
             parameter_set = os.path.abspath(path.parent / parameter_set)
         try:

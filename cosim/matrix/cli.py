@@ -9,7 +9,6 @@ import json
 import sys
 
 from cosim.cli_options import library_option, positive_int
-from cosim.matrix.runner import run_matrix
 from cosim.matrix.spec import MAX_CASES, bundled_specs
 
 __all__ = ["add_parser", "run"]
@@ -81,6 +80,8 @@ def run(args) -> int:
     CosimError
         For a spec, output-folder or usage error (printed by :func:`cosim.cli.main`).
     """
+    from cosim.matrix.runner import run_matrix  # not needed to build the parser of every verb
+
     try:
         result = run_matrix(args.spec, args.output, workers=args.workers, scheduler=args.scheduler,
                             resume=args.resume, force=args.force, keep_failed=args.keep_failed,

@@ -48,7 +48,6 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
 
-from cosim.analytic.parameters import parameters_for_model
 from cosim.cosimulation.system import type_name
 from cosim.errors import CosimError, ParameterError
 from cosim.matrix import expr
@@ -271,6 +270,8 @@ class MatrixSpec:
 
 @lru_cache(maxsize=32)
 def _parameter_set_cached(name: str) -> tuple:
+    from cosim.analytic.parameters import parameters_for_model  # `cosim --help` loads this module
+
     return tuple(parameters_for_model(name).items())
 
 
