@@ -1,4 +1,4 @@
-"""Build speed (issue 14), measured side by side with a baseline in the same run.
+"""Build speed, measured side by side with a baseline in the same run.
 
 Parts (each measurement runs in a fresh Python process, so that imports and caches count as
 they do for a user; the baseline and the current tree alternate, ROUNDS times, medians):
@@ -6,13 +6,13 @@ they do for a user; the baseline and the current tree alternate, ROUNDS times, m
 1. every exported model from clean (``build(jobs=2)`` into an empty folder) and the no-op
    rebuild that follows, once more with empty user caches (a machine that never built); one
    small model (``Bicycle.Control.PD``) from clean; every exported model of both trees simulated
-   (FMPy, CS and ME): the largest difference of the results (issue 14: <= 1e-12);
+   (FMPy, CS and ME): the largest difference of the results (target: <= 1e-12);
 2. a generated model of N states (a chain of N/2 masses between springs and dampers, written
    as components and ``connect()``, the style of the component bicycle) at N = 500 ... 3000:
    flatten, make_explicit and the full build, and the cost per state (≈ constant if linear);
 3. the component bicycles against the flat oracle models (unchanged from before).
 
-Each target of issue 14 (clean <= 5 s, no-op <= 0.3 s, the 3000-state model <= 30 s) is printed
+Each target of docs/benchmarks.md (clean <= 5 s, no-op <= 0.3 s, the 3000-state model <= 30 s) is printed
 with "meets" or "MISSES". The baseline is the committed tree (``git archive``) of ``--baseline`` (default ``HEAD``);
 ``--baseline none`` skips it. Times are wall [s] and CPU [s] (this process and its children:
 gcc, pool workers), as the machine may be shared.
@@ -34,15 +34,13 @@ import time
 from io import BytesIO
 from pathlib import Path
 
-# Python puts this folder first on sys.path, where benchmarks/cosim.py would shadow the cosim package.
-sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
 
 ROOT = Path(__file__).resolve().parents[1]
 ORACLE_LIBRARY = ROOT / "tests" / "oracle"
 ROUNDS = 3
 SIZES = (500, 1000, 2000, 3000)
 SMALL_MODEL = "Bicycle.Control.PD"
-# Issue 14's targets (wall seconds on this project's 2-core machines)
+# The targets of docs/benchmarks.md (wall seconds on this project's 2-core machines)
 CLEAN_TARGET, NOOP_TARGET, CHAIN_STATES, CHAIN_TARGET = 5.0, 0.3, 3000, 30.0
 
 

@@ -1,4 +1,4 @@
-"""Start-up latency of the `cosim` command line (issue 14): each verb warm, in fresh processes.
+"""Start-up latency of the `cosim` command line: each verb warm, in fresh processes.
 
 Every command runs once cold (which builds the library index and the FMU the verbs need), then
 ``--repeat`` times warm, each time in a new Python process; the script prints the median wall
@@ -25,10 +25,9 @@ import tempfile
 import time
 from pathlib import Path
 
-# Python puts this folder first on sys.path, where benchmarks/cosim.py would shadow the cosim package.
-sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
 
-#: The issue's targets [s] of warm wall time; None where the issue names none.
+#: The goals [s] of warm wall time (docs/benchmarks.md), so that a command feels instant; a verb not
+#: listed has none.
 TARGETS = {"list": 0.3, "info MODEL": 0.3, "analytic": 0.3, "linearize FMU": 0.3, "up-to-date check": 0.1}
 
 #: In-process time of the up-to-date check of `cosim simulate MODEL` (what runs before the

@@ -24,8 +24,6 @@ import tempfile
 import time
 from pathlib import Path
 
-# Python puts this folder first on sys.path, where benchmarks/cosim.py would shadow the cosim package.
-sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
 
 import numpy as np
 

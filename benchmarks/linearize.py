@@ -2,7 +2,7 @@
 FMU instance re-initialized per speed through the raw FMI functions, the lateral reduction for all
 speeds in one vectorized pass) against the single-speed API loop (:func:`linearize` and
 :func:`steady_motion` per speed, a new instance each), per speed and as a ratio, for the nonlinear
-``Whipple`` and ``WhippleRider`` and the ``WhippleLinear`` model; then the command of issue 14,
+``Whipple`` and ``WhippleRider`` and the ``WhippleLinear`` model; then the command whose time docs/benchmarks.md sets a goal for,
 ``cosim linearize Bicycle.Bicycles.Whipple --speeds 0:10:0.01 --json`` (1001 speeds, FMU already
 built): wall time of the process and the compute part (the sweep and its eigenvalues in-process).
 
@@ -20,8 +20,6 @@ import tempfile
 import time
 from pathlib import Path
 
-# Python puts this folder first on sys.path, where benchmarks/cosim.py would shadow the cosim package.
-sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
 
 import numpy as np
 
@@ -34,7 +32,7 @@ ROUNDS = 5
 MODELS = {"Bicycle.Bicycles.Whipple": "u_R0", "Bicycle.Bicycles.WhippleRider": "u_R0",
           "Bicycle.Bicycles.WhippleLinear": "v"}
 LOOP_SPEEDS = np.round(np.arange(0, 101) * 0.1, 12)  # the single-speed loop: 101 speeds (it is slow)
-SWEEP_SPEEDS = np.round(np.arange(0, 1001) * 0.01, 12)  # the sweep: 1001 speeds, as in the issue
+SWEEP_SPEEDS = np.round(np.arange(0, 1001) * 0.01, 12)  # the sweep: 1001 speeds, as in docs/benchmarks.md
 RADIUS = 0.3  # rR [m] of the nonlinear models' defaults
 
 

@@ -18,7 +18,7 @@ case (prediction, co-simulation, classification: ``cosim.matrix.worker.run_case`
 process with one BLAS thread, each tree in a fresh process, alternating, medians -- the cost the
 throughput is made of, without the machine's scaling and the supervisor.
 
-Targets of issue 14 (2 workers, 600 runs), each printed as measured / target, side by side:
+Targets (docs/benchmarks.md; 2 workers, 600 runs), each printed as measured / target, side by side:
   fmu-only     steady >= 150,000 runs/min
   fmu-only     wall rate >= 50 % of the steady rate (start-up must stay around <= 0.24 s)
   rider+delay  steady >= 30,000 runs/min
@@ -37,8 +37,6 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-# the project before this folder: benchmarks/cosim.py would otherwise shadow the package
-sys.path[:0] = [str(ROOT)] if str(ROOT) not in sys.path[:1] else []
 
 
 def workload(name: str, n: int) -> dict:
@@ -180,7 +178,7 @@ def side_by_side(baseline: str, rounds: int, runs: int) -> None:
             print(f"  {name:<12} baseline {b:6.3f} ms   current {c:6.3f} ms   current/baseline {c / b:5.2f}x")
 
 
-#: Issue 14: runs per minute on 2 workers (steady), and the wall rate of 600 runs over the steady rate.
+#: Targets: runs per minute on 2 workers (steady), and the wall rate of 600 runs over the steady rate.
 TARGETS = {"fmu-only": 150_000, "rider+delay": 30_000}
 WALL_FRACTION = 0.5
 
@@ -257,7 +255,7 @@ def main(argv=None) -> int:
                                 f"({'meets' if met else 'MISSES'})")
     if args.baseline != "none":
         side_by_side(args.baseline, args.rounds, args.runs)
-    print(f"issue 14 targets (load average now: {os.getloadavg()[0]:.2f}):")
+    print(f"targets (load average now: {os.getloadavg()[0]:.2f}):")
     for line in verdicts:
         print("  " + line)
     return 0 if ok else 1

@@ -3,8 +3,9 @@
 Exit status of every command (also in ``cosim --help``):
 
 ====  ==========================================================================================
-0     success (``simulate``: also an FMU that ended the run itself without an error, by
-      ``terminateSimulation``; one ``note:`` line on stderr gives the time)
+0     success (``simulate``, ``run``: also an FMU that ended the run itself without an error, by
+      ``terminateSimulation``; one ``note:`` line on stderr gives the time, and for ``run`` the
+      component)
 1     a check found problems (``validate``, ``compare`` beyond ``--tol``, ``matrix``)
 2     bad input or usage: one message ``cosim VERB: error: ...`` names the file, parameter, key
       or row (or the path and operation of an OS error: a FIFO given as a file, a name too long,
@@ -608,11 +609,15 @@ def _cmd_run(args) -> int:
         return _write_incomplete(exc, output, args.plot, spec.name, "run")
     _write_results(result.data, output, args.plot, spec.name)
     end = float(result.data["time"][-1])
-    print(f"{outcome.message}; wrote {output} ({result.steps} steps, {len(result.data)} rows, "
-          f"t = {spec.start:g} .. {end:g} s)")
+    summary = f"wrote {output} ({result.steps} steps, {len(result.data)} rows, t = {spec.start:g} .. {end:g} s)"
+    if outcome.status == "terminated":  # the model's own end: one note, as simulate gives it
+        print(f"cosim run: note: {outcome.message}", file=sys.stderr)
+        print(summary)
+    else:
+        print(f"{outcome.message}; {summary}")
     if args.plot:
         print(f"wrote {args.plot}")
-    return EXIT_OK if outcome.status == "completed" or args.allow_fall else EXIT_FELL
+    return EXIT_OK if outcome.status != "fell" or args.allow_fall else EXIT_FELL
 
 
 def _cmd_export_ssp(args) -> int:

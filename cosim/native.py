@@ -1,7 +1,7 @@
 """C helpers of the Python package, compiled on first use and cached (not the FMUs: those are
 built by :mod:`cosim.compiler`).
 
-A helper is one C file beside the module that uses it (the master's stepping loop,
+Each is one C file beside the module that uses it (the master's stepping loop,
 ``cosimulation/fastloop.c``; the classification's matrix pencil, ``matrix/pencil.c``). It is
 compiled with the system's C compiler (``$CC``, else ``gcc``) into the user's cache folder
 (``$XDG_CACHE_HOME/cosim``, else ``~/.cache/cosim``) under a name made from the digest of its

@@ -3,7 +3,10 @@ every temporary and cache file of the session goes into one folder removed at ex
 from __future__ import annotations
 
 import atexit
+import ctypes
+import importlib.util
 import os
+import pickle
 import shutil
 import subprocess
 import sys
@@ -51,6 +54,26 @@ def fmus() -> dict[str, Path]:
     """Every exported model built from the project's Modelica library: name -> FMU path (into the
     temporary COSIM_FMU_DIR, where on-demand builds of the same models then find them)."""
     return {r.model: r.fmu for r in build(output=os.environ["COSIM_FMU_DIR"], jobs=2)}
+
+
+def unavailable(reason: str):
+    """Skip with the reason on a developer's machine; fail in CI, which must have everything."""
+    if os.environ.get("CI"):
+        pytest.fail(f"{reason} (CI must install it: see .ci/run)")
+    pytest.skip(reason)
+
+
+@pytest.fixture(scope="session")
+def app_site(tmp_path_factory) -> Path:
+    """`cosim app --export` into a temporary folder, once per session (its FMUs and WebAssembly
+    modules into COSIM_FMU_DIR): the site every test of the page opens; none may change it."""
+    if importlib.util.find_spec("ziglang") is None:
+        unavailable("the ziglang wheel is not installed (pip install ziglang)")
+    folder = tmp_path_factory.mktemp("app") / "site"
+    status, out, err = cli_in_process(["app", "--export", str(folder)], folder.parent)
+    assert status == 0, err
+    assert sorted(p.name for p in folder.iterdir()) == ["bundle.js", "index.html"]
+    return folder
 
 
 def variant_library(folder: Path, models: dict[str, str], package: str = "TestVariants"):
@@ -127,6 +150,75 @@ def run_cli(*args: str, cwd: Path | None = None, env: dict | None = None) -> sub
     environment = {**os.environ, **(env or {})}
     return subprocess.run([sys.executable, "-m", "cosim", *args], capture_output=True, text=True,
                           cwd=cwd or ROOT, env=environment, timeout=600)
+
+
+#: The capabilities that let root ignore permission bits: CAP_DAC_OVERRIDE, CAP_DAC_READ_SEARCH.
+_PERMISSION_OVERRIDES = (1, 2)
+_PR_CAPBSET_DROP = 24
+_CAPABILITY_VERSION_3 = 0x20080522
+
+
+class _CapabilityHeader(ctypes.Structure):
+    _fields_ = [("version", ctypes.c_uint32), ("pid", ctypes.c_int)]
+
+
+class _CapabilityData(ctypes.Structure):
+    _fields_ = [("effective", ctypes.c_uint32), ("permitted", ctypes.c_uint32), ("inheritable", ctypes.c_uint32)]
+
+
+def _drop_permission_overrides() -> None:
+    """Make this process bound by permission bits, as root too: the capabilities that override them
+    leave the effective, permitted and inheritable sets, and the bounding set, so that programs it
+    runs do not get them back at exec (root's exec grants the bounding set). Without them a folder
+    of mode 0o555 is as read-only for root as it is for every other user."""
+    libc = ctypes.CDLL(None, use_errno=True)
+    for capability in _PERMISSION_OVERRIDES:
+        if libc.prctl(_PR_CAPBSET_DROP, capability, 0, 0, 0) != 0 and os.geteuid() == 0:
+            raise OSError(ctypes.get_errno(), f"prctl(PR_CAPBSET_DROP, {capability})")
+    header, data = _CapabilityHeader(_CAPABILITY_VERSION_3, 0), (_CapabilityData * 2)()
+    if libc.capget(ctypes.byref(header), data) != 0:
+        raise OSError(ctypes.get_errno(), "capget")
+    keep = ~sum(1 << capability for capability in _PERMISSION_OVERRIDES) & 0xFFFFFFFF
+    for name in ("effective", "permitted", "inheritable"):
+        setattr(data[0], name, getattr(data[0], name) & keep)
+    if libc.capset(ctypes.byref(header), data) != 0:
+        raise OSError(ctypes.get_errno(), "capset")
+
+
+def bound_by_permissions(operation, locked: Path):
+    """``operation()`` in a forked child bound by permission bits (root without the capabilities
+    that override them; an ordinary user as it is), after checking that the child cannot create a
+    file in the folder ``locked``: the barrier holds for whoever runs the suite, root included (CI).
+    Returns what ``operation`` returns; re-raises what it raises (assertions included)."""
+    read, write = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # the child: never returns into pytest, runs no atexit (the session folder stays)
+        try:
+            os.close(read)
+            _drop_permission_overrides()
+            try:
+                (locked / "probe").touch()
+                outcome = ("raised", AssertionError(f"the barrier does not hold: {locked} is writable"))
+            except PermissionError:
+                outcome = ("returned", operation())
+        except BaseException as error:  # noqa: BLE001 - everything goes back to the test
+            outcome = ("raised", error)
+        try:
+            message = pickle.dumps(outcome)
+        except Exception:  # noqa: BLE001 - an outcome that does not pickle is reported as text
+            message = pickle.dumps(("raised", AssertionError(repr(outcome))))
+        with os.fdopen(write, "wb") as pipe:
+            pipe.write(message)
+        os._exit(0)
+    os.close(write)
+    with os.fdopen(read, "rb") as pipe:
+        message = pipe.read()
+    _, status = os.waitpid(pid, 0)
+    assert message, f"the child bound by permissions ended without an outcome (wait status {status})"
+    kind, value = pickle.loads(message)
+    if kind == "raised":
+        raise value
+    return value
 
 
 def cli_in_process(argv: list[str], cwd: Path) -> tuple[int, str, str]:

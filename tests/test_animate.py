@@ -31,6 +31,9 @@ import pytest
 from conftest import cli_in_process
 from test_wasm import browser, offline_page  # noqa: F401 (browser: the shared fixture)
 
+# the quick run (-m 'not slow') leaves this module out: it drives Chromium over the exported site or animation
+pytestmark = pytest.mark.slow
+
 ROOT = Path(__file__).resolve().parent.parent
 VENDOR = ROOT / "cosim" / "app" / "static" / "vendor"
 SYSTEM = ROOT / "cosim" / "systems" / "lane-change.toml"

@@ -31,31 +31,22 @@ import numpy as np
 import pytest
 
 from cosim.cli import EXIT_INTERRUPTED
-from conftest import cli_in_process
-from test_wasm import _has_ziglang, _unavailable, browser, offline_page  # noqa: F401 (browser: the shared fixture)
+from conftest import bound_by_permissions, cli_in_process
+from test_wasm import browser, offline_page  # noqa: F401 (browser: the shared fixture)
+
+# the quick run (-m 'not slow') leaves this module out: it drives Chromium over the exported site or animation
+pytestmark = pytest.mark.slow
 
 EIGENVALUE_TOL = 1e-6  # absolute [1/s]: page vs cosim.analytic
 SPEED_RTOL = 1e-6  # relative: weave and capsize speeds of the page vs cosim.analytic
 V_MAX = 10.0  # [m/s] the page's speed range riding forwards (bicycles.FORWARD)
 
 
-@pytest.fixture(scope="module")
-def site(tmp_path_factory):
-    """`cosim app --export` into a temporary folder (the FMU and its module into COSIM_FMU_DIR)."""
-    if not _has_ziglang():
-        _unavailable("the ziglang wheel is not installed (pip install ziglang)")
-    folder = tmp_path_factory.mktemp("app") / "site"
-    status, out, err = cli_in_process(["app", "--export", str(folder)], folder.parent)
-    assert status == 0, err
-    assert sorted(p.name for p in folder.iterdir()) == ["bundle.js", "index.html"]
-    return folder
-
-
 @pytest.fixture()
-def page(browser, site):  # noqa: F811 (the imported fixture)
+def page(browser, app_site):  # noqa: F811 (the imported fixture)
     """The exported page opened from file://, ready; a request that is not file:// is refused
     (and fails the test), as is any error in the page."""
-    with offline_page(browser, (site / "index.html").as_uri(),
+    with offline_page(browser, (app_site / "index.html").as_uri(),
                       "window.cosimApp && (window.cosimApp.ready || window.cosimApp.error !== null)",
                       viewport={"width": 1200, "height": 800}) as page:
         assert page.evaluate("window.cosimApp.error") is None
@@ -104,9 +95,9 @@ def _check_against_analytic(s: dict) -> tuple[float, float]:
     return difference, relative
 
 
-def test_page_loads_offline_from_two_files(page, site):
+def test_page_loads_offline_from_two_files(page, app_site):
     """Exactly the two exported files are requested (no module, no font, no CDN)."""
-    assert sorted(page.requests) == sorted(p.as_uri() for p in (site / "index.html", site / "bundle.js"))
+    assert sorted(page.requests) == sorted(p.as_uri() for p in (app_site / "index.html", app_site / "bundle.js"))
     s = _state(page)
     assert s["set"] == "benchmark" and s["redraws"] >= 1 and len(s["eigenvalues"]) == 4
 
@@ -184,9 +175,12 @@ def test_plots_are_drawn(page, canvas):
 ])
 def test_export_to_an_unusable_path_is_one_clear_error(tmp_path, make, message):
     target = make(tmp_path)
-    if message == "is not writable" and os.access(target.parent, os.W_OK):
-        pytest.skip("running as a user who may write into a read-only folder (root)")
-    status, out, err = cli_in_process(["app", "--export", str(target)], tmp_path)
+
+    def export():
+        return cli_in_process(["app", "--export", str(target)], tmp_path)
+
+    # a read-only folder: in a child that its mode binds, as root too
+    status, out, err = bound_by_permissions(export, target.parent) if message == "is not writable" else export()
     assert status == 2 and out == ""
     assert err.count("\n") == 1 and err.startswith("cosim app: error: app folder ") and "Traceback" not in err
     assert message.format(tmp=tmp_path) in err
@@ -194,7 +188,7 @@ def test_export_to_an_unusable_path_is_one_clear_error(tmp_path, make, message):
 
 @pytest.mark.parametrize("stop, status", [(signal.SIGINT, EXIT_INTERRUPTED), (signal.SIGTERM, 128 + signal.SIGTERM)],
                          ids=["ctrl-c", "sigterm"])
-def test_serves_the_same_site_on_localhost(site, tmp_path, stop, status):
+def test_serves_the_same_site_on_localhost(app_site, tmp_path, stop, status):
     """`cosim app --port 0` serves the exported files on 127.0.0.1 (a free port), byte for byte;
     Ctrl-C or SIGTERM stops it and its temporary folder is gone."""
     folders = set(Path(tempfile.gettempdir()).glob("cosim-app-*"))  # (another test's, if it failed)
@@ -207,7 +201,7 @@ def test_serves_the_same_site_on_localhost(site, tmp_path, stop, status):
         assert match, (line, process.stderr.read() if process.poll() is not None else "")
         for name in ("index.html", "bundle.js"):
             with urllib.request.urlopen(match.group(1) + name, timeout=30) as response:
-                assert response.read() == (site / name).read_bytes(), name
+                assert response.read() == (app_site / name).read_bytes(), name
         process.send_signal(stop)
         try:
             code = process.wait(timeout=30)
@@ -234,7 +228,7 @@ def _start_server(cwd: Path) -> tuple[subprocess.Popen, str]:
     return process, line
 
 
-def test_folder_of_a_killed_server_is_removed_by_the_next_one(site, tmp_path):
+def test_folder_of_a_killed_server_is_removed_by_the_next_one(app_site, tmp_path):
     """kill -9 of `cosim app` leaves its temporary folder (TMPDIR/cosim-app-PID-*: no handler
     runs); the next `cosim app` removes it, and one of an ended process that never served
     (a finished child's pid), while a folder of a live process stays."""
@@ -607,7 +601,7 @@ def test_weave_and_capsize_speeds_shown(page, tmp_path, name):
           f"(screenshot {shot})")
 
 
-def test_bicycle_data_refuses_what_does_not_fit(site, monkeypatch):
+def test_bicycle_data_refuses_what_does_not_fit(app_site, monkeypatch):
     """bicycles.page_data names an unknown parameter, a value outside its slider and a missing
     state (a bug of bicycles.py), with the modules' descriptions."""
     import dataclasses

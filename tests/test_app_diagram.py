@@ -23,28 +23,17 @@ from pathlib import Path
 import pytest
 
 from cosim.app.bicycles import BICYCLES
-from conftest import cli_in_process
-from test_wasm import _has_ziglang, _unavailable, browser, offline_page  # noqa: F401 (browser: the shared fixture)
+from test_wasm import browser, offline_page  # noqa: F401 (browser: the shared fixture)
 
-pytestmark = pytest.mark.browser
+# the quick run (-m 'not slow') leaves this module out: it drives Chromium over the exported site or animation
+pytestmark = [pytest.mark.slow, pytest.mark.browser]
 
 CHOICES = [pytest.param(b.name, b.module, id=b.name) for b in BICYCLES]
 
 
-@pytest.fixture(scope="module")
-def site(tmp_path_factory):
-    """`cosim app --export` into a temporary folder (FMUs and modules into COSIM_FMU_DIR)."""
-    if not _has_ziglang():
-        _unavailable("the ziglang wheel is not installed (pip install ziglang)")
-    folder = tmp_path_factory.mktemp("app-diagram") / "site"
-    status, out, err = cli_in_process(["app", "--export", str(folder)], folder.parent)
-    assert status == 0, err
-    return folder
-
-
-def _open(browser, site, width: int):  # noqa: F811 (the imported fixture)
+def _open(browser, app_site, width: int):  # noqa: F811 (the imported fixture)
     """The exported page at a viewport ``width`` px wide, its diagram view ready."""
-    return offline_page(browser, (site / "index.html").as_uri(),
+    return offline_page(browser, (app_site / "index.html").as_uri(),
                         "window.cosimDiagram && (window.cosimDiagram.ready || window.cosimDiagram.error !== null)",
                         viewport={"width": width, "height": 900})
 
@@ -119,13 +108,13 @@ def _page_width_without_the_view(page) -> int:
 
 
 @pytest.mark.parametrize("name, model", CHOICES)
-def test_the_view_shows_the_diagram_of_the_chosen_bicycle(browser, site, name, model):  # noqa: F811
+def test_the_view_shows_the_diagram_of_the_chosen_bicycle(browser, app_site, name, model):  # noqa: F811
     """After a real change of the eigenvalue view's select, the diagram is the bicycle's model's:
     every component of the source named in the SVG, one [data-connect] per connect equation."""
     expected = _source_components(model)
     connects = _connect_equations(model)
     assert {"rearWheel", "rearFrame", "frontFrame", "frontWheel"} <= set(expected) and connects >= 4
-    with _open(browser, site, 1280) as page:
+    with _open(browser, app_site, 1280) as page:
         assert page.evaluate("window.cosimDiagram.error") is None
         first = page.evaluate("window.cosimDiagram.bicycle")
         other = next(b.name for b in BICYCLES if b.name != name)
@@ -163,14 +152,14 @@ WIDTHS = [
 
 
 @pytest.mark.parametrize("width, name", WIDTHS)
-def test_the_diagram_fits_the_width(browser, site, tmp_path, width, name):  # noqa: F811
+def test_the_diagram_fits_the_width(browser, app_site, tmp_path, width, name):  # noqa: F811
     """The SVG is as wide as its box and inside the viewport; the section adds no horizontal
     overflow to the page (at 1280 px the page has none at all). "enlarge", reached with Tab and
     pressed with Enter, widens the diagram inside its box (which scrolls), not the page; pressed
     again, the diagram fits again. Screenshots: the section fitted, the box enlarged and
     scrolled to its middle."""
     folder = _screenshot_folder(tmp_path)
-    with _open(browser, site, width) as page:
+    with _open(browser, app_site, width) as page:
         page.select_option("#set", name)
         fitted = _view(page)
         other_views = _page_width_without_the_view(page)

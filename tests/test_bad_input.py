@@ -11,6 +11,9 @@ import pytest
 
 from conftest import ROOT, cli_in_process, run_cli
 
+# the quick run (-m 'not slow') leaves this module out: it runs the command line in fresh processes
+pytestmark = pytest.mark.slow
+
 GOOD = """within Broken;
 model {name} "test model"
   Real x(start = 1, fixed = true) "state";

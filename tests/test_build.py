@@ -11,6 +11,9 @@ from conftest import ROOT
 from cosim.compiler.fmu import MANIFEST
 from cosim.compiler.library import Library
 
+# the quick run (-m 'not slow') leaves this module out: it builds FMUs from Modelica per test
+pytestmark = pytest.mark.slow
+
 MODEL = "Bicycle.Bicycles.SelfStabilizing"
 
 
@@ -159,12 +162,12 @@ def test_cli_fmi_version_forms(argv):
 
 
 def _variables(spec):
-    """Variables in value-reference order from (name, role, initial, derivative_of) tuples."""
+    """Variables in position order from (name, role, initial, derivative_of) tuples."""
     from cosim.compiler.description import Variable
 
-    return [Variable(name=name, vr=vr, role=role, causality="local", variability="continuous", initial=initial,
+    return [Variable(name=name, position=i, role=role, causality="local", variability="continuous", initial=initial,
                      start=0.0 if initial == "exact" else None, derivative_of=derivative_of)
-            for vr, (name, role, initial, derivative_of) in enumerate(spec)]
+            for i, (name, role, initial, derivative_of) in enumerate(spec)]
 
 
 @pytest.mark.parametrize("spec, expected", [

@@ -19,6 +19,9 @@ from cosim.compiler import fmu as fmu_module
 from cosim.compiler.build import build, build_model, runtime_cache
 from cosim.compiler.library import load_library
 
+# the quick run (-m 'not slow') leaves this module out: it builds FMUs from Modelica per test
+pytestmark = pytest.mark.slow
+
 SMALL = ("Bicycle.Control.PD", "Bicycle.Control.Proportional")
 FMI2_RUNTIME = ("cosim_runtime.c", "cosim_tape.c", "fmi2_api.c")  # the runtime sources of an FMI 2 FMU
 

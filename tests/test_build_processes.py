@@ -19,6 +19,9 @@ import pytest
 
 from conftest import ROOT
 
+# the quick run (-m 'not slow') leaves this module out: it builds FMUs from Modelica per test
+pytestmark = pytest.mark.slow
+
 psutil = pytest.importorskip("psutil")
 
 SMALL = ["Bicycle.Control.Proportional", "Bicycle.Control.PD", "Bicycle.Control.SteerAngleFeedback",

@@ -8,6 +8,9 @@ import pytest
 
 from conftest import ROOT, line_pixels, png_pixels, run_cli
 
+# the quick run (-m 'not slow') leaves this module out: it runs the command line in fresh processes
+pytestmark = pytest.mark.slow
+
 MODEL = "Bicycle.Bicycles.SelfStabilizing"
 
 

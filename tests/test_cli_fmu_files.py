@@ -11,6 +11,9 @@ import pytest
 
 from conftest import run_cli
 
+# the quick run (-m 'not slow') leaves this module out: it runs the command line in fresh processes
+pytestmark = pytest.mark.slow
+
 MODEL = "Bicycle.Bicycles.SelfStabilizing"
 VERBS = ["info", "simulate", "linearize", "validate", "run"]
 

@@ -12,6 +12,9 @@ import pytest
 from conftest import cli_in_process, run_cli
 from cosim.fmu.simulate import input_signals
 
+# the quick run (-m 'not slow') leaves this module out: it runs the command line in fresh processes
+pytestmark = pytest.mark.slow
+
 MODEL = "Bicycle.Bicycles.SelfStabilizing"
 PADE = "Bicycle.Rider.PadeDelay"  # its order n is an Integer parameter
 

@@ -13,6 +13,9 @@ import pytest
 
 from conftest import ROOT, run_cli
 
+# the quick run (-m 'not slow') leaves this module out: it runs the command line in fresh processes
+pytestmark = pytest.mark.slow
+
 MODEL = "Bicycle.Bicycles.SelfStabilizing"
 SYSTEM = ROOT / "cosim" / "systems" / "rider-p-control.toml"
 

@@ -20,6 +20,9 @@ from cosim.compiler.flatten import flatten
 from cosim.compiler.library import load_library
 from cosim.compiler.ode import make_explicit
 
+# the quick run (-m 'not slow') leaves this module out: it builds FMUs from Modelica per test
+pytestmark = pytest.mark.slow
+
 
 @pytest.fixture(scope="module")
 def library():

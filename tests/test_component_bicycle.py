@@ -43,6 +43,9 @@ from cosim.compiler.library import load_library
 from cosim.fmu.simulate import simulate
 from cosim.nonlinear.model import Bicycle
 
+# the quick run (-m 'not slow') leaves this module out: it builds FMUs from Modelica per test
+pytestmark = pytest.mark.slow
+
 ROOT = Path(__file__).resolve().parents[1]
 ORACLE_LIBRARY = ROOT / "tests" / "oracle"
 N_STATES = 100

@@ -1,4 +1,4 @@
-"""Controllers, delays and sources as connectable blocks (issue 12, item 5).
+"""Controllers, delays and sources as connectable blocks.
 
 * The blocks of ``Bicycle.Control``, ``Bicycle.Rider`` and ``Bicycle.Sources`` and the second-order
   bicycles declare their signals as ``Bicycle.Interfaces.RealInput`` / ``RealOutput`` connectors,
@@ -41,11 +41,10 @@
 """
 from __future__ import annotations
 
+import json
 import os
 import re
-import subprocess
-import io
-import tarfile
+import shutil
 import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
@@ -62,6 +61,9 @@ from cosim.cosimulation.master import run_components
 from cosim.cosimulation.system import load_system, system_from_dict
 from cosim.fmu.linearize import linearize
 from cosim.fmu.simulate import simulate
+
+# the quick run (-m 'not slow') leaves this module out: it builds FMUs from Modelica per test
+pytestmark = pytest.mark.slow
 
 ROOT = Path(__file__).resolve().parents[1]
 LIBRARY = ROOT / "modelica" / "Bicycle"
@@ -260,36 +262,73 @@ def _interface(fmu: Path) -> dict:
     return out
 
 
+#: What a user of each block's and bicycle's FMU sees (:func:`_interface`), recorded: a change of the
+#: library that changes an interface fails :func:`test_fmu_keeps_its_interface`. After a deliberate
+#: change, ``COSIM_RECORD_INTERFACES=1 pytest tests/test_connected_examples.py -k interface`` rewrites
+#: the file, and its diff shows what users of the FMUs will see change.
+INTERFACES = ROOT / "tests" / "data" / "fmu-interfaces.json"
+
+
+def _recorded_form(interface: dict) -> dict:
+    """An interface as it reads back from JSON (tuples become lists)."""
+    return json.loads(json.dumps(interface))
+
+
+def _interface_changes(before: dict, after: dict) -> dict:
+    """Key -> (before, after) for every key of either interface whose entry differs."""
+    return {k: (before.get(k), after.get(k)) for k in before.keys() | after.keys() if before.get(k) != after.get(k)}
+
+
+def _json_lines(interfaces: dict) -> str:
+    """The interfaces as JSON with one line per entry, so that a change reads as a short diff."""
+    models = [f"{json.dumps(model)}: {{\n" + ",\n".join(f"  {json.dumps(key)}: {json.dumps(value)}"
+                                                        for key, value in sorted(entries.items())) + "\n }"
+              for model, entries in sorted(interfaces.items())]
+    return "{\n " + ",\n ".join(models) + "\n}\n"
+
+
 @pytest.fixture(scope="module")
-def head_and_now(tmp_path_factory) -> tuple[dict, dict]:
-    """The blocks and bicycles built from the library of the last commit and from the working tree."""
-    try:
-        archive = subprocess.run(["git", "-C", str(ROOT), "archive", "HEAD", "modelica"], capture_output=True,
-                                 check=True).stdout
-    except (OSError, subprocess.CalledProcessError):
-        pytest.skip("not a git checkout: no committed library to compare with")
-    head = tmp_path_factory.mktemp("head")
-    with tarfile.open(fileobj=io.BytesIO(archive)) as tar:
-        tar.extractall(head, filter="data")
-    names = BLOCKS + BICYCLES
-    old = {r.model: r.fmu for r in build(names, output=head / "fmus", jobs=2, library_path=str(head / "modelica"))}
-    new = {r.model: r.fmu for r in build(names, output=os.environ["COSIM_FMU_DIR"], jobs=2)}
-    return old, new
+def interfaces() -> tuple[dict, dict]:
+    """The recorded interfaces and those of the blocks and bicycles built from the working tree."""
+    built = {r.model: r.fmu for r in build(BLOCKS + BICYCLES, output=os.environ["COSIM_FMU_DIR"], jobs=2)}
+    now = {model: _recorded_form(_interface(fmu)) for model, fmu in sorted(built.items())}
+    if os.environ.get("COSIM_RECORD_INTERFACES"):
+        INTERFACES.write_text(_json_lines(now), encoding="utf-8")
+    return json.loads(INTERFACES.read_text(encoding="utf-8")), now
 
 
 @pytest.mark.parametrize("model", BLOCKS + BICYCLES)
-def test_fmu_keeps_its_interface(model, head_and_now):
-    """The FMU of each block and bicycle has the interface of the last commit's: same variables
-    with the same causality, variability, initial, unit, display unit, start and description;
-    same units and output/derivative dependencies."""
-    old, new = head_and_now
-    if model not in old:
-        pytest.skip(f"{model} is new since the last commit")
-    before, after = _interface(old[model]), _interface(new[model])
+def test_fmu_keeps_its_interface(model, interfaces):
+    """The FMU of each block and bicycle has the recorded interface: same variables with the same
+    causality, variability, initial, unit, display unit, start and description; same units and
+    output/derivative dependencies."""
+    recorded, now = interfaces
+    assert model in recorded, f"{model} has no recorded interface in {INTERFACES}"
+    after = now[model]
     assert any(k.startswith("variable ") and v[0].get("causality") in ("input", "output") for k, v in after.items()
-               if isinstance(v, tuple))
-    changed = {k: (before.get(k), after.get(k)) for k in before.keys() | after.keys() if before.get(k) != after.get(k)}
+               if isinstance(v, list))
+    changed = _interface_changes(recorded[model], after)
     assert not changed, f"{model}: interface changed: {changed}"
+
+
+def test_interface_change_is_seen(tmp_path, interfaces):
+    """A copy of the library whose PD block has another unit for its gain kd and no input phi_dot
+    gives an FMU whose interface differs from the recorded one in exactly those entries."""
+    shutil.copytree(ROOT / "modelica", tmp_path / "modelica")
+    block = tmp_path / "modelica" / "Bicycle" / "Control" / "PD.mo"
+    text = block.read_text(encoding="utf-8")
+    for old, new in (('kd(unit = "N.m.s/rad")', 'kd(unit = "N.m.s")'), ("T = -kp*phi - kd*phi_dot;", "T = -kp*phi;")):
+        assert text.count(old) == 1, old
+        text = text.replace(old, new)
+    lines = text.splitlines(keepends=True)
+    first = next(i for i, line in enumerate(lines) if "RealInput phi_dot" in line)
+    block.write_text("".join(lines[:first] + lines[first + 2:]), encoding="utf-8")
+    (result,) = build(["Bicycle.Control.PD"], output=tmp_path / "fmus", jobs=1,
+                      library_path=str(tmp_path / "modelica"))
+    changed = _interface_changes(interfaces[0]["Bicycle.Control.PD"], _recorded_form(_interface(result.fmu)))
+    assert changed.keys() >= {"variable kd", "variable phi_dot"}, changed
+    assert changed["variable kd"][1][2]["unit"] == "N.m.s"
+    assert changed["variable phi_dot"][1] is None
 
 
 # --------------------------------------------------------------------------- the same system

@@ -14,6 +14,9 @@ from cosim.cosimulation.ssp import export_ssp
 from cosim.cosimulation.system import load_system
 from cosim.cosimulation.engines import run_ssp_ecos, run_ssp_libcosim
 
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = pytest.mark.slow
+
 SYSTEMS = sorted((Path(__file__).resolve().parents[1] / "cosim" / "systems").glob("*.toml"))
 AGREEMENT = 1e-9  # same binaries, same algorithm: only round-off may differ (relative, floor 1)
 

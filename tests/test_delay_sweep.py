@@ -75,7 +75,7 @@ def test_boundary_two_ways(boundary):
     _, pm, _, wc = control.margin(control.ss(A, B, C, 0) * -K)
     assert math.radians(pm) / wc == pytest.approx(boundary.by_crossing, rel=1e-6)
     assert boundary.frequency == pytest.approx(wc, rel=1e-6)
-    # the number issue 13 gives for k2 = 1 at 5 m/s, to 3 digits
+    # the delay margin for k2 = 1 at 5 m/s, against the known value to 3 digits
     assert round(boundary.by_roots, 3) == 0.096
 
 

@@ -13,7 +13,8 @@ from cosim.compiler.library import load_library
 from cosim.diagram.graphics import Graphics
 from test_wasm import browser, offline_page  # noqa: F401 (browser: the shared fixture)
 
-pytestmark = pytest.mark.browser
+# the quick run (-m 'not slow') leaves this module out: it drives Chromium over the exported site or animation
+pytestmark = [pytest.mark.slow, pytest.mark.browser]
 
 LIBRARY = load_library()
 MODELS = ["Bicycle.Bicycles.Whipple", "Bicycle.Bicycles.WhippleRider", "Bicycle.Bicycles.WhippleRiderTwist",

@@ -10,6 +10,9 @@ import pytest
 from cosim.compiler.library import DEFAULT_LIBRARY
 from cosim.diagram.images import drawings, image_folder
 
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = pytest.mark.slow
+
 ROOT = Path(__file__).resolve().parents[1]
 DRAWN = drawings()
 

@@ -44,6 +44,9 @@ import pytest
 
 from conftest import ROOT, variant_library
 
+# the quick run (-m 'not slow') leaves this module out: it runs the command line in fresh processes
+pytestmark = pytest.mark.slow
+
 README = ROOT / "README.md"
 GUIDE = ROOT / "modelica" / "Bicycle" / "UsersGuide"
 DOCUMENTS = [README] + sorted(GUIDE.glob("*.mo"))

@@ -12,6 +12,9 @@ import pytest
 
 from cosim.cosimulation import engines
 
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = pytest.mark.slow
+
 
 def _installed(distribution: str) -> bool:
     try:

@@ -33,6 +33,9 @@ from cosim.fmu.linearize import linearize
 from cosim.nonlinear.model import MODEL as WHIPPLE
 from cosim.nonlinear.model import speed_parameters
 
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = pytest.mark.slow
+
 
 def _build(model):
     return build_model(model, os.environ["COSIM_FMU_DIR"]).fmu  # conftest: a temporary or the developer's folder

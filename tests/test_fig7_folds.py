@@ -24,6 +24,9 @@ from cosim.analytic.parameters import load_parameters
 from cosim.figures import fig7
 from cosim.nonlinear.model import MODEL, Bicycle, build
 
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = pytest.mark.slow
+
 VARIANTS = {"knife_edge": 0.0, "toroidal": fig7.CROWN}
 
 # Rough start points (two digits) of the independent solve: (variant, V [m/s], phi, delta [rad]).
@@ -162,7 +165,7 @@ def test_two_turns_merge_and_vanish_at_the_fold(listed, fmu, variant, v, phi, de
 
 
 def test_knife_edge_fold_to_four_digits(listed):
-    """The knife-edge fold where the independent check of issue 13 found it: V = 1.7371 m/s,
+    """The knife-edge fold where an independent check found it: V = 1.7371 m/s,
     phi = 0.2345 rad; its delta = -1.9335 rad was a point of the curve next to the fold (at
     V = 1.73714 the two turns have delta = -1.9332 and -1.9342), the fold itself is at -1.9337."""
     right = [r for r in listed["knife_edge"]["folds"] if r["side"] == "phi>0"]

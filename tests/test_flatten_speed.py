@@ -1,4 +1,4 @@
-"""The speed-ups of flattening change nothing but the time (issue 14).
+"""The speed-ups of flattening change nothing but the time.
 
 - cosim/compiler/pymoca_walker.py: the fast tree walk makes the same listener calls, in the same
   order, as pymoca's own walk, for pymoca's TreeWalker and the CasADi backend's GeneratorWalker;
@@ -19,6 +19,9 @@ from cosim.compiler import pymoca_patches, schedule
 from cosim.compiler.build import _fingerprint
 from cosim.compiler.flatten import flatten
 from cosim.compiler.library import load_library
+
+# the quick run (-m 'not slow') leaves this module out: it builds FMUs from Modelica per test
+pytestmark = pytest.mark.slow
 
 MODELS = ["Bicycle.Bicycles.WhippleRider", "Bicycle.Bicycles.WhippleLinear", "Bicycle.Bicycles.SelfStabilizing",
           "Bicycle.Control.PID"]

@@ -1,4 +1,4 @@
-"""FMI 3.0 export (issue 15): every exported model built by `cosim build --fmi-version 3` is a valid
+"""FMI 3.0 export: every exported model built by `cosim build --fmi-version 3` is a valid
 FMI 3.0 FMU (FMPy's validator, `fmutool -check` for both FMI versions, the build description's
 schema), runs in FMPy as Model Exchange (CVode) and Co-Simulation with the results of its FMI 2.0
 twin, has directional and adjoint derivatives that agree with each other and with central
@@ -25,6 +25,9 @@ from conftest import run_cli
 
 from cosim.compiler.build import fmu_path
 from cosim.compiler.library import DEFAULT_LIBRARY, Library
+
+# the quick run (-m 'not slow') leaves this module out: it builds FMI 3 FMUs and the Reference FMUs
+pytestmark = pytest.mark.slow
 
 EXPORTED = [e.name for e in Library(DEFAULT_LIBRARY).models(exported_only=True)]
 STOP, STEP = 2.0, 0.01  # s

@@ -1,4 +1,4 @@
-"""Foreign FMI 3.0 FMUs through the import verbs (issue 15): `cosim info`, `simulate` (ME and CS) and
+"""Foreign FMI 3.0 FMUs through the import verbs: `cosim info`, `simulate` (ME and CS) and
 `linearize` (directional derivatives with the adjoint cross-check, finite differences without them).
 
 The foreign FMUs are the Modelica Association's Reference FMUs, compiled from the vendored sources
@@ -23,7 +23,10 @@ from conftest import cli_in_process, run_cli
 from cosim.fmu.simulate import default_step
 from reference_fmus import REFERENCE_MODELS, SOURCES, reference_fmu
 
-#: cosim simulate against FMPy's own simulate_fmu on the same FMU (issue 15: <= 1e-9).
+# the quick run (-m 'not slow') leaves this module out: it builds FMI 3 FMUs and the Reference FMUs
+pytestmark = pytest.mark.slow
+
+#: cosim simulate against FMPy's own simulate_fmu on the same FMU: the same integrator, so 1e-9.
 SIMULATE_TOLERANCE = 1e-9
 #: An analytic Jacobian against directional derivatives (exact in the model's C code).
 JACOBIAN_TOLERANCE = 1e-12
@@ -346,7 +349,7 @@ def test_broken_fmi3_fmu_gets_one_message(broken, tmp_path, case, verb):
 # --------------------------------------------------------------------------- our own FMI 3 FMUs
 
 #: FMI 3 and FMI 2 builds of one model run the same generated C code and runtime core: CS (our
-#: integrator) and the Jacobians agree to rounding (issue 15: <= 1e-12).
+#: integrator) and the Jacobians agree to rounding.
 OWN_TOLERANCE = 1e-12
 #: Model Exchange: FMPy's CVode on the same derivatives; the FMI 3 call sequence (initial event
 #: iteration, typed getters) must not change the integration beyond rounding.
@@ -363,15 +366,12 @@ OWN_LINEARIZED = {"Bicycle.Bicycles.WhippleLinear": ("--param", "v=4"),
                   "Bicycle.Bicycles.Whipple": ("--speed", "4"),
                   "Bicycle.Rider.PadeDelay": ("--param", "tau=0.2")}
 OWN_SWEPT = ("Bicycle.Bicycles.WhippleLinear", "Bicycle.Bicycles.SelfStabilizing", "Bicycle.Bicycles.Whipple")
-FMI3_RUNTIME = Path(__file__).resolve().parents[1] / "cosim" / "runtime" / "fmi3_api.c"
 
 
 @pytest.fixture(scope="module")
 def own(request) -> dict[str, tuple[Path, Path]]:
     """Model -> (FMI 2 FMU, FMI 3 FMU), both built from one compilation into the session's
     COSIM_FMU_DIR (cosim build --fmi-version 2 3)."""
-    if not FMI3_RUNTIME.is_file():  # the FMI 3 runtime (helper R's fmi3_api.c) is not in the tree yet
-        pytest.skip(f"{FMI3_RUNTIME} does not exist: FMI 3 FMUs cannot be built yet")
     from cosim.compiler.build import build_versions
 
     found = {}

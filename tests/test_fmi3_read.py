@@ -1,5 +1,5 @@
 """FMI 3.0 FMUs: `cosim info` reads their model description (FMPy checks it against the FMI 3
-schema); the commands that run an FMU accept FMI 3 (issue 15) and refuse one without a binary in
+schema); the commands that run an FMU accept FMI 3 and refuse one without a binary in
 one clear line (exit 2, no traceback). Running FMI 3 FMUs: tests/test_fmi3_import.py."""
 from __future__ import annotations
 

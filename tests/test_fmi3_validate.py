@@ -23,6 +23,9 @@ from reference_fmus import REFERENCE_MODELS, REFERENCE_MODELS_FMI2, reference_fm
 from cosim.fmu.validate import validate, validate_report
 from cosim.fmu.validate_checks import CHECKS, DERIVATIVE_RTOL, DERIVATIVE_WRONG
 
+# the quick run (-m 'not slow') leaves this module out: it builds FMI 3 FMUs and the Reference FMUs
+pytestmark = pytest.mark.slow
+
 ALL_CHECKS = ["fmpy", "archive", "binary"] + [c.name for c in CHECKS]
 HANG_TIMEOUT = 3.0  # s: how long validate waits for the FMU that hangs in DoStep
 

@@ -20,6 +20,9 @@ import pytest
 from conftest import cli_in_process
 from reference_fmus import reference_fmu, reference_fmu2
 
+# the quick run (-m 'not slow') leaves this module out: it compiles and runs defective or foreign FMUs
+pytestmark = pytest.mark.slow
+
 STOP = 20.0  # s, after the end at t = 9 s
 STEP = 0.2  # s
 END = 9.0  # s, where the counter reaches 10

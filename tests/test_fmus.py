@@ -18,6 +18,9 @@ from cosim.fmu.simulate import simulate
 from cosim.fmu.validate import validate_report
 from reference import SELF_STABILIZING_DEFAULTS, simulate_self_stabilizing
 
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = pytest.mark.slow
+
 SELF = "Bicycle.Bicycles.SelfStabilizing"
 STOP, STEP = 5.0, 0.01
 START = {"V": 6.0, "T": 1.0}  # constant steer torque from t = 0 (Figure 5 set-up)

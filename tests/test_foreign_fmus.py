@@ -20,6 +20,9 @@ import pytest
 from conftest import cli_in_process, run_cli
 from hostile_fmus import hostile_fmu
 
+# the quick run (-m 'not slow') leaves this module out: it compiles and runs defective or foreign FMUs
+pytestmark = pytest.mark.slow
+
 TIMEOUT = "1"  # --timeout [s] for the FMUs that hang
 # exit() runs the exit handlers of every library in the process: in one that has loaded C++
 # libraries whose static destructors end threads (here: the test session's engines), that ends in

@@ -50,6 +50,9 @@ import pytest
 
 from conftest import ROOT, cli_in_process, toml_value
 
+# the quick run (-m 'not slow') leaves this module out: it compiles and runs defective or foreign FMUs
+pytestmark = pytest.mark.slow
+
 #: [s] a case that has not answered by then fails (a hang); subprocess cases get the same limit.
 LIMIT = 30.0
 #: [s] the limit of a case that gives a FIFO nobody writes as an input: the command must not wait

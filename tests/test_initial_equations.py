@@ -15,6 +15,9 @@ from cosim.compiler.build import build_model
 from cosim.compiler.library import Library
 from cosim.errors import ModelicaError
 
+# the quick run (-m 'not slow') leaves this module out: it builds FMUs from Modelica per test
+pytestmark = pytest.mark.slow
+
 PACKAGE = "InitTest"
 
 # A point on a circle of radius L started at height h: theta0 = asin(h/L) near the guess 0.3, or

@@ -16,6 +16,9 @@ from cosim.errors import FMUError
 from cosim.fmu import access
 from reference_fmus import reference_fmu, reference_fmu2
 
+# the quick run (-m 'not slow') leaves this module out: it builds FMUs from Modelica per test
+pytestmark = pytest.mark.slow
+
 #: Defects FMPy's validation reports but FMPy's validate=False run does not mind:
 #: (id, builder, modelDescription.xml edits, a word of FMPy's finding)
 DEFECTS = [

@@ -16,6 +16,9 @@ from cosim.compiler.library import DEFAULT_LIBRARY, Library, library_digest, lib
 from cosim.errors import UnknownModelError
 from cosim.fmu.parameters import model_declarations
 
+# the quick run (-m 'not slow') leaves this module out: it runs the command line in fresh processes
+pytestmark = pytest.mark.slow
+
 ONE = '''package One "the first folder"
   block Gain "y = k u"
     parameter Real k = 2 "gain";

@@ -33,6 +33,9 @@ from cosim.errors import ParameterError
 from cosim.bicycle.linearize import linearize_speeds, parse_speeds, steady_motion
 from cosim.fmu.linearize import linearize
 
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = pytest.mark.slow
+
 WHIPPLE = "Bicycle.Bicycles.Whipple"
 RIDER = "Bicycle.Bicycles.WhippleRider"
 LINEAR = "Bicycle.Bicycles.WhippleLinear"

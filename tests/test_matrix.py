@@ -33,6 +33,9 @@ from cosim.matrix import classify, expr
 from cosim.matrix.spec import SpecError, load_spec, spec_from_dict
 from cosim.matrix.store import ResultStore, read_records
 
+# the quick run (-m 'not slow') leaves this module out: it runs co-simulation matrices with worker processes
+pytestmark = pytest.mark.slow
+
 ROOT = Path(__file__).resolve().parents[1]
 VOLATILE = ("elapsed", "worker")
 

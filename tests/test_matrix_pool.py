@@ -1,4 +1,4 @@
-"""The fast path of `cosim matrix` (issue 14): forked workers, batched messages, one BLAS thread,
+"""The fast path of `cosim matrix`: forked workers, batched messages, one BLAS thread,
 the pencil's SVD without U -- each giving the same records as the per-case path.
 
 Tolerances: none where the claim is bit-for-bit identity (records compared field by field, the
@@ -20,6 +20,9 @@ import pytest
 from conftest import ROOT
 from cosim.matrix import classify, pool
 from cosim.matrix.spec import spec_from_dict
+
+# the quick run (-m 'not slow') leaves this module out: it runs co-simulation matrices with worker processes
+pytestmark = pytest.mark.slow
 
 VOLATILE = {"elapsed", "worker"}
 STOP = {"stop": 2.0, "step": 0.01}

@@ -21,6 +21,9 @@ from cosim.fmu.access import ALL_FMI_VERSIONS, FMU
 from cosim.fmu.simulate import default_step
 from reference_fmus import reference_fmu, reference_fmu2
 
+# the quick run (-m 'not slow') leaves this module out: it builds FMUs from Modelica per test
+pytestmark = pytest.mark.slow
+
 #: Directional derivatives against the analytic Jacobian (exact in the models' C code).
 JACOBIAN_TOLERANCE = 1e-12
 #: Central finite differences (relative step 1e-6) of a model linear in its states: rounding only.

@@ -23,8 +23,12 @@ from scipy.linalg import expm
 
 from conftest import run_cli
 from cosim.cosimulation.factory import run_system
+from cosim.cosimulation.master import RunFailed
 from cosim.cosimulation.registry import lookup
 from cosim.cosimulation.system import SystemError_, system_from_dict
+
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = pytest.mark.slow
 
 KI, KD, TAU, AMPLITUDE, STOP = 1.0, 1.0, 0.5, 1.0, 4.0  # 1/s, N.m.s/rad, s, rad/s, s
 SIGNALS = ["pid.T", "delay.y"]
@@ -171,13 +175,11 @@ def _edited_copy(fmu: Path, folder: Path, pattern: str, new: str) -> Path:
 
 
 @pytest.mark.parametrize("old,new,message", [
-    ('numberOfEventIndicators="0"', 'numberOfEventIndicators="2"',
-     "the FMU has 2 event indicator(s) (state events); algorithm = \"model-exchange\" handles no events"),
     ("<ModelExchange .*?</ModelExchange>", "", "has no Model Exchange interface"),
-], ids=["event-indicators", "co-simulation-only"])
+], ids=["co-simulation-only"])
 def test_fmus_model_exchange_cannot_integrate_are_refused(whipple, tmp_path, old, new, message):
-    """An FMU with state events (a fixed-step scheme would step over them) or without a Model
-    Exchange interface: one SystemError_ naming the component, before anything runs."""
+    """An FMU without a Model Exchange interface: one SystemError_ naming the component, before
+    anything runs (FMUs with events take part: tests/test_run_events.py)."""
     fmu = _edited_copy(whipple, tmp_path, old, new)
     system = {"system": {"stop": 1.0, "step": 0.01, "algorithm": "model-exchange"},
               "components": {"bike": {"fmu": str(fmu)}, "rider": {"python": "Proportional"}},
@@ -185,3 +187,15 @@ def test_fmus_model_exchange_cannot_integrate_are_refused(whipple, tmp_path, old
     with pytest.raises(SystemError_) as info:
         run_system(system_from_dict(system))
     assert "component 'bike': " in str(info.value) and message in str(info.value)
+
+
+def test_event_indicators_the_binary_does_not_have_fail_the_run(whipple, tmp_path):
+    """A model description declaring event indicators its binary refuses to report: the run
+    fails at the start naming the call, with the row it has (no silently missed events)."""
+    fmu = _edited_copy(whipple, tmp_path, 'numberOfEventIndicators="0"', 'numberOfEventIndicators="2"')
+    system = {"system": {"stop": 1.0, "step": 0.01, "algorithm": "model-exchange"},
+              "components": {"bike": {"fmu": str(fmu)}}, "connections": []}
+    with pytest.raises(RunFailed) as info:
+        run_system(system_from_dict(system))
+    assert "bike: fmi2GetEventIndicators failed at t = 0 s (status Error)" in str(info.value)
+    assert len(info.value.result.data) == 1

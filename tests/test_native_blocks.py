@@ -1,4 +1,4 @@
-"""The C stepping loop steps the linear Python blocks natively (issue 14).
+"""The C stepping loop steps the linear Python blocks natively.
 
 A system of FMUs and blocks with a native form (:class:`cosim.cosimulation.registry.Native`: the
 Affine family with its sources and references, Linear with PID and PadeDelay, the exact

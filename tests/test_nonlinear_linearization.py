@@ -37,6 +37,9 @@ from cosim.bicycle.linearize import ZERO_MODES, steady_motion
 from cosim.fmu.linearize import linearize
 from cosim.nonlinear.model import MODEL, RIDER_MODEL
 
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = pytest.mark.slow
+
 SETS = ("benchmark", "astrom2005", "astrom2005-riderless")
 SPEEDS = [float(v) for v in range(11)]
 ROOT_TOL = 1e-9  # relative per eigenvalue (cosim.analytic.compare.root_set_error)

@@ -10,6 +10,9 @@ import pytest
 
 from conftest import ROOT
 
+# the quick run (-m 'not slow') leaves this module out: it runs the command line in fresh processes
+pytestmark = pytest.mark.slow
+
 EXTRAS = {"generate": "sympy", "cluster": "dask[distributed]", "wasm": "ziglang"}
 # Modules that need sympy by design: the derivation and its printer (run by the generator only).
 SYMPY_MODULES = {"cosim.nonlinear.derivation", "cosim.nonlinear.modelica"}

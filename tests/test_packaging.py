@@ -13,6 +13,9 @@ import pytest
 
 from conftest import ROOT
 
+# the quick run (-m 'not slow') leaves this module out: it runs the command line in fresh processes
+pytestmark = pytest.mark.slow
+
 SOURCES = ["cosim", "modelica", "setup.py", "pyproject.toml", "README.md"]
 
 

@@ -1,4 +1,4 @@
-"""One source of parameter values: the TOML files in cosim/params/ (issue 11, item 2).
+"""One source of parameter values: the TOML files in cosim/params/.
 
 * the Modelica records ``Bicycle.Records`` are generated from them (drift test: a fresh generation
   into ``tmp_path`` equals the committed files byte for byte);

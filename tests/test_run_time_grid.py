@@ -8,6 +8,9 @@ import pytest
 
 from conftest import run_cli
 
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = pytest.mark.slow
+
 BIKE = "Bicycle.Bicycles.SelfStabilizing"
 
 

@@ -19,6 +19,9 @@ from fmpy.fmi3 import FMU3Slave, fmi3Boolean, fmi3Discard, fmi3Error, fmi3Float6
 from conftest import ROOT
 from cosim.compiler.build import build_model
 
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = pytest.mark.slow
+
 WHIPPLE = "Bicycle.Bicycles.Whipple"
 LINEAR = "Bicycle.Bicycles.WhippleLinear"
 PADE = "Bicycle.Rider.PadeDelay"

@@ -17,6 +17,9 @@ import pytest
 
 from conftest import ROOT, failing_do_step, run_cli
 
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = pytest.mark.slow
+
 WHIPPLE = "Bicycle.Bicycles.Whipple"
 FALLING = ["--param", "u_R0=-10", "--param", "phi0=0.05"]  # v = -u_R0 * rR = 3 m/s, 0.05 rad of roll
 FAILURE_TIME = 1.9056  # s, where the steer angle passes -pi/2 (both integrators agree to 1e-3 s)

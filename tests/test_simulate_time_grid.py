@@ -14,6 +14,9 @@ import cosim
 from conftest import cli_in_process, run_cli
 from cosim.fmu.simulate import DEFAULT_STEP, MAX_ROWS, input_signals, simulate
 
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = pytest.mark.slow
+
 MODEL = "Bicycle.Bicycles.SelfStabilizing"  # input T; DefaultExperiment stepSize 0.01 s
 RIDER = "Bicycle.Bicycles.WhippleRider"  # input T_beta, the rider's lean torque
 

@@ -1,4 +1,4 @@
-"""The nonlinear bicycle at a singular configuration (issue 13, item 7).
+"""The nonlinear bicycle at a singular configuration.
 
 The knowledge of where a model is singular lives in the model: ``Bicycle.Bicycles.Whipple`` and
 ``WhippleRider`` declare ``annotation(__Cosim(singular(delta(...), phi(...))))`` (steer and roll
@@ -22,6 +22,9 @@ from cosim.compiler.catalog import Singularity, singular_configurations
 from cosim.errors import ModelicaError
 from cosim.fmu.simulate import physical_cause
 from test_runtime_c import FALLING, STEP, STOP
+
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = pytest.mark.slow
 
 NONLINEAR = ["Bicycle.Bicycles.Whipple", "Bicycle.Bicycles.WhippleRider"]
 MESSAGE = re.compile(r"^cosim simulate: incomplete: (?P<fmu>\S+): the simulation stopped at t = (?P<t>\S+) s of "

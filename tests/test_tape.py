@@ -16,7 +16,8 @@ from cosim.compiler import tape
 from cosim.compiler.codegen import RUNTIME_DIR
 from cosim.errors import BuildError
 
-pytestmark = pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = [pytest.mark.slow, pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")]
 
 SPECIAL = [0.0, -0.0, 1.0, -1.0, 0.5, -2.5, 3.0, 1e-300, -1e300, np.inf, -np.inf, np.nan]
 

@@ -1,4 +1,4 @@
-"""Non-physical parameter sets: one rule, the waiver in the TOML file (issue 13, item 6).
+"""Non-physical parameter sets: one rule, the waiver in the TOML file.
 
 A Meijaard parameter file may keep values that fail a triangle-inequality check only if it says
 so itself (``allow_nonphysical = [...]`` with ``nonphysical_reason = "..."``). The bundled

@@ -28,7 +28,10 @@ import pytest
 
 from cosim.errors import BuildError, FMUError, MissingExtraError
 from cosim.wasm import build as wasm_build
-from conftest import cli_in_process
+from conftest import cli_in_process, unavailable as _unavailable
+
+# the quick run (-m 'not slow') leaves this module out: it drives Chromium over the exported site or animation
+pytestmark = pytest.mark.slow
 
 CHROMIUM = Path(os.environ.get("COSIM_CHROMIUM", "/usr/bin/chromium"))
 LINEAR, NONLINEAR = "Bicycle.Bicycles.WhippleLinear", "Bicycle.Bicycles.Whipple"
@@ -36,13 +39,6 @@ MODELS = (LINEAR, NONLINEAR)
 RIDE = 10.0  # s
 STEP = 0.01  # s, the communication step of both runs
 TOLERANCE = 1e-9  # largest difference allowed between the browser's and the native ride
-
-
-def _unavailable(reason: str):
-    """Skip with the reason on a developer's machine; fail in CI, which must have everything."""
-    if os.environ.get("CI"):
-        pytest.fail(f"{reason} (CI must install it: see .ci/run)")
-    pytest.skip(reason)
 
 
 def _api_names() -> set[str]:

@@ -39,6 +39,9 @@ from cosim.fmu.linearize import linearize
 from cosim.nonlinear.model import MODEL, RIDER_MODEL, Bicycle, speed_parameters
 from cosim.fmu.simulate import simulate
 
+# the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
+pytestmark = pytest.mark.slow
+
 ROOT = Path(__file__).resolve().parents[1]
 SETS = ("benchmark", "astrom2005", "astrom2005-riderless")
 SPEEDS = [0.5 * k for k in range(21)]  # 0 ... 10 m/s
@@ -74,7 +77,7 @@ def test_generated_oracle_header_and_parameters():
 
 @pytest.mark.parametrize("model", ["Whipple", "WhippleRider", "WhippleLinear"])
 def test_library_bicycle_is_an_assembly_without_generated_expressions(model):
-    """Issue 12: the library's Whipple family is component instances + connect(), short and readable."""
+    """The library's Whipple family is component instances + connect(), short and readable."""
     text = (ROOT / f"modelica/Bicycle/Bicycles/{model}.mo").read_text()
     assert "GENERATED" not in text and "cse1" not in text and "theta0_1" not in text
     assert text.count("connect(") >= 4

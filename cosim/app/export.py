@@ -67,7 +67,6 @@ class ExportResult:
     folder: Path
     index: Path
     bundle: Path
-    wasm_rebuilt: bool
     bytes: int  # size of bundle.js
 
 
@@ -218,10 +217,9 @@ def _export(folder: Path, demos: str | os.PathLike | None) -> ExportResult:
     from cosim.compiler.build import build
     from cosim.wasm.build import build_wasm
 
-    modules, rebuilt = {}, False
+    modules = {}
     for result in build(list(MODULES), output=_fmu_folder()):
         wasm = build_wasm(result.fmu)
-        rebuilt |= wasm.rebuilt
         modules[result.model] = {"description": json.loads(wasm.description.read_text(encoding="utf-8")),
                                  "wasm": base64.b64encode(wasm.wasm.read_bytes()).decode("ascii")}
     descriptions = {name: m["description"] for name, m in modules.items()}
@@ -238,4 +236,4 @@ def _export(folder: Path, demos: str | os.PathLike | None) -> ExportResult:
     ])
     bundle_path = write_text(folder / "bundle.js", bundle, "app bundle")
     index = write_text(folder / "index.html", (STATIC / "index.html").read_text(encoding="utf-8"), "app page")
-    return ExportResult(folder, index, bundle_path, rebuilt, len(bundle.encode("utf-8")))
+    return ExportResult(folder, index, bundle_path, len(bundle.encode("utf-8")))

@@ -144,7 +144,7 @@ def _eliminate(A, B, names, gone: str, coefficients: dict):
 def steady_motion(lin: Linearization, lock_hinge: bool = False) -> SteadyMotion:
     """Reduce a nonlinear bicycle's linearization about upright straight running exactly.
 
-    Works on the named quantities (states or outputs aliasing them, :func:`in_coordinates`):
+    Works on the named quantities (states or outputs aliasing them, :func:`cosim.fmu.linearize.coordinate_matrix`):
 
     1. ``lock_hinge`` (models with the rider hinge ``beta``): the hinge is held at ``beta = 0``
        by its reaction torque, which acts exactly like the lean torque ``T_beta`` (a torque

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import casadi as ca
 
-from cosim.compiler.description import ModelInfo
+from cosim.compiler.description import ModelInfo, value_reference
 from cosim.compiler.fmu import RUNTIME_FILES
 from cosim.compiler.ode import ExplicitModel
 from cosim.compiler.tape import tape_tables
@@ -297,7 +297,8 @@ def model_c(info: ModelInfo, functions: list[ca.Function], fmi_version: str = "2
         f"    {'call_locals' if local else '0'},\n"
         f"    {hoist.numel_out(0)}, call_hoist, eval_hoisted,\n"
         f"    {'call_vjp' if fmi3 else '0'},\n"
-        f"    {'fmi3_length' if arrays else '0'}\n"
+        f"    {'fmi3_length' if arrays else '0'},\n"
+        f"    {value_reference(0)}u\n"  # first_vr: the value reference of position 0, as in the XML
         "};\n"
     )
 
@@ -366,7 +367,7 @@ def _start_wrapper(info: ModelInfo, start: ca.Function) -> str:
                 "    return start_values(p, x0);\n"
                 "}\n")
     n_init = start.size1_out(1)
-    solved = [v.index - 1 for v in info.by_role("state") if v.initial == "approx"]
+    solved = [v.position for v in info.by_role("state") if v.initial == "approx"]
     return (
         _wrapper(start, "double t, const double *u, const double *p, const double *x, const double *given, "
                         "double *x0, double *r", ["&t", "u", "p", "x", "given"], ["x0", "r"], "start_solve")

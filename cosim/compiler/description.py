@@ -1,8 +1,11 @@
 """The one description of an FMU from which both the C tables and modelDescription.xml are written.
 
-Value references index one array laid out as in ``runtime/cosim_model.h``:
-``[x | der(x) | u | p | c | z]``; the XML lists the variables in value-reference order, so the
-ModelStructure index of a variable is its value reference + 1.
+Every variable has a position in one value array laid out as in ``runtime/cosim_model.h``:
+``[x | der(x) | u | p | c | z]``. The C tables are indexed by position; the value reference of
+the variable at position i is ``FIRST_VALUE_REFERENCE + i`` (:func:`value_reference`, the one
+place both the XML and the C tables take it from). The XML lists the variables in position order,
+so the FMI 2 ModelStructure index of a variable (its 1-based place in ModelVariables) is its
+position + 1, whatever the value references are.
 """
 from __future__ import annotations
 
@@ -16,6 +19,10 @@ from cosim.compiler.library import ModelEntry
 from cosim.compiler.ode import ExplicitModel
 
 FIXED_STEP_PARAMETER = "solver.fixedStepSize"
+# The value reference of position 0 of the value array (written into the C tables as
+# ``first_vr``, see ``runtime/cosim_model.h``). Not 0: OMSimulator refuses value reference 0 in
+# FMI 3 FMUs, and no importer needs it.
+FIRST_VALUE_REFERENCE = 1
 DEFAULT_TOLERANCE = 1e-6
 # The element of a one-dimensional array: ``x[3]`` or ``der(x[3])`` (array ``x``, resp. ``der(x)``).
 ARRAY_ELEMENT = re.compile(r"^(?P<der>der\()?(?P<array>.+)\[(?P<index>[1-9][0-9]*)\](?(der)\))$")
@@ -28,12 +35,18 @@ FMI3_ARRAY_ROLES = ("state", "derivative")
 _SHARED = ("role", "causality", "variability", "initial", "type", "unit", "display_unit", "quantity", "min", "max")
 
 
+def value_reference(position: int) -> int:
+    """The value reference of the variable at ``position`` of the value array (``position`` =
+    the number of variables: FMI 3's ``time``, one past the array)."""
+    return FIRST_VALUE_REFERENCE + position
+
+
 @dataclass
 class Variable:
     """One FMI scalar variable."""
 
     name: str
-    vr: int
+    position: int  # in the value array (and in ModelVariables), from 0
     role: str  # state, derivative, input, parameter, calculated, algebraic
     causality: str
     variability: str
@@ -46,12 +59,17 @@ class Variable:
     quantity: str | None = None
     min: float | None = None
     max: float | None = None
-    derivative_of: int | None = None  # vr of the state this is the derivative of
+    derivative_of: int | None = None  # position of the state this is the derivative of
+
+    @property
+    def vr(self) -> int:
+        """The value reference (see :func:`value_reference`)."""
+        return value_reference(self.position)
 
     @property
     def index(self) -> int:
-        """1-based position in ModelVariables."""
-        return self.vr + 1
+        """1-based position in ModelVariables (FMI 2's ModelStructure ``index``)."""
+        return self.position + 1
 
 
 @dataclass
@@ -64,7 +82,8 @@ class ModelInfo:
     variables: list[Variable]
     sizes: dict  # nx nu np nc nz
     experiment: dict
-    output_dependencies: dict = field(default_factory=dict)  # vr -> [vr of states/inputs]
+    # position -> [positions of the states and inputs it depends on]
+    output_dependencies: dict = field(default_factory=dict)
     derivative_dependencies: dict = field(default_factory=dict)
     guid: str = ""
     init_unknowns: str = ""  # "theta, psi": the states solved from the initial equations, for messages
@@ -88,22 +107,22 @@ class ModelInfo:
 
     @property
     def fmi3_arrays(self) -> dict[int, tuple[str, int]]:
-        """The FMI 3 array variables: value reference of the first element -> (name, number of
+        """The FMI 3 array variables: position of the first element -> (name, number of
         elements), see :func:`fmi3_arrays`."""
         return fmi3_arrays(self.variables)
 
     @property
     def independent_vr(self) -> int:
         """Value reference of FMI 3's independent variable ``time``: one past the value array
-        (``nv``, see ``runtime/cosim_model.h``); FMI 2 does not list time."""
-        return len(self.variables)
+        (``first_vr + nv``, see ``runtime/cosim_model.h``); FMI 2 does not list time."""
+        return value_reference(len(self.variables))
 
 
 def fmi3_arrays(variables: list[Variable], roles=FMI3_ARRAY_ROLES) -> dict[int, tuple[str, int]]:
     """The elements ``a[1]``, ..., ``a[n]`` (n >= 2) of one declared one-dimensional Modelica array,
-    at consecutive value references with the same FMI attributes and a role of ``roles``, as one
-    FMI 3 array variable ``a``: value reference of ``a[1]`` -> (``a``, n). ``variables`` are in
-    value-reference order (``variables[vr].vr == vr``).
+    at consecutive positions with the same FMI attributes and a role of ``roles``, as one FMI 3
+    array variable ``a``: position of ``a[1]`` -> (``a``, n). ``variables`` are in position order
+    (``variables[i].position == i``).
 
     A state array is one only with its derivative array (``der(a)``, whose elements are the
     derivatives of ``a[1]``, ..., ``a[n]`` in order): FMI 3's ``derivative`` attribute names one
@@ -126,9 +145,9 @@ def fmi3_arrays(variables: list[Variable], roles=FMI3_ARRAY_ROLES) -> dict[int, 
         first = items[0][1]
         if (len(items) >= 2 and len(items) == every[name]
                 and [k for k, _ in items] == list(range(1, len(items) + 1))
-                and [v.vr for _, v in items] == list(range(first.vr, first.vr + len(items)))
+                and [v.position for _, v in items] == list(range(first.position, first.position + len(items)))
                 and all(getattr(v, a) == getattr(first, a) for _, v in items for a in _SHARED)):
-            arrays[first.vr] = (name, len(items))
+            arrays[first.position] = (name, len(items))
     for head, (name, n) in list(arrays.items()):
         v = variables[head]
         if v.role == "derivative":
@@ -158,7 +177,7 @@ def describe(entry: ModelEntry, flat: FlatModel, model: ExplicitModel) -> ModelI
     def add(name, role, causality, variability, initial, start=None, python_type=float, **extra):
         d: Declaration | None = decl.get(name)
         v = Variable(
-            name=name, vr=len(variables), role=role, causality=causality, variability=variability,
+            name=name, position=len(variables), role=role, causality=causality, variability=variability,
             initial=initial, type=_type_of(python_type), start=start,
             description=(d.description if d else "") or "",
             unit=d.unit if d else None, display_unit=d.display_unit if d else None,
@@ -186,7 +205,7 @@ def describe(entry: ModelEntry, flat: FlatModel, model: ExplicitModel) -> ModelI
     for s, state in zip(model.states, states):
         d = decl.get(s.name)
         add(f"der({s.name})", "derivative", "local", "continuous", "calculated",
-            derivative_of=state.vr, description=f"der({s.name})",
+            derivative_of=state.position, description=f"der({s.name})",
             unit=_derivative_unit(d.unit if d else None))
     for s in model.inputs:
         add(s.name, "input", "input", "continuous", None, s.start, s.python_type)
@@ -233,18 +252,19 @@ def _derivative_unit(unit: str | None) -> str | None:
 def _dependencies(info: ModelInfo, model: ExplicitModel) -> None:
     """Structural dependencies of derivatives and outputs on states and inputs (Jacobian sparsity)."""
     knowns = ca.vertcat(model.x, model.u)
-    known_vrs = [v.vr for v in info.by_role("state")] + [v.vr for v in info.by_role("input")]
+    known = [v.position for v in info.by_role("state")] + [v.position for v in info.by_role("input")]
     algebraics = info.by_role("algebraic")
     outputs = [k for k, v in enumerate(algebraics) if v.causality == "output"]
     unknowns = ca.vertcat(model.xdot, *[model.z[k] for k in outputs])
-    unknown_vrs = [v.vr for v in info.by_role("derivative")] + [algebraics[k].vr for k in outputs]
-    deps = {vr: [] for vr in unknown_vrs}
+    unknown = [v.position for v in info.by_role("derivative")] + [algebraics[k].position for k in outputs]
+    deps = {i: [] for i in unknown}
     if knowns.numel() and unknowns.numel():
         sp = ca.jacobian(unknowns, knowns).sparsity()
         for r, c in zip(*sp.get_triplet()):
-            deps[unknown_vrs[r]].append(known_vrs[c])
+            deps[unknown[r]].append(known[c])
     for v in info.variables:
         if v.role == "derivative":
-            info.derivative_dependencies[v.vr] = sorted(deps[v.vr])
+            info.derivative_dependencies[v.position] = sorted(deps[v.position])
         elif v.causality == "output":
-            info.output_dependencies[v.vr] = sorted(deps[v.vr]) if v.role == "algebraic" else [v.vr]
+            info.output_dependencies[v.position] = (sorted(deps[v.position]) if v.role == "algebraic"
+                                                    else [v.position])

@@ -288,9 +288,9 @@ def pack(staging: Path, destination: Path) -> None:
     with atomic_output(destination, "the FMU") as partial:
         PARTIALS.add(partial)  # removed by a pool worker whose parent died (cosim.compiler.build)
         try:
-            # Level 1: a fifth of the default level's time for 20 % more bytes (the largest FMU:
-            # 14 ms instead of 58 ms, 640 kB instead of 520 kB). Given to writestr: for an entry given
-            # as a ZipInfo, zipfile ignores the archive's compresslevel and deflates at level 6.
+            # Level 1: much faster than the default level for a few more bytes (docs/benchmarks.md).
+            # Given to writestr: for an entry given as a ZipInfo, zipfile ignores the archive's
+            # compresslevel and deflates at level 6.
             with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as archive:
                 for path in sorted(staging.rglob("*")):
                     if path.is_file():

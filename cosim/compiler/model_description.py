@@ -1,6 +1,10 @@
 """modelDescription.xml (FMI 2.0 or 3.0) and buildDescription.xml (FMI 3.0) from the same
 :class:`ModelInfo` the C tables come from: value references, causalities, start values and
-dependencies are written by one description for both versions, only their XML differs."""
+dependencies are written by one description for both versions, only their XML differs.
+
+:class:`ModelInfo` refers to variables by their position in the value array; the XML names them
+by value reference (``Variable.vr``, FMI 3 dependencies and ``derivative`` too) or, in FMI 2's
+ModelStructure and ``derivative``, by ``Variable.index``, the 1-based place in ModelVariables."""
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
@@ -78,21 +82,23 @@ def _has_start(v) -> bool:
     return v.start is not None and (v.initial in ("exact", "approx") or v.causality == "input")
 
 
-def _scalar_variable(parent: ET.Element, v) -> None:
+def _scalar_variable(parent: ET.Element, v, variables) -> None:
     element = ET.SubElement(parent, "ScalarVariable", _head_attributes(v, v.name, v.description))
     typed = _value_attributes(v)
     if _has_start(v):
         typed["start"] = _fmt(_START_TYPE[v.type](v.start))
     if v.derivative_of is not None:
-        typed["derivative"] = str(v.derivative_of + 1)
+        typed["derivative"] = str(variables[v.derivative_of].index)
     ET.SubElement(element, v.type, typed)
 
 
-def _unknowns(parent: ET.Element, items: dict[int, list[int]] | list[int]) -> None:
-    for vr in sorted(items):
-        attributes = {"index": str(vr + 1)}
+def _unknowns(parent: ET.Element, items: dict[int, list[int]] | list[int], variables) -> None:
+    """FMI 2 ``<Unknown>`` elements of the variables at the positions ``items`` (with their
+    dependencies if a dict), named by ``index``."""
+    for position in sorted(items):
+        attributes = {"index": str(variables[position].index)}
         if isinstance(items, dict):
-            attributes["dependencies"] = " ".join(str(d + 1) for d in items[vr])
+            attributes["dependencies"] = " ".join(str(variables[d].index) for d in items[position])
         ET.SubElement(parent, "Unknown", attributes)
 
 
@@ -146,15 +152,15 @@ def _fmi2(info: ModelInfo, generation_tool: str) -> ET.Element:
     _default_experiment(info, root)
     variables = ET.SubElement(root, "ModelVariables")
     for v in info.variables:
-        _scalar_variable(variables, v)
+        _scalar_variable(variables, v, info.variables)
     structure = ET.SubElement(root, "ModelStructure")
     if info.output_dependencies:
-        _unknowns(ET.SubElement(structure, "Outputs"), info.output_dependencies)
+        _unknowns(ET.SubElement(structure, "Outputs"), info.output_dependencies, info.variables)
     if info.derivative_dependencies:
-        _unknowns(ET.SubElement(structure, "Derivatives"), info.derivative_dependencies)
+        _unknowns(ET.SubElement(structure, "Derivatives"), info.derivative_dependencies, info.variables)
     initial = _initial_unknowns(info)
     if initial:
-        _unknowns(ET.SubElement(structure, "InitialUnknowns"), initial)
+        _unknowns(ET.SubElement(structure, "InitialUnknowns"), initial, info.variables)
     return root
 
 
@@ -169,10 +175,10 @@ def _default_experiment(info: ModelInfo, root: ET.Element) -> None:
 
 
 def _initial_unknowns(info: ModelInfo) -> list[int]:
-    """Value references of the unknowns of initialization mode (the same rule in FMI 2 and 3):
+    """Positions of the unknowns of initialization mode (the same rule in FMI 2 and 3):
     outputs and calculated parameters that are computed, the state derivatives, and the states
     whose start value is computed or solved."""
-    return sorted({v.vr for v in info.variables
+    return sorted({v.position for v in info.variables
                    if (v.causality in ("output", "calculatedParameter") and v.initial in ("calculated", "approx"))
                    or v.role == "derivative"
                    or (v.role == "state" and v.initial in ("calculated", "approx"))})
@@ -228,34 +234,38 @@ def _fmi3(info: ModelInfo, generation_tool: str) -> ET.Element:
                                          "description": "Simulation time", "causality": "independent",
                                          "variability": "continuous", "unit": "s"})
     arrays = info.fmi3_arrays
-    # the value reference of the FMI 3 variable each value belongs to (an array: its first element's)
+    # the position of the FMI 3 variable each value belongs to (an array: its first element's)
     head = list(range(len(info.variables)))
     for first, (_, n) in arrays.items():
         head[first:first + n] = [first] * n
     for v in info.variables:
-        if head[v.vr] == v.vr:
-            _fmi3_variable(variables, v, arrays.get(v.vr), info.variables)
+        if head[v.position] == v.position:
+            _fmi3_variable(variables, v, arrays.get(v.position), info.variables)
+
+    def vr(position: int) -> str:
+        return str(info.variables[position].vr)
+
     structure = ET.SubElement(root, "ModelStructure")
     for element, items in (("Output", info.output_dependencies),
                            ("ContinuousStateDerivative", info.derivative_dependencies)):
         merged: dict[int, set[int]] = {}
-        for vr, dependencies in items.items():
-            merged.setdefault(head[vr], set()).update(head[d] for d in dependencies)
-        for vr in sorted(merged):
-            ET.SubElement(structure, element, valueReference=str(vr),
-                          dependencies=" ".join(str(d) for d in sorted(merged[vr])))
-    for vr in sorted({head[vr] for vr in _initial_unknowns(info)}):
-        ET.SubElement(structure, "InitialUnknown", valueReference=str(vr))
+        for position, dependencies in items.items():
+            merged.setdefault(head[position], set()).update(head[d] for d in dependencies)
+        for position in sorted(merged):
+            ET.SubElement(structure, element, valueReference=vr(position),
+                          dependencies=" ".join(vr(d) for d in sorted(merged[position])))
+    for position in sorted({head[i] for i in _initial_unknowns(info)}):
+        ET.SubElement(structure, "InitialUnknown", valueReference=vr(position))
     return root
 
 
 def _fmi3_variable(parent: ET.Element, v, array: tuple[str, int] | None = None, variables=()) -> None:
     """One FMI 3 variable: the attributes of FMI 2's ScalarVariable and of its type element in one
     element named after the type, ``derivative`` as the state's value reference. ``array``: (name,
-    n) if ``v`` is the first of the n elements of an array (``variables[v.vr:v.vr + n]``), which
-    become one variable with a ``<Dimension>`` and a list of start values."""
+    n) if ``v`` is the first of the n elements of an array (``variables[v.position:v.position + n]``),
+    which become one variable with a ``<Dimension>`` and a list of start values."""
     name, n = array or (v.name, 1)
-    elements = variables[v.vr:v.vr + n] if array else [v]
+    elements = variables[v.position:v.position + n] if array else [v]
     # a derivative is described by its name (der(x[1])): the array's is der(x)
     description = name if v.description and v.description == v.name else v.description
     attributes = {**_head_attributes(v, name, description), **_value_attributes(v)}
@@ -263,7 +273,7 @@ def _fmi3_variable(parent: ET.Element, v, array: tuple[str, int] | None = None, 
         convert = _START_TYPE[v.type]
         attributes["start"] = " ".join(_fmt(convert(e.start if e.start is not None else 0.0)) for e in elements)
     if v.derivative_of is not None:
-        attributes["derivative"] = str(v.derivative_of)
+        attributes["derivative"] = str(variables[v.derivative_of].vr)
     element = ET.SubElement(parent, FMI3_TYPES[v.type], attributes)
     if array:
         ET.SubElement(element, "Dimension", start=str(n))

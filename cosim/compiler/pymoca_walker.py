@@ -5,7 +5,7 @@ generator: the whole flat model) with a generic recursion that, for every node, 
 names ``"enter" + class name`` and ``"exit" + class name``, looks them up with ``hasattr`` and
 ``getattr``, calls the listener's no-op methods, and asks ``skip_child`` for every attribute of
 the node. That bookkeeping, not the listeners' work, was a third of flattening a generated
-1000-state model (issue 14).
+1000-state model.
 
 This walk does the same per node class once per walk: it resolves the listener's enter and exit
 methods (leaving out the base class's no-ops, ``pass`` in pymoca's ``TreeListener``), and the

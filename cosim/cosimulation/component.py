@@ -1,7 +1,9 @@
 """The one protocol every co-simulation component follows, and its FMU implementation.
 
-A component has named Real inputs and outputs (fixed order: the master addresses them by index,
-never by name, while stepping) and may pass inputs straight through to outputs (``feedthrough``).
+A component has named inputs and outputs carried as doubles (Real ones; an FMU's Integer, Boolean,
+... signals as their values, see :data:`OTHER_SIGNAL_TYPES`) in a fixed order (the master addresses
+them by index, never by name, while stepping) and may pass inputs straight through to outputs
+(``feedthrough``).
 
 The master drives every component the same way (:class:`cosim.cosimulation.master.System`)::
 
@@ -91,6 +93,9 @@ class Component:
         ------
         StepFailed
             If the component cannot complete the step (FMUs: fmi2Discard or worse).
+        SimulationEnded
+            If an FMU asks to terminate the simulation (``terminateSimulation``) without an
+            error: its outputs are those where it ended.
         """
         raise NotImplementedError
 
@@ -123,6 +128,25 @@ class StepFailed(SimulationError):
         self.last_successful_time, self.fmu_message = last_successful_time, fmu_message
 
 
+class SimulationEnded(SimulationError):
+    """An FMU ended the run itself without an error (``terminateSimulation``: FMI 2 ``fmi2DoStep``
+    returning fmi2Discard with ``fmi2GetBooleanStatus(fmi2Terminated)`` true, FMI 3 ``fmi3DoStep``'s
+    ``terminateSimulation`` out-argument): a normal end of the model, not a failure.
+
+    Attributes
+    ----------
+    component : str
+        The component's name.
+    time : float
+        How far the FMU got [s] (``fmi2LastSuccessfulTime``, fmi3DoStep's ``lastSuccessfulTime``,
+        or the end of the step where the FMU does not say).
+    """
+
+    def __init__(self, component: str, time: float):
+        super().__init__(f"{component}: the FMU ended the simulation at t = {time:g} s (terminateSimulation)")
+        self.component, self.time = component, time
+
+
 STATUS_NAMES = {0: "OK", 1: "Warning", 2: "Discard", 3: "Error", 4: "Fatal", 5: "Pending"}
 
 
@@ -136,6 +160,27 @@ def _signal_type(v) -> str:
     return f"{v.type} array" if getattr(v, "dimensions", None) else v.type
 
 
+#: Scalar types besides FMI 2 Real / FMI 3 Float64 that the master carries as signals (their values
+#: as doubles: integers exactly up to 2**53, Booleans as 0 and 1) and connects to the same type only.
+OTHER_SIGNAL_TYPES = frozenset({"Integer", "Boolean", "Enumeration", "Float32", "Int8", "UInt8", "Int16", "UInt16",
+                                "Int32", "UInt32", "Int64", "UInt64"})
+#: Types that are one type across FMI versions (FMI 2 Integer is a 32-bit integer).
+_SAME_TYPE = {"Float64": "Real", "Int32": "Integer"}
+
+
+def _is_other_scalar(v) -> bool:
+    return v.type in OTHER_SIGNAL_TYPES and not getattr(v, "dimensions", None)
+
+
+def connection_type(v) -> str:
+    """The type by which a connection is checked: equal for variables that may be connected
+    (FMI 2 Real and FMI 3 Float64; Integer and Int32; an enumeration with its declared type)."""
+    if v.type == "Enumeration":
+        declared = getattr(getattr(v, "declaredType", None), "name", None)
+        return f"Enumeration {declared}" if declared else "Enumeration"
+    return _SAME_TYPE.get(v.type, v.type)
+
+
 #: The calls of a communication step by FMI version: (set inputs, step, get outputs), as messages name them.
 CALLS = {"2": ("fmi2SetReal", "fmi2DoStep", "fmi2GetReal"), "3": ("fmi3SetFloat64", "fmi3DoStep", "fmi3GetFloat64")}
 
@@ -143,9 +188,11 @@ CALLS = {"2": ("fmi2SetReal", "fmi2DoStep", "fmi2GetReal"), "3": ("fmi3SetFloat6
 class FMUComponent(Component):
     """An FMI 2.0 or FMI 3.0 Co-Simulation FMU behind the component protocol.
 
-    Inputs and outputs are the FMU's scalar real variables (FMI 2 ``Real``, FMI 3 ``Float64``
-    without dimensions) of causality input/output; value references and ctypes buffers are
-    prepared once, so a step costs three calls into the FMU.
+    Inputs and outputs are the FMU's scalar variables of causality input/output: the real ones
+    (FMI 2 ``Real``, FMI 3 ``Float64`` without dimensions) first, then those of the other types
+    of :data:`OTHER_SIGNAL_TYPES` (``other_inputs``, ``other_outputs``; ``signal_types`` gives
+    every signal's type for the connection rules). Value references and ctypes buffers are
+    prepared once, so a step of an FMU with real signals only costs three calls into the FMU.
 
     Both versions are driven through the FMI 2 signatures of ``fmi2SetReal``, ``fmi2DoStep`` and
     ``fmi2GetReal`` (``_set_real``, ``_do_step``, ``_get_real`` on ``_component``): an FMI 3 FMU
@@ -171,13 +218,24 @@ class FMUComponent(Component):
         self._prefix = self.calls[0][:4]  # fmi2 or fmi3, for messages
         # Every variable by name: (causality, type), to explain a connection that cannot be made.
         self.variables = {v.name: (v.causality, _signal_type(v)) for v in md.modelVariables}
-        self.inputs = [v.name for v in md.modelVariables if v.causality == "input" and _is_real_scalar(v)]
-        self.outputs = [v.name for v in md.modelVariables if v.causality == "output" and _is_real_scalar(v)]
+        # Signals: the Real ones first (the C loop's fmi2SetReal/fmi2GetReal take them as one
+        # array), then the other scalar types (OTHER_SIGNAL_TYPES), set and read by their own calls.
+        signals = {kind: ([v.name for v in md.modelVariables if v.causality == kind and _is_real_scalar(v)],
+                          [v.name for v in md.modelVariables if v.causality == kind and _is_other_scalar(v)])
+                   for kind in ("input", "output")}
+        self.inputs = signals["input"][0] + signals["input"][1]
+        self.outputs = signals["output"][0] + signals["output"][1]
+        self.other_inputs, self.other_outputs = signals["input"][1], signals["output"][1]
+        #: The type of every signal, as connections are checked (:func:`connection_type`).
+        self.signal_types = {v.name: connection_type(v) for v in md.modelVariables
+                             if v.name in self.inputs or v.name in self.outputs}
         self.parameters = dict(parameters or {})
         self.tolerance = tolerance
         self._depends = self._output_dependencies()
-        self._in_vr = (c_uint * len(self.inputs))(*[self.fmu.vr[n] for n in self.inputs])
-        self._out_vr = (c_uint * len(self.outputs))(*[self.fmu.vr[n] for n in self.outputs])
+        real_in, real_out = signals["input"][0], signals["output"][0]
+        self._in_vr = (c_uint * len(real_in))(*[self.fmu.vr[n] for n in real_in])
+        self._out_vr = (c_uint * len(real_out))(*[self.fmu.vr[n] for n in real_out])
+        self._n_real = (len(real_in), len(real_out))
         self._in = np.zeros(len(self.inputs))
         self._out = np.zeros(len(self.outputs))
         self._in_ptr = self._in.ctypes.data_as(POINTER(c_double))
@@ -291,9 +349,26 @@ class FMUComponent(Component):
         self._call(f"{self._prefix}ExitInitializationMode", self.instance.exitInitializationMode)
 
     def initial_inputs(self) -> np.ndarray:
-        if len(self._in):
-            self._get_real(self._component, self._in_vr, len(self._in), self._in_ptr)
+        if self._n_real[0]:
+            self._get_real(self._component, self._in_vr, self._n_real[0], self._in_ptr)
+        if self.other_inputs:
+            self._in[self._n_real[0]:] = self._get_other(self.other_inputs)
         return self._in.copy()
+
+    def _get_other(self, names: list[str]) -> np.ndarray:
+        """The values of signals of the other types (``OTHER_SIGNAL_TYPES``) by name."""
+        try:
+            return self.fmu.get(self.instance, names)
+        except FMICallException as exc:
+            raise self.failed(f"{self._prefix}Get{self.fmu.variables[names[0]].type}", self.now,
+                              int(getattr(exc, "status", 3) or 3)) from None
+
+    def _set_other(self, values: np.ndarray) -> None:
+        try:
+            self.fmu.set(self.instance, dict(zip(self.other_inputs, values)))
+        except FMICallException as exc:
+            raise self.failed(f"{self._prefix}Set{self.fmu.variables[self.other_inputs[0]].type}", self.now,
+                              int(getattr(exc, "status", 3) or 3)) from None
 
     def failed(self, what: str, t: float, status: int) -> StepFailed:
         """Record a failed call (status 2 Discard or worse) and describe it."""
@@ -309,7 +384,7 @@ class FMUComponent(Component):
                     from fmpy.fmi2 import fmi2LastSuccessfulTime
 
                     last = float(self.instance.getRealStatus(fmi2LastSuccessfulTime))
-                values = self.fmu.get_real(self.instance, self.outputs)
+                values = self.fmu.get(self.instance, self.outputs)
                 self.last_outputs = {f"{self.name}.{n}": float(v) for n, v in zip(self.outputs, values)}
             except FMICallException:  # the FMU does not tell: the last communicated values remain
                 last = None if self._adapter is None else last
@@ -323,6 +398,36 @@ class FMUComponent(Component):
         if said:
             message += f": {said}"
         return StepFailed(message, self.name, t, int(status), last, said)
+
+    def end_requested(self, what: str, t: float, h: float, status: int) -> float | None:
+        """If the call ``what`` (the step from ``t`` over ``h`` [s]) returned ``status`` because
+        the FMU asks to terminate the simulation without an error: how far it got [s]
+        (:class:`SimulationEnded`); None for a failure. An FMI 3 early return is a failure (the
+        instance does not allow it), and so is a request to terminate with an error message
+        logged (an FMI 2 FMU whose integrator failed may report fmi2Terminated: as ``cosim
+        simulate`` tells the two apart)."""
+        if what != self.calls[1] or self.fmu_said():
+            return None
+        adapter = self._adapter
+        if adapter is not None:
+            if adapter.status > 1 or not adapter.terminate_simulation:
+                return None
+            reached = float(adapter.last_successful_time)
+            return reached if t < reached <= t + h else t + h
+        if status != 2:  # FMI 2 asks by fmi2Discard, then fmi2Terminated says why
+            return None
+        from fmpy.fmi2 import fmi2LastSuccessfulTime, fmi2Terminated
+
+        try:
+            if not self.instance.getBooleanStatus(fmi2Terminated):
+                return None
+        except FMICallException:  # the FMU does not say: a Discard
+            return None
+        try:
+            reached = float(self.instance.getRealStatus(fmi2LastSuccessfulTime))
+        except FMICallException:  # optional in FMI 2: the step is taken as done
+            return t + h
+        return reached if t < reached <= t + h * (1 + 1e-9) else t + h
 
     def _fmi3_request(self, what: str) -> str | None:
         """What an FMI 3 step that returned OK but ended the run asked for (None otherwise)."""
@@ -338,20 +443,29 @@ class FMUComponent(Component):
     def set_inputs(self, values: np.ndarray) -> None:
         if len(self._in):
             self._in[:] = values
-            status = self._set_real(self._component, self._in_vr, len(self._in), self._in_ptr)
-            if status > 1:
-                raise self.failed(self.calls[0], self.now, status)
+            if self._n_real[0]:
+                status = self._set_real(self._component, self._in_vr, self._n_real[0], self._in_ptr)
+                if status > 1:
+                    raise self.failed(self.calls[0], self.now, status)
+            if self.other_inputs:
+                self._set_other(self._in[self._n_real[0]:])
 
     def get_outputs(self) -> np.ndarray:
-        if len(self._out):
-            status = self._get_real(self._component, self._out_vr, len(self._out), self._out_ptr)
+        if self._n_real[1]:
+            status = self._get_real(self._component, self._out_vr, self._n_real[1], self._out_ptr)
             if status > 1:
                 raise self.failed(self.calls[2], self.now, status)
+        if self.other_outputs:
+            self._out[self._n_real[1]:] = self._get_other(self.other_outputs)
         return self._out
 
     def step(self, t: float, h: float) -> None:
         status = self._do_step(self._component, t, h, 1)
         if status > 1:  # Discard or worse (or an FMI 3 request to stop, see cosim_fmi3_do_step)
+            reached = self.end_requested(self.calls[1], t, h, status)
+            if reached is not None:
+                self.now = reached
+                raise SimulationEnded(self.name, reached)
             raise self.failed(self.calls[1], t, status)
         self.now = t + h  # the C loop (fastloop.c) keeps the same time
 

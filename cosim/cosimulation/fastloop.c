@@ -55,8 +55,9 @@ int cosim_fmi3_get_real(void *adapter, const unsigned int *vr, size_t n, double 
 
 /* fmi3DoStep as fmi2DoStep. The instance was made without event mode and without early return,
    so eventHandlingNeeded asks nothing of the master (the FMU handles its events inside the step);
-   an early return (forbidden then) or a request to terminate ends the run as a Discard would, with
-   the flags and the last successful time kept for the message. */
+   an early return (forbidden then) or a request to terminate returns fmi2Discard as FMI 2 does,
+   with the flags and the last successful time kept: the master reads them to tell the model's own
+   end (terminateSimulation) from a failure. */
 int cosim_fmi3_do_step(void *adapter, double t, double h, int no_set_state_prior) {
     fmi3_adapter *a = adapter;
     bool event = false, terminate = false, early = false;

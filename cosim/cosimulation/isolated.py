@@ -4,7 +4,7 @@ The whole run (set-up, steps, clean-up) happens in a guarded worker process
 (:func:`cosim.fmu.isolation.run_isolated`). The master records each communication point into a
 table in memory shared with the caller (an unlinked temporary file mapped by both), so that when
 a binary crashes, calls ``exit`` or hangs, the caller still has every row up to the last completed
-step and reports the run as failed there (:class:`~cosim.cosimulation.master.RunFailed`, exit 4).
+step and reports the run as failed there (:class:`~cosim.cosimulation.outcome.RunFailed`, exit 4).
 A completed row is one whose time is written: the master writes a row only after every
 component finished its step, and the time column starts as NaN.
 """
@@ -16,7 +16,8 @@ import tempfile
 import numpy as np
 
 from cosim.cosimulation.component import Component
-from cosim.cosimulation.master import Outcome, RunFailed, RunResult, finished, run_components
+from cosim.cosimulation.master import run_components
+from cosim.cosimulation.outcome import Outcome, RunResult, finished
 from cosim.cosimulation.system import SystemSpec
 from cosim.fmu.isolation import DEFAULT_TIMEOUT, FMUProcessError, run_isolated
 

@@ -7,50 +7,15 @@ name lookups.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 
 from cosim.errors import SimulationError
-from cosim.cosimulation.component import Component, StepFailed
+from cosim.cosimulation.component import Component, SimulationEnded, StepFailed
+from cosim.cosimulation.model_exchange import ModelExchange
+from cosim.cosimulation.outcome import Outcome, RunFailed, RunResult, complete_message, finished, terminated
 from cosim.cosimulation.system import MAX_STEPS, Connection, SystemError_, SystemSpec
-
-
-@dataclass
-class Outcome:
-    """How a run ended."""
-
-    status: str  # completed, fell (the fall criterion), diverged (a non-finite signal), failed (an FMU)
-    time: float  # when the run ended [s]: the stop time, or the last recorded time
-    message: str
-
-    @property
-    def complete(self) -> bool:
-        """True if the run reached the stop time or ended by its own criterion (a fall)."""
-        return self.status in ("completed", "fell")
-
-
-@dataclass
-class RunResult:
-    """Recorded signals (``time`` first) and the outcome; ``steps`` communication steps were
-    taken (the last one shorter if ``step`` does not divide the span, see :func:`step_grid`)."""
-
-    data: np.ndarray
-    outcome: Outcome
-    steps: int
-
-
-class RunFailed(SimulationError):
-    """An FMU could not continue the run; ``result`` holds the rows up to the last completed
-    communication point (``result.outcome.status == "failed"``, the message names the cause)."""
-
-    def __init__(self, result: RunResult):
-        super().__init__(result.outcome.message)
-        self.result = result
-
-    def __reduce__(self):  # pickled from an isolated worker with its rows
-        return type(self), (self.result,)
 
 
 #: Largest recording one run keeps in memory [bytes].
@@ -106,26 +71,6 @@ def _make_grid(start: float, stop: float, step: float) -> np.ndarray:
     return times
 
 
-def _complete_message(t: float, steps: int, grid: np.ndarray) -> str:
-    text = f"completed at t = {t:g} s after {steps} step{'s' if steps != 1 else ''}"
-    if steps >= 2 and grid[-1] - grid[-2] < 0.999999 * (grid[1] - grid[0]):
-        text += f" (the last one {grid[-1] - grid[-2]:.6g} s, to end on stop)"
-    return text
-
-
-def finished(data: np.ndarray, rows: int, record_names, outcome: Outcome) -> RunResult:
-    """The result of a run: the first ``rows`` rows of ``data`` (time, then the recorded signals) as
-    a named table with its outcome; a failed run is raised as :class:`RunFailed` carrying it."""
-    dtype = [("time", float)] + [(n, float) for n in record_names]
-    table = np.empty(rows, dtype=dtype)
-    for j, name in enumerate(["time"] + list(record_names)):
-        table[name] = data[:rows, j]
-    result = RunResult(table, outcome, rows - 1)
-    if outcome.status == "failed":
-        raise RunFailed(result)
-    return result
-
-
 class System:
     """Components wired by connections, ready to run.
 
@@ -177,11 +122,27 @@ class System:
         self.record = self._record_indices(where)
         self.coupling = None
         if spec.algorithm == "model-exchange":  # one ODE, not stepped components: its own module
-            from cosim.cosimulation.model_exchange import ModelExchange
-
             self.coupling = ModelExchange(self)
 
     def _check(self, c: Connection, where: str) -> None:
+        self._check_ends(c, where)
+        source, target = self.components[c.source], self.components[c.target]
+        types = [getattr(comp, "signal_types", {}).get(var, "Real")
+                 for comp, var in ((source, c.output), (target, c.input))]
+        if types[0] != types[1]:
+            raise SystemError_(f"{where}: connection '{c}': type mismatch: '{c.source}.{c.output}' is "
+                               f"{self._type_name(source, c.output)} and '{c.target}.{c.input}' is "
+                               f"{self._type_name(target, c.input)}; a connection joins variables of one type")
+
+    @staticmethod
+    def _type_name(component: Component, var: str) -> str:
+        fmu = getattr(component, "fmu", None)
+        if fmu is None:
+            return "Real"
+        v = fmu.variables[var]
+        return component.signal_types[var] if v.type == "Enumeration" else v.type
+
+    def _check_ends(self, c: Connection, where: str) -> None:
         for comp, var, kind, attr in ((c.source, c.output, "output", "outputs"), (c.target, c.input, "input", "inputs")):
             if comp not in self.components:
                 raise SystemError_(f"{where}: connection '{c}': unknown component '{comp}' "
@@ -201,7 +162,8 @@ class System:
                 raise SystemError_(f"{where}: connection '{c}': causality mismatch: '{comp}.{var}' is "
                                    f"{'an' if causality[0] in 'aeiou' else 'a'} {causality}, not an {kind}")
             raise SystemError_(f"{where}: connection '{c}': type mismatch: '{comp}.{var}' is {type_}; "
-                               "connections carry Real signals (FMI 3: scalar Float64)")
+                               "connections carry numbers and Booleans (scalars), not strings, binaries, "
+                               "clocks or arrays")
 
     def _gauss_seidel_order(self, where: str) -> list[str]:
         """Topological order of the components along connections with direct feedthrough.
@@ -265,9 +227,10 @@ class System:
 
     def run(self) -> RunResult:
         """Initialize, step over :func:`step_grid` from start to stop, record; stop early if the
-        bicycle falls, a signal turns non-finite or an FMU fails a step. In each case the rows
-        up to the last completed communication point are kept (``outcome.status`` says why the
-        run ended: completed, fell, diverged, failed).
+        bicycle falls, a signal turns non-finite, an FMU fails a step or an FMU ends the
+        simulation itself (``terminateSimulation``: the step is completed by the others and
+        recorded). In each case the rows up to the last completed communication point are kept
+        (``outcome.status`` says why the run ended: completed, terminated, fell, diverged, failed).
 
         Raises
         ------
@@ -298,45 +261,30 @@ class System:
                 self._read(name)
             data[0, 0] = spec.start
             data[0, 1:] = self.signals[record_idx]
-            outcome = Outcome("completed", spec.stop, _complete_message(spec.stop, n_steps, grid))
+            outcome = Outcome("completed", spec.stop, complete_message(spec.stop, n_steps, grid))
             rows = n_steps + 1
-            gauss_seidel = spec.algorithm == "gauss-seidel"
-            after_transfer = spec.sampling == "after-transfer"
             self._sampled = np.empty_like(self.signals)
             fast = self._fast_run(data, grid, record_idx, multiples) if self.use_fast_loop else None
             if fast is not None:
                 outcome, rows = fast
                 n_steps = 0  # done
+                if isinstance(outcome, SimulationEnded):  # the C loop stopped inside step rows - 1
+                    k = rows - 1
+                    try:
+                        self._communication_step(k, grid, multiples, resume=outcome)
+                        outcome, rows = self._ended(outcome, k, grid, data, record_idx)
+                    except StepFailed as exc:
+                        outcome, rows = self._failed_outcome(exc.component, grid[k], str(exc)), k + 1
             for k in range(n_steps):
-                t = grid[k]
-                due = [n for n in self.order if k % multiples[n] == 0]
                 try:
-                    if gauss_seidel:
-                        for name in due:
-                            self._feed(name)
-                            self.components[name].step(t, grid[min(k + multiples[name], n_steps)] - t)
-                            self._read(name)
-                    else:
-                        for name in due:
-                            self._feed(name)
-                        for name in due:
-                            self.components[name].step(t, grid[min(k + multiples[name], n_steps)] - t)
-                        for name in due:
-                            self._read(name)
-                    sampled = self.signals
-                    if after_transfer:
-                        # Record what the outputs are once the connected inputs took the new values
-                        # (direct feedthrough); the next step still transfers the after-step values.
-                        sampled = self._sampled
-                        sampled[:] = self.signals
-                        for name in self.order:
-                            self._feed(name)
-                            self._read(name, into=sampled)
+                    ended = self._communication_step(k, grid, multiples)
                 except StepFailed as exc:
-                    outcome, rows = self._failed_outcome(exc.component, t, str(exc)), k + 1
+                    outcome, rows = self._failed_outcome(exc.component, grid[k], str(exc)), k + 1
                     break
-                data[k + 1, 0] = grid[k + 1]
-                data[k + 1, 1:] = sampled[record_idx]
+                if ended is not None:
+                    outcome, rows = self._ended(ended, k, grid, data, record_idx)
+                    break
+                self._record(data, k + 1, grid, record_idx)
                 stop = self._check_outcome(grid[k + 1])
                 if stop is not None:
                     outcome, rows = stop, k + 2
@@ -344,6 +292,71 @@ class System:
         finally:
             self._close_all()
         return finished(data, rows, record_names, outcome)
+
+    def _communication_step(self, k: int, grid: np.ndarray, multiples: dict[str, int],
+                            resume: SimulationEnded | None = None) -> SimulationEnded | None:
+        """Step every component due at base step ``k`` from ``grid[k]`` to its next point, read
+        the outputs (and under after-transfer sampling the values to record, in ``_sampled``).
+
+        ``resume``: the C loop (fastloop.c) stopped inside this step because that component
+        asked to terminate; the components before it in the order (and it) have done their part,
+        the others do theirs here.
+
+        Returns
+        -------
+        SimulationEnded or None
+            The first component that asked to terminate in this step (the step is completed by
+            the others all the same, so the row at its end is consistent).
+        """
+        n_steps = len(grid) - 1
+        t = grid[k]
+        due = [n for n in self.order if k % multiples[n] == 0]
+        done = set(self.order[:self.order.index(resume.component) + 1]) if resume is not None else set()
+        ended = [resume] if resume is not None else []
+        gauss_seidel = self.spec.algorithm == "gauss-seidel"
+        if not gauss_seidel and resume is None:  # (resumed: every input was set before the first step)
+            for name in due:
+                self._feed(name)
+        for name in due:
+            if name not in done:
+                if gauss_seidel:
+                    self._feed(name)
+                try:
+                    self.components[name].step(t, grid[min(k + multiples[name], n_steps)] - t)
+                except SimulationEnded as end:  # the others still complete the step
+                    ended.append(end)
+            if gauss_seidel:
+                self._read(name)
+        if not gauss_seidel:
+            for name in due:
+                self._read(name)
+        if self.spec.sampling == "after-transfer":
+            # Record what the outputs are once the connected inputs took the new values
+            # (direct feedthrough); the next step still transfers the after-step values.
+            self._sampled[:] = self.signals
+            for name in self.order:
+                self._feed(name)
+                self._read(name, into=self._sampled)
+        return ended[0] if ended else None
+
+    def _record(self, data: np.ndarray, row: int, grid: np.ndarray, record_idx: np.ndarray) -> None:
+        sampled = self._sampled if self.spec.sampling == "after-transfer" else self.signals
+        data[row, 0] = grid[row]
+        data[row, 1:] = sampled[record_idx]
+
+    def _ended(self, end: SimulationEnded, k: int, grid: np.ndarray, data: np.ndarray,
+               record_idx: np.ndarray) -> tuple[Outcome, int]:
+        """The outcome and row count of a run a component ended in base step ``k``: with the row at
+        the step's end if the FMU got there, else (an FMU that stopped inside the step) the rows
+        up to the step's start, the other components having gone on to its end."""
+        reached = end.time
+        if reached >= grid[k + 1] - 1e-9 * (grid[k + 1] - grid[k]):
+            self._record(data, k + 1, grid, record_idx)
+            return terminated(end.component, float(grid[k + 1])), k + 2
+        outcome = terminated(end.component, reached)
+        outcome.time = float(grid[k])
+        outcome.message += f"; the result ends at the communication point before it, t = {grid[k]:g} s"
+        return outcome, k + 1
 
     def recording_buffer(self) -> tuple[np.ndarray, np.ndarray]:
         """The communication points and an empty table for them (time, then the recorded
@@ -403,6 +416,9 @@ class System:
 
         blocks = [n for n in self.names if not isinstance(self.components[n], FMUComponent)]
         if not all(callable(getattr(self.components[n], "native_form", None)) for n in blocks):
+            return None
+        if any(self.components[n].other_inputs or self.components[n].other_outputs
+               for n in self.names if n not in blocks):  # the C loop sets and gets real values only
             return None
         n_steps = len(grid) - 1
         natives = {}
@@ -484,7 +500,7 @@ class System:
         t = float(grid[steps_done.value])
         rows = steps_done.value + 1
         if status == 0:
-            return Outcome("completed", spec.stop, _complete_message(spec.stop, n_steps, grid)), rows
+            return Outcome("completed", spec.stop, complete_message(spec.stop, n_steps, grid)), rows
         if status == 1:
             return Outcome("fell", t, f"fell at t = {t:.3f} s (|{spec.fall_signal}| > {spec.fall_limit:g})"), rows
         if status == 2:
@@ -493,7 +509,13 @@ class System:
         if status == 4:  # a bound of TransportDelay.native was wrong: a bug, not the user's
             raise RuntimeError(f"{name}: the native delay's sample ring is full at t = {t:g} s")
         component = self.components[name]
-        error = component.failed(component.calls[failed_call.value], failed_time.value, fmi_status.value)
+        what = component.calls[failed_call.value]
+        h = grid[min(steps_done.value + multiples[name], n_steps)] - t
+        reached = component.end_requested(what, t, h, fmi_status.value)
+        if reached is not None:  # the model's own end: the caller completes the step
+            component.now = reached
+            return SimulationEnded(name, reached), rows
+        error = component.failed(what, failed_time.value, fmi_status.value)
         return self._failed_outcome(name, t, str(error)), rows
 
     def _check_outcome(self, t: float) -> Outcome | None:

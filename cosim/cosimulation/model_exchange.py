@@ -11,8 +11,12 @@ in one Modelica model that connects the same parts:
 * an FMU takes part through its FMI 2.0 Model Exchange interface (``fmi2SetTime``,
   ``fmi2SetContinuousStates``, ``fmi2SetReal`` of its inputs, ``fmi2GetReal`` of its outputs,
   ``fmi2GetDerivatives``) or its FMI 3.0 one (the same with ``fmi3SetFloat64``,
-  ``fmi3GetFloat64`` and ``fmi3GetContinuousStateDerivatives``); the coupling handles no
-  events, so an FMU with event indicators or time events is refused;
+  ``fmi3GetFloat64`` and ``fmi3GetContinuousStateDerivatives``); its events are handled as
+  the FMI state machines have it, by :mod:`cosim.fmu.access`: the event iteration after
+  initialization, time events, state events (event indicators changing sign over a step, located
+  by bisection) and step events (``CompletedIntegratorStep``), each by Event Mode at its time,
+  after which the integration goes on from the FMU's new states; an FMU asking to terminate ends
+  the run normally there;
 * a Python block takes part through its continuous-time linear model ``x' = A x + B u``,
   ``y = C x + D u + r(t)`` (:meth:`~cosim.cosimulation.registry.Block.linear` and
   :meth:`~cosim.cosimulation.registry.Block.exogenous`); a block that is no finite-dimensional
@@ -38,8 +42,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from cosim.errors import SimulationError
+from fmpy.fmi1 import FMICallException
+
+from cosim.errors import FMUError, SimulationError
+from cosim.fmu.access import indicators_crossed, locate_state_event
 from cosim.cosimulation.component import STATUS_NAMES, Component, FMUComponent, StepFailed
+from cosim.cosimulation.outcome import Outcome, complete_message, finished, terminated
 from cosim.cosimulation.registry import Block
 from cosim.cosimulation.system import Connection, SystemError_
 
@@ -47,7 +55,7 @@ ALGORITHM = "model-exchange"
 #: The Model Exchange calls of F(t, X) by their FMI 2 names (without the prefix) in FMI 3.
 FMI3_CALLS = {"SetReal": "fmi3SetFloat64", "GetReal": "fmi3GetFloat64", "SetTime": "fmi3SetTime",
               "SetContinuousStates": "fmi3SetContinuousStates", "GetDerivatives": "fmi3GetContinuousStateDerivatives",
-              "CompletedIntegratorStep": "fmi3CompletedIntegratorStep"}
+              "CompletedIntegratorStep": "fmi3CompletedIntegratorStep", "GetEventIndicators": "fmi3GetEventIndicators"}
 
 
 class _FMUModel:
@@ -66,21 +74,34 @@ class _FMUModel:
         if md.modelExchange is None:
             raise SystemError_(f"{where}: component '{comp.name}': {comp.fmu.path.name} has no Model Exchange "
                                f"interface, which algorithm = \"{ALGORITHM}\" needs")
-        if md.numberOfEventIndicators:
-            # Without root finding a fixed-step scheme would step over the state events silently.
-            raise SystemError_(f"{where}: component '{comp.name}': the FMU has {md.numberOfEventIndicators} event "
-                               f"indicator(s) (state events); algorithm = \"{ALGORITHM}\" handles no events")
         self.inputs, self.outputs = list(comp.inputs), list(comp.outputs)
         self.nx = len(md.derivatives)
         vr = comp.fmu.vr
+        # Signals of other types than Real (Integer, Boolean, ...: the component's other_inputs and
+        # other_outputs) are read by their own calls; such inputs are discrete, which FMI lets a
+        # Model Exchange FMU take in Event Mode only, so they are never set here (ModelExchange
+        # refuses a connection to one). The Real inputs come first, as in the component.
+        real = [n for n in self.inputs if n not in comp.other_inputs]
+        self.other_inputs = list(comp.other_inputs)
+        self._other_out = [n for n in self.outputs if n in comp.other_outputs]
+        self._real_out = np.array([k for k, n in enumerate(self.outputs) if n not in comp.other_outputs], dtype=int)
+        self._other_out_idx = np.array([k for k, n in enumerate(self.outputs) if n in comp.other_outputs], dtype=int)
+        self._n_real_in, self._n_real_out = len(real), len(self._real_out)
         # Value references from the names (not the component's own arrays): the outputs listed
         # may be any Real variables of the FMU (a test observes local variables this way).
-        self._in_vr = (c_uint * max(1, len(self.inputs)))(*[vr[n] for n in self.inputs])
-        self._out_vr = (c_uint * max(1, len(self.outputs)))(*[vr[n] for n in self.outputs])
+        self._in_vr = (c_uint * max(1, len(real)))(*[vr[n] for n in real])
+        self._out_vr = (c_uint * max(1, self._n_real_out))(*[vr[self.outputs[k]] for k in self._real_out])
         self._u, self._y = np.zeros(len(self.inputs)), np.zeros(len(self.outputs))
+        self._y_real = self._y if not self._other_out else np.zeros(self._n_real_out)
         self._x, self._dx = np.zeros(self.nx), np.zeros(self.nx)
-        self._ptr = {k: getattr(self, k).ctypes.data_as(POINTER(c_double)) for k in ("_u", "_y", "_x", "_dx")}
+        self.nz = int(md.numberOfEventIndicators or 0)
+        self._z = np.zeros(self.nz)
+        self._ptr = {k: getattr(self, k).ctypes.data_as(POINTER(c_double))
+                     for k in ("_u", "_y_real", "_x", "_dx", "_z")}
         self.t = 0.0
+        self.next_time: float | None = None  # the next time event the FMU announced [s]
+        self.step_event = False  # CompletedIntegratorStep asked for event mode
+        self.terminate = False  # the FMU asked to terminate the simulation
 
     def feedthrough(self, output: str) -> set[str]:
         return self.component.feedthrough(output)
@@ -103,40 +124,66 @@ class _FMUModel:
         self.t = float(start_time)
 
     def initial_inputs(self) -> np.ndarray:
-        if self.inputs:
-            self._check(self._f["GetReal"](self._c, self._in_vr, len(self.inputs), self._ptr["_u"]),
+        if self._n_real_in:
+            self._check(self._f["GetReal"](self._c, self._in_vr, self._n_real_in, self._ptr["_u"]),
                         self._names["GetReal"])
+        if self.other_inputs:
+            self._u[self._n_real_in:] = self._other(self.other_inputs)
         return self._u.copy()
 
-    def end_initialization(self) -> np.ndarray:
-        """Leave initialization, settle the event mode FMI 2.0 and 3.0 enter then, switch to
-        continuous time; the initial states.
+    def _other(self, names: list[str]) -> np.ndarray:
+        """Values of signals of other types than Real (``getInteger``, ``getBoolean``, ...)."""
+        comp = self.component
+        try:
+            return comp.fmu.get(comp.instance, names)
+        except FMICallException as exc:
+            what = f"{comp.calls[0][:4]}Get{comp.fmu.variables[names[0]].type}"
+            self._check(int(getattr(exc, "status", 3) or 3), what)
+            raise
 
-        Raises
-        ------
-        SimulationError
-            If the FMU asks for a time event or to terminate: the coupling handles no events.
+    def end_initialization(self) -> np.ndarray:
+        """Leave initialization, do the event iteration FMI 2.0 and 3.0 require then
+        (:meth:`cosim.fmu.access.FMU.event_iteration`), switch to continuous time; the initial
+        states. ``terminate`` says whether the FMU asked to end the run there.
         """
         comp, instance = self.component, self.component.instance
         fmi = comp.calls[0][:4]  # fmi2 or fmi3
         comp._call(f"{fmi}ExitInitializationMode", instance.exitInitializationMode)
-        update = (("fmi3UpdateDiscreteStates", instance.updateDiscreteStates) if comp.fmu.is_fmi3
-                  else ("fmi2NewDiscreteStates", instance.newDiscreteStates))
-        for _ in range(100):  # event iteration at the start (these models need none)
-            needed, terminate, _, _, time_event, next_time = comp._call(*update)
-            if terminate:
-                raise SimulationError(f"{self.name}: the FMU asks to terminate at the start (t = {self.t:g} s)")
-            if time_event:
-                raise SimulationError(f"{self.name}: the FMU announces a time event at t = {next_time:g} s; "
-                                      f"algorithm = \"{ALGORITHM}\" handles no events")
-            if not needed:
-                break
-        else:
-            raise SimulationError(f"{self.name}: the FMU's event iteration at the start does not settle")
-        comp._call(f"{fmi}EnterContinuousTimeMode", instance.enterContinuousTimeMode)
+        update = self._event("the initial event iteration", lambda: comp.fmu.event_iteration(instance))
+        self.terminate, self.next_time = update.terminate, update.next_time
+        if not update.terminate:
+            comp._call(f"{fmi}EnterContinuousTimeMode", instance.enterContinuousTimeMode)
+        return self.states()
+
+    def states(self) -> np.ndarray:
+        """The FMU's continuous states (after initialization or an event that changed them)."""
+        comp, instance = self.component, self.component.instance
         if self.nx:
-            comp._call(f"{fmi}GetContinuousStates", lambda: instance.getContinuousStates(self._ptr["_x"], self.nx))
+            comp._call(f"{comp.calls[0][:4]}GetContinuousStates",
+                       lambda: instance.getContinuousStates(self._ptr["_x"], self.nx))
         return self._x.copy()
+
+    def _event(self, what: str, call):
+        """An event call of :mod:`cosim.fmu.access`; a refusal names the component and the time."""
+        comp = self.component
+        try:
+            return call()
+        except FMUError as exc:
+            raise SimulationError(f"{self.name}: {exc} (t = {self.t:g} s)") from None
+        except FMICallException as exc:
+            comp.status = max(comp.status, int(getattr(exc, "status", 3) or 3))
+            said = comp.fmu_said()
+            raise StepFailed(f"{self.name}: {what} failed at t = {self.t:g} s" + (f": {said}" if said else f" ({exc})"),
+                             self.name, self.t, comp.status, None, said) from None
+
+    def handle_event(self) -> bool:
+        """Event Mode at the current time and back (:meth:`cosim.fmu.access.FMU.handle_event`): the
+        FMU's next time event is updated; True if its continuous states changed. ``terminate``
+        says whether it asked to end the run."""
+        comp = self.component
+        update = self._event("the event iteration", lambda: comp.fmu.handle_event(comp.instance))
+        self.terminate, self.next_time, self.step_event = update.terminate, update.next_time, False
+        return update.states_changed
 
     # ------------------------------------------------------------------ F(t, X)
 
@@ -159,12 +206,17 @@ class _FMUModel:
 
     def feed(self, u: np.ndarray) -> None:
         self._u[:] = u
-        self._check(self._f["SetReal"](self._c, self._in_vr, len(self.inputs), self._ptr["_u"]), self._names["SetReal"])
+        if self._n_real_in:
+            self._check(self._f["SetReal"](self._c, self._in_vr, self._n_real_in, self._ptr["_u"]),
+                        self._names["SetReal"])
 
     def read(self) -> np.ndarray:
-        if self.outputs:
-            self._check(self._f["GetReal"](self._c, self._out_vr, len(self.outputs), self._ptr["_y"]),
+        if self._n_real_out:
+            self._check(self._f["GetReal"](self._c, self._out_vr, self._n_real_out, self._ptr["_y_real"]),
                         self._names["GetReal"])
+        if self._other_out:
+            self._y[self._real_out] = self._y_real
+            self._y[self._other_out_idx] = self._other(self._other_out)
         return self._y
 
     def derivatives(self) -> np.ndarray:
@@ -172,17 +224,22 @@ class _FMUModel:
             self._check(self._f["GetDerivatives"](self._c, self._ptr["_dx"], self.nx), self._names["GetDerivatives"])
         return self._dx
 
+    def indicators(self) -> np.ndarray:
+        """The event indicators at the point last set (``fmi2/fmi3GetEventIndicators``)."""
+        if self.nz:
+            self._check(self._f["GetEventIndicators"](self._c, self._ptr["_z"], self.nz),
+                        self._names["GetEventIndicators"])
+        return self._z
+
     def completed_step(self) -> None:
         """``fmi2CompletedIntegratorStep``/``fmi3CompletedIntegratorStep`` at the accepted point
-        (FMI requires the call); a step event it reports cannot be handled and ends the run."""
+        (FMI requires the call); a step event it asks for is noted in ``step_event``, a request to
+        terminate in ``terminate``."""
         flag = c_bool if self.component.fmu.is_fmi3 else c_int  # fmi3Boolean is C's bool
         event, terminate = flag(0), flag(0)
         self._check(self._f["CompletedIntegratorStep"](self._c, 1, byref(event), byref(terminate)),
                     self._names["CompletedIntegratorStep"])
-        if event.value or terminate.value:
-            what = "a step event" if event.value else "to terminate"
-            raise StepFailed(f"{self.name}: the FMU asks for {what} at t = {self.t:g} s; algorithm = "
-                             f"\"{ALGORITHM}\" handles no events", self.name, self.t, 0)
+        self.step_event, self.terminate = bool(event.value), bool(terminate.value)
 
 
 class _BlockModel:
@@ -250,6 +307,18 @@ class _BlockModel:
     def completed_step(self) -> None:
         """Nothing to tell a block."""
 
+    # A block has no events: its sources' jumps are seen where the stages evaluate them.
+    nz, next_time, step_event, terminate = 0, None, False, False
+
+    def indicators(self) -> np.ndarray:
+        return np.zeros(0)
+
+    def handle_event(self) -> bool:
+        return False
+
+    def states(self) -> np.ndarray:
+        return self._x.copy()
+
 
 @dataclass
 class _Edge:
@@ -264,7 +333,8 @@ class ModelExchange:
     """The model-exchange coupling of an assembled :class:`~cosim.cosimulation.master.System`.
 
     Created when the system is assembled, so a system it cannot integrate (an algebraic loop, a
-    block without an ODE, an FMU with events) is refused before anything runs.
+    block without an ODE, a connection to an FMU's discrete input) is refused before anything
+    runs.
 
     Parameters
     ----------
@@ -282,6 +352,13 @@ class ModelExchange:
         self.system = system
         where = str(system.spec.path or system.spec.name)
         self.parts = [self._part(system.components[n], where) for n in system.names]
+        for c in system.connections:
+            part = self.parts[system.names.index(c.target)]
+            if c.input in getattr(part, "other_inputs", ()):
+                raise SystemError_(f"{where}: connection '{c}': '{c.target}.{c.input}' is a discrete input "
+                                   f"({part.component.signal_types[c.input]}), which a Model Exchange FMU takes in "
+                                   f"Event Mode only; algorithm = \"{ALGORITHM}\" sets inputs in continuous time "
+                                   "(use algorithm = \"jacobi\" or \"gauss-seidel\")")
         # States of part i in X[self.slices[i]].
         sizes = np.cumsum([0] + [p.nx for p in self.parts])
         self.slices = [slice(int(a), int(b)) for a, b in zip(sizes[:-1], sizes[1:])]
@@ -411,29 +488,64 @@ class ModelExchange:
 
     # ------------------------------------------------------------------ the run
 
+    def indicators(self) -> np.ndarray:
+        """Every FMU part's event indicators at the point last evaluated, one vector."""
+        return np.concatenate([np.zeros(0)] + [p.indicators().copy() for p in self.parts if p.nz])
+
+    def _rk4(self, t: float, x: np.ndarray, h: float, k1: np.ndarray) -> np.ndarray:
+        """One classic RK4 step from ``(t, x)`` over ``h`` [s]; ``k1`` is F at ``(t, x)``."""
+        k2, k3, k4 = self._stages
+        self.derivatives(t + h / 2, x + h / 2 * k1, k2)
+        self.derivatives(t + h / 2, x + h / 2 * k2, k3)
+        self.derivatives(t + h, x + h * k3, k4)
+        return x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+
+    def _events(self, t: float, x: np.ndarray, due: list) -> tuple[np.ndarray, str | None]:
+        """Handle the events of the parts ``due`` at ``t`` [s] (states ``x``): the new states, and
+        the name of the first part that asked to terminate (None if none did)."""
+        for i in due:
+            part = self.parts[i]
+            if part.handle_event():
+                x = x.copy()
+                x[self.slices[i]] = part.states()
+            if part.terminate:
+                return x, part.name
+        return x, None
+
+    def _time_events(self, t: float, resolution: float) -> list[int]:
+        return [i for i, p in enumerate(self.parts) if p.next_time is not None and p.next_time <= t + resolution]
+
     def run(self):
-        """Initialize, integrate over the communication grid with RK4, record.
+        """Initialize, integrate over the communication grid with RK4, handling the FMUs' events,
+        record.
+
+        Between communication points the integration stops at every event (FMI 2.0 and 3.0 Model
+        Exchange, handled by :mod:`cosim.fmu.access`): a time event an FMU announced, a state
+        event (an event indicator changing its sign over a step, located by bisection of the
+        step to :attr:`event_resolution` of it) and a step event (``CompletedIntegratorStep``);
+        each FMU with an event enters Event Mode there, and the step goes on from the event with
+        the states the FMU reports. An FMU asking to terminate ends the run normally there (a
+        last row at that time if it is no communication point).
 
         Returns
         -------
         RunResult
             As :meth:`System.run`: the recorded outputs at every communication point and the
-            outcome (completed, fell, diverged; failed raises).
+            outcome (completed, terminated, fell, diverged; failed raises).
 
         Raises
         ------
         RunFailed
-            If an FMU call failed (fmi2Discard or worse) or an FMU asked for an event; it
-            carries the rows up to the last completed communication point.
+            If an FMU call failed (fmi2Discard or worse); it carries the rows up to the last
+            completed communication point.
         """
-        from cosim.cosimulation.master import Outcome, _complete_message, finished
-
         system, spec = self.system, self.system.spec
         grid, data = system.recording_buffer()
         n_steps = len(grid) - 1
         record_names, record_idx = system.record
         parts, signals = self.parts, system.signals
-        rows, outcome = 1, Outcome("completed", spec.stop, _complete_message(spec.stop, n_steps, grid))
+        rows, outcome = 1, Outcome("completed", spec.stop, complete_message(spec.stop, n_steps, grid))
+        self._stages = tuple(np.zeros(self.nx) for _ in range(3))
         try:
             for part in parts:
                 part.setup(spec.start)
@@ -441,32 +553,35 @@ class ModelExchange:
             if spec.initialize:  # the initial outputs reach the connected inputs, as in the other algorithms
                 self._evaluate_outputs()
             x = np.concatenate([np.zeros(0)] + [part.end_initialization() for part in parts])
-            k1, k2, k3, k4 = (np.zeros(self.nx) for _ in range(4))
+            k1 = np.zeros(self.nx)
             t = float(grid[0])
             try:
                 self.derivatives(t, x, k1)
                 data[0, 0], data[0, 1:] = t, signals[record_idx]
-                stop = system._check_outcome(t)
+                ender = next((p.name for p in parts if p.terminate), None)
+                stop = terminated(ender, t) if ender else system._check_outcome(t)
                 if stop is not None:
                     outcome, n_steps = stop, 0
+                z = self.indicators()
                 for k in range(n_steps):
-                    t, h = float(grid[k]), float(grid[k + 1] - grid[k])
-                    # Classic RK4; k1 is F at the point reached (evaluated when it was recorded).
-                    self.derivatives(t + h / 2, x + h / 2 * k1, k2)
-                    self.derivatives(t + h / 2, x + h / 2 * k2, k3)
-                    self.derivatives(t + h, x + h * k3, k4)
-                    x = x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-                    t = float(grid[k + 1])
+                    t_end = float(grid[k + 1])
+                    resolution = self.event_resolution * (t_end - float(grid[k]))
+                    ender = None
+                    while t_end - t > resolution and ender is None:
+                        t, x, k1, z, ender = self._advance(t, x, k1, z, t_end, resolution)
                     if not np.all(np.isfinite(x)):
                         bad = int(np.flatnonzero(~np.isfinite(x))[0])
                         name = next(p.name for p, s in zip(parts, self.slices) if s.start <= bad < s.stop)
                         outcome = Outcome("diverged", t, f"a state of {name} is not finite at t = {t:g} s")
                         break
-                    self.derivatives(t, x, k1)  # the outputs at the new point, and the next k1
-                    for part in parts:
-                        part.completed_step()
-                    data[k + 1, 0], data[k + 1, 1:] = t, signals[record_idx]
+                    # On the communication point (within the resolution of events), or an end
+                    # between points: a last row at that time.
+                    data[k + 1, 0] = t_end if t_end - t <= resolution else t
+                    data[k + 1, 1:] = signals[record_idx]
                     rows = k + 2
+                    if ender is not None:
+                        outcome = terminated(ender, float(data[k + 1, 0]))
+                        break
                     stop = system._check_outcome(t)
                     if stop is not None:
                         outcome = stop
@@ -476,3 +591,50 @@ class ModelExchange:
         finally:
             system._close_all()
         return finished(data, rows, record_names, outcome)
+
+    #: Width of the bracket a state event is located to, as a fraction of the communication step.
+    event_resolution = 1e-10
+
+    def _advance(self, t: float, x: np.ndarray, k1: np.ndarray, z: np.ndarray, t_end: float, resolution: float):
+        """One RK4 step from ``t`` towards ``t_end`` [s], shortened to the next time event or the
+        first state event, with the events there handled: ``(t, x, k1, z, ender)`` after it
+        (``ender``: the part that asked to terminate, or None). The signal vector holds the
+        outputs at the new point."""
+        parts = self.parts
+        # A time event within the resolution of the communication point is taken at its own time.
+        times = [p.next_time for p in parts if p.next_time is not None and p.next_time <= t_end + resolution]
+        t_next = max(t, min(times)) if times else t_end
+        h = t_next - t
+        x_new = self._rk4(t, x, h, k1)
+        k1_new = np.zeros(self.nx)
+        self.derivatives(t_next, x_new, k1_new)
+        z_new = self.indicators()
+        crossed = indicators_crossed(z, z_new)
+        if np.any(crossed):
+            def indicators_at(tau: float) -> np.ndarray:
+                x_tau = self._rk4(t, x, tau - t, k1)
+                self.derivatives(tau, x_tau, k1_new)
+                return self.indicators()
+
+            t_next = locate_state_event(indicators_at, t, t_next, z, resolution)
+            x_new = self._rk4(t, x, t_next - t, k1)
+            self.derivatives(t_next, x_new, k1_new)
+            z_new = self.indicators()
+            crossed = indicators_crossed(z, z_new)
+        for part in parts:
+            part.completed_step()
+        ender = next((p.name for p in parts if p.terminate), None)
+        if ender is not None:
+            return t_next, x_new, k1_new, z_new, ender
+        due = set(self._time_events(t_next, resolution)) | {i for i, p in enumerate(parts) if p.step_event}
+        offset = 0
+        for i, p in enumerate(parts):
+            if p.nz and np.any(crossed[offset:offset + p.nz]):
+                due.add(i)
+            offset += p.nz
+        if due:
+            x_new, ender = self._events(t_next, x_new, sorted(due))
+            if ender is None:  # F and the outputs after the event
+                self.derivatives(t_next, x_new, k1_new)
+            z_new = self.indicators()
+        return t_next, x_new, k1_new, z_new, ender

@@ -51,10 +51,6 @@ class FileNote(str):
     """A note of :func:`export_ssp` on an FMU file of the system (copied as it is), not on a twin."""
 
 
-def _q(prefix: str, tag: str) -> str:
-    return f"{prefix}:{tag}"
-
-
 def _literal(value, kind: str) -> str:
     if kind == "Boolean":
         return "true" if value else "false"

@@ -1,7 +1,7 @@
 """`cosim figures`: the paper's figures, each made by one module of this package.
 
-A figure module defines ``NAME`` (e.g. ``"fig5"``), ``TITLE`` and ``make(output: Path) -> list[Path]``
-which computes the figure from FMU simulations or linearizations and writes image files.
+A figure module defines ``NAME`` (e.g. ``"fig5"``) and ``make(output: Path) -> list[Path]``, which
+computes the figure from FMU simulations or linearizations and writes image files.
 """
 from __future__ import annotations
 

@@ -23,8 +23,6 @@ from cosim.outputs import write_text
 from cosim.figures import pyplot, save
 
 NAME = "fig10"
-TITLE = "Limit cycle of the nonlinear riderless bicycle below the weave speed (Whipple FMU, astrom2005-riderless)"
-
 PARAMS = "astrom2005-riderless"
 V_BELOW = 3.5  # m/s, below the weave speed 3.749 m/s
 V_ABOVE = 4.0  # m/s, slightly above it

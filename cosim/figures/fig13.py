@@ -33,9 +33,6 @@ import numpy as np
 from cosim.figures import pyplot, save
 
 NAME = "fig13"
-TITLE = ("Weave and capsize speeds vs wheel spin inertia I (Ixx = I/2), riderless bicycle "
-         "(astrom2005-riderless), both wheels and front wheel only, FMU linearizations")
-
 PARAMS = "astrom2005-riderless"
 INERTIAS = np.geomspace(1e-3, 0.184, 16)
 XTOL = 1e-6  # m/s, root-finding tolerance (far below what the plot resolves)

@@ -50,10 +50,6 @@ import numpy as np
 from cosim.figures import pyplot, save
 
 NAME = "fig15"
-TITLE = ("Adapted bicycle with crowned rear roller R = 0.3 / 0.4 m: real parts of the poles vs speed; roller "
-         "modelled as restoring roll torque T_phi = -g mT (1 - xT/w) R phi (eq (27) for a rear roller; the "
-         "linearization of an exact toroidal rear wheel) on the linear Whipple FMU")
-
 BASE = "astrom2005"
 CENTRE_OF_MASS_HEIGHT = 0.4  # m, whole bicycle with rider
 FRONT_WHEEL_MASS = 3.0  # kg, twice Table 1

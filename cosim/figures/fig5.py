@@ -32,7 +32,6 @@ from cosim.figures import pyplot, save
 from cosim.outputs import write_text
 
 NAME = "fig5"
-TITLE = "Constant positive steer torque: path deviation, roll and steer angle"
 MODEL = "Bicycle.Bicycles.SelfStabilizing"
 PAPER_PHI, PAPER_DELTA = 0.14, -0.14  # rad: the steady values the paper's text quotes for Figure 5
 COMPARISON_SPEED, COMPARISON_TORQUE = 4.0, 1.0  # m/s, N m: a second operating point, drawn dashed

@@ -34,8 +34,6 @@ from cosim.outputs import write_text
 from cosim.figures import pyplot, save
 
 NAME = "fig7"
-TITLE = "Steady turns of the nonlinear bicycle with rider over speed, with stability and folds (Whipple FMU)"
-
 PARAMS = "astrom2005"
 #: Crown radii tR = tF of the toroidal variant [m].
 CROWN = 0.03

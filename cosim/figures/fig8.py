@@ -18,8 +18,6 @@ import numpy as np
 from cosim.figures import pyplot, save
 
 NAME = "fig8"
-TITLE = "Root locus over speed 0-15 m/s, bicycle with rider (astrom2005), FMU linearizations of WhippleLinear"
-
 PARAMS = "astrom2005"
 SPEEDS = np.linspace(0.0, 15.0, 151)
 

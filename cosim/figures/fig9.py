@@ -17,8 +17,6 @@ import numpy as np
 from cosim.figures import pyplot, save
 
 NAME = "fig9"
-TITLE = "Real parts of the poles vs speed -10..15 m/s (negative: rear-steered), bicycle with rider, FMU linearizations"
-
 PARAMS = "astrom2005"
 SPEEDS = np.linspace(-10.0, 15.0, 201)
 

@@ -28,6 +28,7 @@ from contextlib import contextmanager
 import zlib
 from ctypes import c_double
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -372,8 +373,6 @@ class FMULog:
     ``callbacks()`` gives the fmi2CallbackFunctions for ``fmi2Instantiate``; ``logger`` is the
     callable that ``fmpy.simulate_fmu(logger=...)`` takes."""
 
-    LABELS = ("OK", "Warning", "Discard", "Error", "Fatal", "Pending")
-
     def __init__(self, size: int = 50):
         from collections import deque
 
@@ -466,6 +465,53 @@ _SETTERS = {
           "UInt16": "setUInt16", "UInt8": "setUInt8", "Enumeration": "setInt64", "Boolean": "setBoolean",
           "String": "setString"},
 }
+class EventUpdate(NamedTuple):
+    """What an event iteration (:meth:`FMU.event_iteration`) ended with."""
+
+    terminate: bool  # the FMU asks to terminate the simulation (terminateSimulation)
+    next_time: float | None  # its next time event [s], None if it announces none
+    states_changed: bool  # the values of the continuous states changed (read them anew)
+
+
+def indicators_crossed(before: np.ndarray, after: np.ndarray) -> np.ndarray:
+    """Which event indicators changed their domain between two points: FMI 2.0 and 3.0 define a
+    state event as an indicator going from ``z > 0`` to ``z <= 0`` or back."""
+    return (np.asarray(before) > 0) != (np.asarray(after) > 0)
+
+
+def locate_state_event(indicators_at, t0: float, t1: float, z0: np.ndarray, resolution: float) -> float:
+    """The time of the first state event in ``(t0, t1]`` [s], by bisection to ``resolution`` [s].
+
+    Parameters
+    ----------
+    indicators_at : callable
+        ``indicators_at(t)``: the event indicators at ``t`` [s] (the caller brings its model
+        there, e.g. by one integration step from ``t0``).
+    t0, t1 : float
+        The step [s]: no indicator crossed at ``t0`` (indicators ``z0``); one did by ``t1``.
+    resolution : float
+        Largest width of the bracket returned [s].
+
+    Returns
+    -------
+    float
+        The end of the final bracket: the earliest time found at which an indicator has crossed
+        (the event is handled there, just after the crossing).
+    """
+    lo, hi = float(t0), float(t1)
+    while hi - lo > resolution:
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:  # no double between them
+            break
+        if np.any(indicators_crossed(z0, indicators_at(mid))):
+            hi = mid
+        else:
+            lo = mid
+    return hi
+
+
+#: The getter names of FMPy's instances by FMI version and variable type (as :data:`_SETTERS`).
+_GETTERS = {version: {t: "g" + name[1:] for t, name in setters.items()} for version, setters in _SETTERS.items()}
 _CONVERT = {"Real": float, "Float64": float, "Float32": float, "Boolean": bool, "String": str}
 
 
@@ -638,8 +684,9 @@ class FMU:
     def initial_event_iteration(self, instance) -> None:
         """Model Exchange after ``fmi2/fmi3ExitInitializationMode`` (Event Mode): call
         ``fmi2NewDiscreteStates`` (FMI 2) or ``fmi3UpdateDiscreteStates`` (FMI 3) until the FMU
-        reports that no discrete state needs another update. Both standards allow
-        ``EnterContinuousTimeMode`` only after this iteration, and FMUs (Dymola's) refuse it otherwise.
+        reports that no discrete state needs another update (:meth:`event_iteration`). Both
+        standards allow ``EnterContinuousTimeMode`` only after this iteration, and FMUs (Dymola's)
+        refuse it otherwise.
 
         Raises
         ------
@@ -649,17 +696,52 @@ class FMU:
             The FMU asks to terminate, or the iteration does not end after
             :data:`MAX_EVENT_ITERATIONS` calls.
         """
+        if self.event_iteration(instance).terminate:
+            raise FMUError(f"{self.path}: the FMU asks to terminate during its initial event iteration")
+
+    def event_iteration(self, instance) -> "EventUpdate":
+        """In Event Mode (after initialization, or after ``fmi2/fmi3EnterEventMode``): update the
+        discrete states until the FMU needs no further update, or asks to terminate.
+
+        Returns
+        -------
+        EventUpdate
+            Whether the FMU asks to terminate, its next time event [s] (None: none announced) and
+            whether the values of its continuous states changed (the caller reads them anew).
+
+        Raises
+        ------
+        fmpy.fmi1.FMICallException
+            The FMU refused the call.
+        FMUError
+            The iteration does not end after :data:`MAX_EVENT_ITERATIONS` calls.
+        """
         update = instance.updateDiscreteStates if self.is_fmi3 else instance.newDiscreteStates
         name = "fmi3UpdateDiscreteStates" if self.is_fmi3 else "fmi2NewDiscreteStates"
+        changed = False
         for _ in range(MAX_EVENT_ITERATIONS):
-            needed, terminate, *_ = update()
-            if terminate:
-                raise FMUError(f"{self.path}: the FMU asks to terminate during its initial event iteration")
-            if not needed:
-                break
-        else:
-            raise FMUError(f"{self.path}: the initial event iteration did not end after "
-                           f"{MAX_EVENT_ITERATIONS} {name} calls")
+            needed, terminate, _, values_changed, time_defined, next_time = update()
+            changed = changed or bool(values_changed)
+            if terminate or not needed:
+                return EventUpdate(bool(terminate), float(next_time) if time_defined else None, changed)
+        raise FMUError(f"{self.path}: the event iteration did not end after {MAX_EVENT_ITERATIONS} {name} calls")
+
+    def handle_event(self, instance) -> "EventUpdate":
+        """A time, state or step event of a Model Exchange instance in Continuous-Time Mode, as
+        both standards' state machines have it: ``fmi2/fmi3EnterEventMode``, the event iteration
+        (:meth:`event_iteration`), then ``fmi2/fmi3EnterContinuousTimeMode`` unless the FMU asks
+        to terminate (then the caller ends the run).
+
+        Raises
+        ------
+        fmpy.fmi1.FMICallException, FMUError
+            As :meth:`event_iteration`.
+        """
+        instance.enterEventMode()
+        update = self.event_iteration(instance)
+        if not update.terminate:
+            instance.enterContinuousTimeMode()
+        return update
 
     def set(self, instance, values: dict) -> None:
         """Set values by name, each with the setter of its type (FMI 2 or FMI 3): one call per
@@ -676,6 +758,31 @@ class FMU:
             vals.append(_CONVERT.get(v.type, int)(value))
         for setter, (vrs, vals) in groups.items():
             getattr(instance, setter)(vrs, vals)
+
+    def get(self, instance, names: list[str]) -> np.ndarray:
+        """The values of variables of any numeric or Boolean type by name, as floats (one call
+        per type, as :meth:`set`; FMI 3 64-bit integers beyond 2**53 lose digits).
+
+        Raises
+        ------
+        FMUError
+            For a type without a getter here (String, Binary, Clock).
+        fmpy.fmi1.FMICallException
+            The FMU refused a call.
+        """
+        getters = _GETTERS[self.fmi_version[:1]]
+        values = np.zeros(len(names))
+        groups: dict[str, tuple[list, list]] = {}
+        for k, name in enumerate(names):
+            v = self.variables[name]
+            if v.type not in getters or v.type == "String":
+                raise FMUError(f"{self.path}: variable '{name}' has type {v.type}, which cannot be read as a number")
+            slots, vrs = groups.setdefault(getters[v.type], ([], []))
+            slots.append(k)
+            vrs.append(v.valueReference)
+        for getter, (slots, vrs) in groups.items():
+            values[slots] = np.asarray(getattr(instance, getter)(vrs), dtype=float)
+        return values
 
     def get_real(self, instance, names: list[str]) -> np.ndarray:
         """The values of real (FMI 3: Float64) variables by name."""

@@ -13,7 +13,6 @@ linearization means for a bicycle (the steady-motion reduction, speed sweeps) is
 """
 from __future__ import annotations
 
-import json
 from ctypes import POINTER, c_double, c_uint
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -73,9 +72,6 @@ class Linearization:
             "eigenvalues": [[float(e.real), float(e.imag)] for e in self.eigenvalues],
             "method": self.method, "adjoint_difference": self.adjoint_difference,
         }
-
-    def to_json(self) -> str:
-        return json.dumps(self.to_dict(), indent=2)
 
 
 class _Point:
@@ -375,13 +371,11 @@ def check_adjoint(fmu, J: np.ndarray, J_adjoint: np.ndarray, unknowns, knowns, w
 
 # --------------------------------------------------------------------------- coordinates
 
-def in_coordinates(lin: Linearization, names) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """``A``, ``B``, operating point and its derivative in the coordinates ``z = T x`` named by
-    ``names``: each name is a state or an output that is a linear function of the states only
-    (a row of ``C`` with a zero row of ``D``), so state names of the implementation do not matter.
-
-    Returns ``(A_z, B_z, z0, zdot0)``; ``T`` must be square and invertible (for aliases of the
-    states it is a permutation, and the transformation is exact).
+def coordinate_matrix(model: str, states, outputs, C, D, names) -> np.ndarray:
+    """The matrix ``T`` of the coordinates ``z = T x`` named by ``names``: each name is a state or
+    an output that is a linear function of the states only (a row of ``C`` with a zero row of
+    ``D``), so state names of the implementation do not matter. For aliases of the states ``T`` is
+    a permutation.
 
     Raises
     ------
@@ -389,15 +383,6 @@ def in_coordinates(lin: Linearization, names) -> tuple[np.ndarray, np.ndarray, n
         A name that is neither, an output that depends on the inputs, or names that are not
         coordinates of the whole state (wrong number, linearly dependent).
     """
-    T = coordinate_matrix(lin.model, lin.states, lin.outputs, lin.C, lin.D, names)
-    A = np.linalg.solve(T.T, (T @ lin.A).T).T  # T A T^-1
-    z0 = T @ lin.x0 if lin.x0 is not None else np.full(len(names), np.nan)
-    zdot0 = T @ lin.xdot0 if lin.xdot0 is not None else np.full(len(names), np.nan)
-    return A, T @ lin.B, z0, zdot0
-
-
-def coordinate_matrix(model: str, states, outputs, C, D, names) -> np.ndarray:
-    """The matrix ``T`` of :func:`in_coordinates` (see there; ValueError as there)."""
     index = {n: k for k, n in enumerate(states)}
     rows = []
     for name in names:

@@ -297,13 +297,12 @@ class Session:
                 instance.enterContinuousTimeMode()
 
     def event_iteration(self, instance) -> None:
-        for _ in range(100):  # a model that never converges is caught by the runs
-            if self.fmi3:
-                more = instance.updateDiscreteStates()[0]
-            else:
-                more = instance.newDiscreteStates()[0]
-            if not more:
-                return
+        """The event iteration after initialization, as every Model Exchange run here does it
+        (:meth:`cosim.fmu.access.FMU.event_iteration`); a request to terminate there ends the
+        check (legally: a warning)."""
+        if self.fmu.event_iteration(instance).terminate:
+            raise _Terminated(f"{self.prefix}{'UpdateDiscreteStates' if self.fmi3 else 'NewDiscreteStates'} "
+                              "asked to terminate the simulation after initialization")
 
     @staticmethod
     def free(instance) -> None:

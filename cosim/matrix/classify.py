@@ -50,7 +50,6 @@ decisive prediction); ``failed`` if the case could not be run.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -63,15 +62,11 @@ UNSTABLE = ("unstable", "fell", "diverged")
 MODAL_RESIDUAL = 1e-4
 #: ... and needs at most this many modes (more: the signal is not a sum of a few exponentials).
 MODAL_MAX_ORDER = 30
-#: Samples used by the fit (longer runs are decimated; Re(lambda) = ln|z| / h is alias-free).
-#: 200, not more: the pencil's cost grows with the cube of the samples (a Hankel matrix of n/3
-#: columns), and more samples do not identify better. Over the 341 runs of the paper's matrix
-#: (cosim/matrix/specs/paper.toml) and benchmarks/matrix.py's workloads, 200 instead of 400
-#: samples changed no class and no growth method and moved the growth rates by a median 3e-10 1/s
-#: (at most 1.3e-3 1/s, in runs that fell after a few seconds); on exact sums of the benchmark
-#: bicycle's modes (tests/test_matrix.py::test_modal_fit_recovers_the_exact_growth_rate) 200
-#: samples find all four modes where 400 missed one at 6 and 8 m/s (rate error 3.6e-8 vs 1e-10 1/s).
+#: Samples used by the fit (longer runs are decimated; Re(lambda) = ln|z| / h is alias-free): the
+#: pencil's cost grows with their cube and more do not identify better (docs/benchmarks.md).
 MODAL_SAMPLES = 200
+
+
 def _median(a: np.ndarray) -> float:
     """``np.median`` of a non-empty 1-D array without NaN, bit for bit, at a third of its cost (a
     case calls it twice, and numpy's checks and dispatch cost more than the partition)."""
@@ -363,7 +358,3 @@ def agreement(predicted: str | None, observed: str | None) -> str:
     if predicted == "stable":
         return "agree" if observed == "stable" else "disagree"
     return "agree" if observed in UNSTABLE else "disagree"
-
-
-def is_stable(observed: str | None) -> bool:
-    return observed == "stable"

@@ -19,16 +19,10 @@ import numpy as np
 
 from cosim.native import load, loaded_libraries
 
-#: The pencil parameter tried first (a Hankel matrix of 25 columns instead of n/3 = 67: the SVD
-#: that was most of a ten-second case's CPU time costs a sixth), kept when it finds at most
-#: :data:`SMALL_ORDER` modes -- most runs have 2 to 8 -- else the fit is redone with n/3. Over the
-#: 641 classifications of cosim/matrix/specs/paper.toml and benchmarks/matrix.py's workloads it
-#: changed no class and no growth method and moved the growth rates of the 485 runs that did not
-#: fall by a median 1.9e-9 1/s, at most 1.9e-6 1/s (the solver's tolerance); exact sums of modes
-#: are identified to 1e-8 either way (tests/test_matrix_robustness.py). Runs that fell keep the
-#: n/3 pencil (``observe``; their 156 rates are unchanged bit for bit): near a fall the signal is
-#: no sum of modes, and the reported rate depends on the averaging over n/3 columns (the small
-#: pencil moved it by up to 0.9 1/s and turned 10 of those modal fits into envelope ones).
+#: The pencil parameter tried first, kept when it finds at most :data:`SMALL_ORDER` modes, else the
+#: fit is redone with n/3 columns: a small Hankel matrix makes the SVD, most of a case's CPU time,
+#: cheap without changing a class; runs that fell keep n/3 (``observe``), as near a fall the signal
+#: is no sum of modes (docs/benchmarks.md).
 SMALL_PENCIL = 24
 SMALL_ORDER = SMALL_PENCIL // 2 - 2
 #: A mode counts when its largest contribution |a| max_k |z|^k is at least this fraction of the peak

@@ -14,7 +14,7 @@ def _duration(seconds: float) -> str:
 
 class Progress:
     def __init__(self, total: int, done: int = 0, stream=None, enabled: bool = True, width: int = 28):
-        self.total, self.done, self.start_done = total, done, done
+        self.total, self.done = total, done
         self.stream = stream or sys.stderr
         self.enabled = enabled and total > 0
         self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()

@@ -12,13 +12,11 @@ gives bit-identical results whichever worker runs it and whatever ran before.
 
 The same loop (:func:`serve`) also runs in a worker *forked* from the supervisor
 (:mod:`cosim.matrix.pool`, Linux): it then inherits the supervisor's imports and starts in
-milliseconds instead of the ~0.2 s an interpreter and numpy take. Either way a worker computes
-with one BLAS thread: the workers are the parallelism, and OpenBLAS threads of two workers on two
-shared cores spin against each other (a 9 ms SVD instead of 1 ms was measured). A spawned worker
-gets it from :data:`BLAS_THREAD_VARIABLES`; a forked one inherits it from the supervisor, which
-sets it before it forks (:func:`set_blas_threads`) -- setting it in the forked child instead
-makes OpenBLAS rebuild its thread pool there, whose thread then spins for ~0.1 s of CPU at every
-worker's start, a sixth of the capacity of a 600-run matrix on 2 cores.
+milliseconds instead of the time an interpreter and numpy take. Either way a worker computes with
+one BLAS thread, as the workers are the parallelism and BLAS threads of several workers spin
+against each other (docs/benchmarks.md): a spawned worker gets it from
+:data:`BLAS_THREAD_VARIABLES`, a forked one from the supervisor, which sets it before it forks
+(:func:`set_blas_threads`), since OpenBLAS rebuilds its thread pool where it is set.
 """
 from __future__ import annotations
 

@@ -3,14 +3,18 @@
  * API fmi2_api.c or the FMI 3.0 API fmi3_api.c) and the model-specific code that `cosim build`
  * generates (model.c).
  *
- * All variables of an FMU live in one array of doubles indexed by value reference:
+ * All variables of an FMU live in one array of doubles, the value array, of nv = 2*nx+nu+np+nc+nz
+ * entries:
  *
  *   [ states x | derivatives der(x) | inputs u | parameters p | calculated parameters c | algebraics z ]
  *     nx         nx                   nu         np             nc                         nz
  *
+ * The variable at index i of the value array has the value reference first_vr + i (the tables
+ * below are indexed like the value array): value references need not start at 0, and some
+ * importers refuse 0 in FMI 3.
  * Integer and Boolean variables are stored as doubles too (types[] tells which is which).
  * FMI 3.0 needs the independent variable as a variable of its own: `time` has the value reference
- * nv = 2*nx+nu+np+nc+nz, one past the value array (read only, FMI 2 does not list it).
+ * first_vr + nv, one past the value array (read only, FMI 2 does not list it).
  * The instantiation token (GUID) identifies the model: the runtime refuses FMU states whose GUID
  * or block sizes differ from its own.
  * The generator writes both this model's C tables and modelDescription.xml from one Python
@@ -26,7 +30,8 @@ typedef struct {
     int nx, nu, np, nc, nz;           /* block sizes of the value array, see above */
     double default_tolerance;         /* relative tolerance when the importer gives none (fmi2SetupExperiment,
                                          fmi3EnterInitializationMode) */
-    int vr_fixed_step;                /* value reference of parameter solver.fixedStepSize (0 = adaptive) */
+    int vr_fixed_step;                /* value reference of parameter solver.fixedStepSize (0 = none: adaptive;
+                                         first_vr > 0 where the model has one) */
     const cosim_type *types;          /* nv = 2*nx+nu+np+nc+nz entries */
     const double *start;              /* nv start values (states: exact start, or the guess of a state solved
                                          from the initial equations; others as declared, 0 if none) */
@@ -83,12 +88,14 @@ typedef struct {
        NULL: no adjoint derivatives. */
     int (*vjp)(double t, const double *x, const double *u, const double *p,
                const double *wxdot, const double *wz, double *wx, double *wu, double *wp);
-    /* FMI 3 arrays: nv entries; fmi3_length[vr] is the number of values of the FMI 3 variable with
-       value reference vr: 1 for a scalar, n > 1 for an array whose values are those at vr .. vr+n-1
-       of the value array (one declared Modelica array, e.g. the Pade delay's states), 0 for the
+    /* FMI 3 arrays: nv entries; fmi3_length[i] is the number of values of the FMI 3 variable at
+       index i of the value array: 1 for a scalar, n > 1 for an array whose values are those at
+       i .. i+n-1 (one declared Modelica array, e.g. the Pade delay's states), 0 for the
        elements after the first of an array (no FMI 3 variable of their own).  NULL: all scalars.
        FMI 2 exports every element as a scalar and ignores it. */
     const int *fmi3_length;
+    /* The value reference of index 0 of the value array (see above), as in modelDescription.xml. */
+    unsigned first_vr;
 } cosim_model;
 
 #define COSIM_START_NOT_CONVERGED 2

@@ -176,12 +176,13 @@ void rt_format(char *buf, size_t size, const char *fmt, ...)
     va_end(ap);
 }
 
-/* "name (value reference vr)", or "value reference vr" for a model without names; into buf. */
-const char *rt_vr_label(const rt_instance *in, unsigned vr, char *buf, size_t size)
+/* "name (value reference vr)" of the variable at index i, or "value reference vr" for a model
+   without names; into buf. */
+const char *rt_vr_label(const rt_instance *in, size_t i, char *buf, size_t size)
 {
-    const char *name = COSIM_MODEL.names && vr < in->nv ? COSIM_MODEL.names[vr] : NULL;
-    if (name) rt_format(buf, size, "%s (value reference %u)", name, vr);
-    else rt_format(buf, size, "value reference %u", vr);
+    const char *name = COSIM_MODEL.names && i < in->nv ? COSIM_MODEL.names[i] : NULL;
+    if (name) rt_format(buf, size, "%s (value reference %u)", name, rt_vr(in, i));
+    else rt_format(buf, size, "value reference %u", rt_vr(in, i));
     return buf;
 }
 
@@ -247,21 +248,22 @@ int rt_state_fits_kind(const rt_instance *in, rt_state st)
  * Value references
  * ------------------------------------------------------------------------------------------- */
 
-rt_block rt_block_of(const rt_instance *in, unsigned vr)
+/* The block of the value array that index i is in (B_NONE: none). */
+rt_block rt_block_of(const rt_instance *in, size_t i)
 {
-    if (vr < in->o_dx) return B_X;
-    if (vr < in->o_u) return B_DX;
-    if (vr < in->o_p) return B_U;
-    if (vr < in->o_c) return B_P;
-    if (vr < in->o_z) return B_C;
-    if (vr < in->nv) return B_Z;
+    if (i < in->o_dx) return B_X;
+    if (i < in->o_u) return B_DX;
+    if (i < in->o_p) return B_U;
+    if (i < in->o_c) return B_P;
+    if (i < in->o_z) return B_C;
+    if (i < in->nv) return B_Z;
     return B_NONE;
 }
 
-/* Index in the Jacobian-vector product's dz of the algebraic variable vr, -1 if it has none. */
-long rt_jvp_slot(const rt_instance *in, unsigned vr)
+/* Index in the Jacobian-vector product's dz of the algebraic variable at index i, -1 if it has none. */
+long rt_jvp_slot(const rt_instance *in, size_t i)
 {
-    const size_t k = vr - in->o_z;
+    const size_t k = i - in->o_z;
     return COSIM_MODEL.z_jvp_slot ? COSIM_MODEL.z_jvp_slot[k] : (long)k;
 }
 
@@ -273,13 +275,15 @@ static const char *type_name(const rt_instance *in, cosim_type t)
 /* Is vr an existing variable of the given type? */
 int rt_check_vr(const rt_instance *in, const char *fn, unsigned vr, cosim_type type)
 {
-    if (rt_block_of(in, vr) == B_NONE) {
-        rt_log_error(in, "%s: value reference %u is out of range (the model has %zu variables)", fn, vr, in->nv);
+    const size_t i = rt_index(in, vr);
+    if (rt_block_of(in, i) == B_NONE) {
+        rt_log_error(in, "%s: value reference %u is out of range (the model has %zu variables, value references "
+                     "%u to %u)", fn, vr, in->nv, rt_vr(in, 0), rt_vr(in, in->nv) - 1u);
         return 0;
     }
-    if (COSIM_MODEL.types[vr] != type) {
+    if (COSIM_MODEL.types[i] != type) {
         rt_log_error(in, "%s: value reference %u is a %s variable, not %s", fn, vr,
-                     type_name(in, COSIM_MODEL.types[vr]), type_name(in, type));
+                     type_name(in, COSIM_MODEL.types[i]), type_name(in, type));
         return 0;
     }
     return 1;
@@ -385,7 +389,7 @@ static const char *evaluate(rt_instance *in, char *why, size_t size)
     i = first_nonfinite(DXV(in), in->nx);
     if (i < in->nx) {
         rt_format(why, size, "the derivative %s = %g is not finite at t = %.16g",
-               rt_vr_label(in, (unsigned)(in->o_dx + i), label, sizeof label), DXV(in)[i], in->s.time);
+               rt_vr_label(in, in->o_dx + i, label, sizeof label), DXV(in)[i], in->s.time);
         return why;
     }
     return NULL;
@@ -439,9 +443,9 @@ int rt_check_get(const rt_instance *in, const char *fn, unsigned vr, cosim_type 
 {
     rt_block b;
     if (!rt_check_vr(in, fn, vr, type)) return 0;
-    b = rt_block_of(in, vr);
+    b = rt_block_of(in, rt_index(in, vr));
     if (b == B_DX || b == B_Z) *need_eval = 1;
-    if (b == B_Z && rt_jvp_slot(in, vr) < 0) *need_locals = 1;
+    if (b == B_Z && rt_jvp_slot(in, rt_index(in, vr)) < 0) *need_locals = 1;
     return 1;
 }
 
@@ -480,7 +484,7 @@ int rt_check_set(const rt_instance *in, const char *fn, unsigned vr, cosim_type 
     char label[160], buf[240];
 
     if (!rt_check_vr(in, fn, vr, type)) return 0;
-    why = set_refusal(in, rt_block_of(in, vr), buf, sizeof buf);
+    why = set_refusal(in, rt_block_of(in, rt_index(in, vr)), buf, sizeof buf);
     if (why) {
         rt_log_error(in, "%s: cannot set value reference %u in state %s: %s", fn, vr,
                      in->words->state_names[in->s.state], why);
@@ -489,7 +493,8 @@ int rt_check_set(const rt_instance *in, const char *fn, unsigned vr, cosim_type 
     /* NaN or inf as a start value, parameter or input only fails later, far from its cause
        (in the calculated parameters, or as "step size too small"). */
     if (type == COSIM_REAL && !isfinite(value)) {
-        rt_log_error(in, "%s: %s = %g: the value must be finite", fn, rt_vr_label(in, vr, label, sizeof label),
+        rt_log_error(in, "%s: %s = %g: the value must be finite", fn,
+                     rt_vr_label(in, rt_index(in, vr), label, sizeof label),
                      value);
         return 0;
     }
@@ -500,17 +505,18 @@ int rt_check_set(const rt_instance *in, const char *fn, unsigned vr, cosim_type 
    its extrapolation from an earlier fmi2SetRealInputDerivatives: the model sees the value set. */
 void rt_store(rt_instance *in, unsigned vr, double value)
 {
-    const rt_block b = rt_block_of(in, vr);
+    const size_t i = rt_index(in, vr);
+    const rt_block b = rt_block_of(in, i);
 
-    if (b == B_X) in->s.x_set[vr] = 1;
+    if (b == B_X) in->s.x_set[i] = 1;
     /* The initial equations involve the states and inputs: solve them again with the new value. */
     if ((b == B_X || b == B_U) && in->s.state == ST_INIT && COSIM_MODEL.init_unknowns) in->s.params_dirty = 1;
-    if (b == B_U && UE(in)[vr - in->o_u] != value) {
-        UE(in)[vr - in->o_u] = value;
+    if (b == B_U && UE(in)[i - in->o_u] != value) {
+        UE(in)[i - in->o_u] = value;
         in->s.eval_dirty = 1;
     }
-    if (in->s.v[vr] == value) return; /* e.g. a master re-sending unchanged inputs */
-    in->s.v[vr] = value;
+    if (in->s.v[i] == value) return; /* e.g. a master re-sending unchanged inputs */
+    in->s.v[i] = value;
     if (b == B_P) in->s.params_dirty = 1;
     in->s.eval_dirty = 1;
 }
@@ -982,7 +988,7 @@ static int check_derivative_refs(const rt_instance *in, const char *fn, const un
     size_t i;
 
     for (i = 0; i < nKnown; i++) {
-        const rt_block b = rt_block_of(in, vKnown_ref[i]);
+        const rt_block b = rt_block_of(in, rt_index(in, vKnown_ref[i]));
         if (!rt_check_vr(in, fn, vKnown_ref[i], COSIM_REAL)) return 0;
         if (b != B_X && b != B_U && b != B_P) {
             rt_log_error(in, "%s: known value reference %u is not a state, input or parameter", fn, vKnown_ref[i]);
@@ -990,7 +996,8 @@ static int check_derivative_refs(const rt_instance *in, const char *fn, const un
         }
     }
     for (i = 0; i < nUnknown; i++) {
-        const rt_block b = rt_block_of(in, vUnknown_ref[i]);
+        const size_t k = rt_index(in, vUnknown_ref[i]);
+        const rt_block b = rt_block_of(in, k);
         if (!rt_check_vr(in, fn, vUnknown_ref[i], COSIM_REAL)) return 0;
         if (b == B_X && in->words->state_unknowns) continue;
         if (b != B_DX && b != B_Z && in->words->state_unknowns) {
@@ -1003,10 +1010,10 @@ static int check_derivative_refs(const rt_instance *in, const char *fn, const un
                          vUnknown_ref[i]);
             return 0;
         }
-        if (b == B_Z && rt_jvp_slot(in, vUnknown_ref[i]) < 0) {
+        if (b == B_Z && rt_jvp_slot(in, k) < 0) {
             rt_log_error(in, "%s: unknown value reference %u (%s) is a local variable: directional derivatives "
                          "are provided for the derivatives and the outputs (the ModelStructure unknowns)", fn,
-                         vUnknown_ref[i], COSIM_MODEL.names ? COSIM_MODEL.names[vUnknown_ref[i]] : "?");
+                         vUnknown_ref[i], COSIM_MODEL.names ? COSIM_MODEL.names[k] : "?");
             return 0;
         }
     }
@@ -1030,11 +1037,11 @@ rt_status rt_directional(rt_instance *in, const char *fn, const unsigned vUnknow
     memset(in->ju, 0, in->nu * sizeof(double));
     memset(in->jp, 0, in->np * sizeof(double));
     for (i = 0; i < nKnown; i++) {
-        const unsigned vr = vKnown_ref[i];
-        switch (rt_block_of(in, vr)) {
-        case B_X: in->jx[vr] += dvKnown[i]; break;
-        case B_U: in->ju[vr - in->o_u] += dvKnown[i]; break;
-        default:  in->jp[vr - in->o_p] += dvKnown[i]; break;
+        const size_t k = rt_index(in, vKnown_ref[i]);
+        switch (rt_block_of(in, k)) {
+        case B_X: in->jx[k] += dvKnown[i]; break;
+        case B_U: in->ju[k - in->o_u] += dvKnown[i]; break;
+        default:  in->jp[k - in->o_p] += dvKnown[i]; break;
         }
     }
 
@@ -1044,10 +1051,10 @@ rt_status rt_directional(rt_instance *in, const char *fn, const unsigned vUnknow
         return RT_ERROR;
     }
     for (i = 0; i < nUnknown; i++) {
-        const unsigned vr = vUnknown_ref[i];
-        const rt_block b = rt_block_of(in, vr);
+        const size_t k = rt_index(in, vUnknown_ref[i]);
+        const rt_block b = rt_block_of(in, k);
         /* a state (FMI 3 state_unknowns): its own seed */
-        dvUnknown[i] = b == B_X ? in->jx[vr] : b == B_DX ? in->jdx[vr - in->o_dx] : in->jz[rt_jvp_slot(in, vr)];
+        dvUnknown[i] = b == B_X ? in->jx[k] : b == B_DX ? in->jdx[k - in->o_dx] : in->jz[rt_jvp_slot(in, k)];
     }
     return RT_OK;
 }
@@ -1086,8 +1093,8 @@ static double min_step(double t, double t_end)
 static double fixed_step_size(const rt_instance *in)
 {
     double h;
-    if (in->vr_fixed_step < 0) return 0.0;
-    h = in->s.v[in->vr_fixed_step];
+    if (in->fixed_step < 0) return 0.0;
+    h = in->s.v[in->fixed_step];
     return h > 0.0 && isfinite(h) ? h : 0.0;
 }
 
@@ -1229,13 +1236,13 @@ static const char *nonfinite_solution(const rt_instance *in, char *buf, size_t s
     size_t i = first_nonfinite(in->xn, in->nx);
 
     if (i < in->nx) {
-        rt_format(buf, size, "state %s = %g", rt_vr_label(in, (unsigned)i, label, sizeof label), in->xn[i]);
+        rt_format(buf, size, "state %s = %g", rt_vr_label(in, i, label, sizeof label), in->xn[i]);
         return buf;
     }
     i = first_nonfinite(in->k[6], in->nx);
     if (i < in->nx) {
         rt_format(buf, size, "derivative %s = %g",
-               rt_vr_label(in, (unsigned)(in->o_dx + i), label, sizeof label), in->k[6][i]);
+               rt_vr_label(in, in->o_dx + i, label, sizeof label), in->k[6][i]);
         return buf;
     }
     return NULL;
@@ -1411,7 +1418,8 @@ int rt_init(rt_instance *in, const rt_config *cfg, const char *name)
     for (i = 0; i < in->nx; i++)
         if (COSIM_MODEL.state_start_calculated[i]) in->has_calc_start = 1;
     make_identity(in, &in->id);
-    in->vr_fixed_step = -1;
+    in->first_vr = COSIM_MODEL.first_vr;
+    in->fixed_step = -1;
 
     name_len = strlen(name);
     in->name = (char *)rt_alloc(in, name_len + 1, 1);
@@ -1425,8 +1433,9 @@ void rt_check_fixed_step(rt_instance *in, const char *fn)
 {
     if (COSIM_MODEL.vr_fixed_step != 0) {
         const int vr = COSIM_MODEL.vr_fixed_step;
-        if (vr > 0 && rt_block_of(in, (unsigned)vr) == B_P && COSIM_MODEL.types[vr] == COSIM_REAL)
-            in->vr_fixed_step = vr;
+        const size_t i = vr > 0 ? rt_index(in, (unsigned)vr) : in->nv;
+        if (rt_block_of(in, i) == B_P && COSIM_MODEL.types[i] == COSIM_REAL)
+            in->fixed_step = (long)i;
         else
             rt_log_warning(in, RT_WARNING, "%s: vr_fixed_step = %d is not a Real parameter; using adaptive steps",
                            fn, vr);
@@ -1535,10 +1544,10 @@ rt_status rt_adjoint(rt_instance *in, const char *fn, const unsigned vUnknown_re
     memset(in->jdx, 0, in->nx * sizeof(double));
     memset(in->jz, 0, in->nz * sizeof(double));
     for (i = 0; i < nUnknown; i++) {
-        const unsigned vr = vUnknown_ref[i];
-        const rt_block b = rt_block_of(in, vr);
-        if (b == B_DX) in->jdx[vr - in->o_dx] += seed[i];
-        else if (b == B_Z) in->jz[rt_jvp_slot(in, vr)] += seed[i];
+        const size_t k = rt_index(in, vUnknown_ref[i]);
+        const rt_block b = rt_block_of(in, k);
+        if (b == B_DX) in->jdx[k - in->o_dx] += seed[i];
+        else if (b == B_Z) in->jz[rt_jvp_slot(in, k)] += seed[i];
     }
 
     if (!rt_update_parameters(in, fn)) return RT_ERROR;
@@ -1547,14 +1556,16 @@ rt_status rt_adjoint(rt_instance *in, const char *fn, const unsigned vUnknown_re
         return RT_ERROR;
     }
     /* a state among the unknowns (FMI 3 state_unknowns): d x_i / d x_j = delta_ij */
-    for (i = 0; i < nUnknown; i++)
-        if (rt_block_of(in, vUnknown_ref[i]) == B_X) in->jx[vUnknown_ref[i]] += seed[i];
+    for (i = 0; i < nUnknown; i++) {
+        const size_t k = rt_index(in, vUnknown_ref[i]);
+        if (rt_block_of(in, k) == B_X) in->jx[k] += seed[i];
+    }
     for (i = 0; i < nKnown; i++) {
-        const unsigned vr = vKnown_ref[i];
-        switch (rt_block_of(in, vr)) {
-        case B_X: result[i] = in->jx[vr]; break;
-        case B_U: result[i] = in->ju[vr - in->o_u]; break;
-        default:  result[i] = in->jp[vr - in->o_p]; break;
+        const size_t k = rt_index(in, vKnown_ref[i]);
+        switch (rt_block_of(in, k)) {
+        case B_X: result[i] = in->jx[k]; break;
+        case B_U: result[i] = in->ju[k - in->o_u]; break;
+        default:  result[i] = in->jp[k - in->o_p]; break;
         }
     }
     return RT_OK;

@@ -141,7 +141,8 @@ typedef struct {
     rt_identity id;                         /* of this model, see the FMU states in cosim_runtime.c */
     size_t o_dx, o_u, o_p, o_c, o_z;        /* block offsets in the value array */
     int has_calc_start;                     /* some state has a calculated start */
-    long vr_fixed_step;                     /* vr of the fixed step size parameter, -1 = none */
+    unsigned first_vr;                      /* value reference of index 0 of the value array */
+    long fixed_step;                        /* index of the fixed step size parameter, -1 = none */
 
     rt_vars s;
 
@@ -175,7 +176,7 @@ RT_HIDDEN void rt_log_call_always(const rt_instance *in, const char *fmt, ...) R
 #define rt_log_call(in, ...) ((in) && (in)->log_calls ? rt_log_call_always((in), __VA_ARGS__) : (void)0)
 RT_HIDDEN void rt_log_discard(const rt_instance *in, const char *fmt, ...) RT_PRINTF(2, 3);
 RT_HIDDEN void rt_fail(rt_instance *in, const char *fmt, ...) RT_PRINTF(2, 3);
-RT_HIDDEN const char *rt_vr_label(const rt_instance *in, unsigned vr, char *buf, size_t size);
+RT_HIDDEN const char *rt_vr_label(const rt_instance *in, size_t i, char *buf, size_t size);
 
 /* Call checking */
 RT_HIDDEN const char *rt_kind_name(rt_kind kind);
@@ -191,9 +192,21 @@ RT_HIDDEN int rt_not_null(const rt_instance *in, const char *fn, const char *arg
 RT_HIDDEN int rt_check_length(const rt_instance *in, const char *fn, const char *arg, size_t n, size_t expected);
 RT_HIDDEN int rt_state_fits_kind(const rt_instance *in, rt_state st);
 
-/* Value references */
-RT_HIDDEN rt_block rt_block_of(const rt_instance *in, unsigned vr);
-RT_HIDDEN long rt_jvp_slot(const rt_instance *in, unsigned vr);
+/* Value references.  The importer's value reference vr is the variable at index vr - first_vr of
+   the value array (cosim_model.h): the API functions pass value references, rt_index turns one
+   into the index that the value array, the model's tables and the functions taking an index use. */
+/* The index of value reference vr; nv or more (no variable) if vr is out of range. */
+static inline size_t rt_index(const rt_instance *in, unsigned vr)
+{
+    return vr >= in->first_vr ? (size_t)(vr - in->first_vr) : (size_t)-1;
+}
+/* The value reference of index i (i = nv: FMI 3's time, one past the value array). */
+static inline unsigned rt_vr(const rt_instance *in, size_t i)
+{
+    return (unsigned)(in->first_vr + i);
+}
+RT_HIDDEN rt_block rt_block_of(const rt_instance *in, size_t i);
+RT_HIDDEN long rt_jvp_slot(const rt_instance *in, size_t i);
 RT_HIDDEN int rt_check_vr(const rt_instance *in, const char *fn, unsigned vr, cosim_type type);
 RT_HIDDEN int rt_to_integer(double v);
 

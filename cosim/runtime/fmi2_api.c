@@ -258,7 +258,7 @@ RT_EXPORT fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[],
     if (!rt_allowed(in, "fmi2GetReal", M_GET, IF_ANY)) return fmi2Error;
     status = rt_prepare_get(in, "fmi2GetReal", vr, nvr, value, COSIM_REAL);
     if (status == RT_ERROR) return fmi2Error;
-    for (i = 0; i < nvr; i++) value[i] = in->s.v[vr[i]]; /* for diagnosis, also with fmi2Discard */
+    for (i = 0; i < nvr; i++) value[i] = in->s.v[rt_index(in, vr[i])]; /* for diagnosis, also with fmi2Discard */
     return (fmi2Status)status;
 }
 
@@ -272,7 +272,7 @@ RT_EXPORT fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr
     if (!rt_allowed(in, "fmi2GetInteger", M_GET, IF_ANY)) return fmi2Error;
     status = rt_prepare_get(in, "fmi2GetInteger", vr, nvr, value, COSIM_INTEGER);
     if (status == RT_ERROR) return fmi2Error;
-    for (i = 0; i < nvr; i++) value[i] = rt_to_integer(in->s.v[vr[i]]); /* for diagnosis, also with fmi2Discard */
+    for (i = 0; i < nvr; i++) value[i] = rt_to_integer(in->s.v[rt_index(in, vr[i])]); /* for diagnosis, also with fmi2Discard */
     return (fmi2Status)status;
 }
 
@@ -287,7 +287,7 @@ RT_EXPORT fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr
     status = rt_prepare_get(in, "fmi2GetBoolean", vr, nvr, value, COSIM_BOOLEAN);
     if (status == RT_ERROR) return fmi2Error;
     /* for diagnosis, also with fmi2Discard */
-    for (i = 0; i < nvr; i++) value[i] = in->s.v[vr[i]] != 0.0 ? fmi2True : fmi2False;
+    for (i = 0; i < nvr; i++) value[i] = in->s.v[rt_index(in, vr[i])] != 0.0 ? fmi2True : fmi2False;
     return (fmi2Status)status;
 }
 
@@ -607,7 +607,7 @@ RT_EXPORT fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2Valu
     for (i = 0; i < nvr; i++) {
         char label[160];
         if (!rt_check_vr(in, fn, vr[i], COSIM_REAL)) return fmi2Error;
-        if (rt_block_of(in, vr[i]) != B_U) {
+        if (rt_block_of(in, rt_index(in, vr[i])) != B_U) {
             rt_log_error(in, "%s: value reference %u is not an input", fn, vr[i]);
             return fmi2Error;
         }
@@ -618,11 +618,11 @@ RT_EXPORT fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2Valu
         }
         if (!isfinite(value[i])) {
             rt_log_error(in, "%s: the derivative of %s = %g: the value must be finite", fn,
-                         rt_vr_label(in, vr[i], label, sizeof label), value[i]);
+                         rt_vr_label(in, rt_index(in, vr[i]), label, sizeof label), value[i]);
             return fmi2Error;
         }
     }
-    for (i = 0; i < nvr; i++) in->s.du[vr[i] - in->o_u] = value[i];
+    for (i = 0; i < nvr; i++) in->s.du[rt_index(in, vr[i]) - in->o_u] = value[i];
     return fmi2OK;
 }
 

@@ -9,7 +9,7 @@
  *     a message, and changes nothing,
  *   - the FMI 3.0 types: Float64, Int32 and Boolean accessors with nValues; arrays (cosim_model.h
  *     fmi3_length) are read and written as one variable; the independent variable time has the
- *     value reference nv (read only),
+ *     value reference first_vr + nv, one past the value array (read only),
  *   - the FMI 3.0 logger (instance environment, status, category, message: not a format string),
  *   - fmi3DoStep with lastSuccessfulTime, earlyReturn (never), eventHandlingNeeded (never) and
  *     terminateSimulation (after an integration failure, which returns fmi3Discard as in FMI 2),
@@ -333,17 +333,18 @@ RT_EXPORT fmi3Status fmi3Reset(fmi3Instance instance)
  * ------------------------------------------------------------------------------------------- */
 
 /* The value reference of the independent variable time (one past the value array). */
-#define VR_TIME(in) ((fmi3ValueReference)(in)->nv)
+#define VR_TIME(in) ((fmi3ValueReference)rt_vr((in), (in)->nv))
 
 /* The number of values of the FMI 3 variable vr (1: a scalar, n: an array of the values vr ..
    vr+n-1), or 0 after logging why vr is none (an element after the first of an array). */
 static size_t n_values(const rt_instance *in, const char *fn, fmi3ValueReference vr)
 {
+    const size_t i = rt_index(in, vr);
     int n;
 
-    if (vr >= in->nv || !COSIM_MODEL.fmi3_length) return 1;
-    n = COSIM_MODEL.fmi3_length[vr];
-    if (n > 0 && (size_t)n <= in->nv - vr) return (size_t)n;
+    if (i >= in->nv || !COSIM_MODEL.fmi3_length) return 1;
+    n = COSIM_MODEL.fmi3_length[i];
+    if (n > 0 && (size_t)n <= in->nv - i) return (size_t)n;
     rt_log_error(in, "%s: value reference %u is an element of an array variable, not a variable of its own "
                  "(an array is accessed through the value reference of its first element)", fn, vr);
     return 0;
@@ -404,7 +405,7 @@ static rt_status check_values(rt_instance *in, const char *fn, const fmi3ValueRe
         for (i_ = 0; i_ < (nvr); i_++) {                                              \
             if ((vr)[i_] == VR_TIME(in)) { (out)[k_++] = convert((in)->s.time); continue; } \
             for (j_ = 0; j_ < n_values((in), "", (vr)[i_]); j_++)                     \
-                (out)[k_++] = convert((in)->s.v[(vr)[i_] + j_]);                      \
+                (out)[k_++] = convert((in)->s.v[rt_index((in), (vr)[i_]) + j_]);      \
         }                                                                             \
     } while (0)
 
@@ -518,20 +519,22 @@ static fmi3Status no_such_type(fmi3Instance instance, const char *fn, unsigned m
                                const fmi3ValueReference vr[], size_t nvr, const char *type)
 {
     rt_instance *in = (rt_instance *)instance;
+    size_t i;
 
     rt_log_call(in, "%s(nValueReferences = %zu)", fn, nvr);
     if (!rt_allowed(in, fn, mask, IF_ANY)) return fmi3Error;
     if (nvr == 0) return fmi3OK;
     if (!rt_not_null(in, fn, "valueReferences", vr)) return fmi3Error;
+    i = rt_index(in, vr[0]);
     if (vr[0] == VR_TIME(in))
         rt_log_error(in, "%s: value reference %u (time) is a Float64 variable, not %s", fn, vr[0], type);
-    else if (vr[0] > VR_TIME(in))
-        rt_log_error(in, "%s: value reference %u is out of range (the model has %zu variables and time)", fn,
-                     vr[0], in->nv);
+    else if (i >= in->nv)
+        rt_log_error(in, "%s: value reference %u is out of range (the model has %zu variables and time, value "
+                     "references %u to %u)", fn, vr[0], in->nv, rt_vr(in, 0), VR_TIME(in));
     else
         rt_log_error(in, "%s: value reference %u is a %s variable, not %s (the model has Float64, Int32 and "
-                     "Boolean variables only)", fn, vr[0], TYPE_NAMES[COSIM_MODEL.types[vr[0]] == COSIM_REAL ? 0 :
-                     COSIM_MODEL.types[vr[0]] == COSIM_INTEGER ? 1 : 2], type);
+                     "Boolean variables only)", fn, vr[0], TYPE_NAMES[COSIM_MODEL.types[i] == COSIM_REAL ? 0 :
+                     COSIM_MODEL.types[i] == COSIM_INTEGER ? 1 : 2], type);
     return fmi3Error;
 }
 

@@ -1040,7 +1040,7 @@ static int load_other(other_fmu *o, const char *path, const char *guid)
 static const char *other_paths[4];
 
 /* ------------------------------------------------------------------------------------------ */
-/* Defect tests (issue 10)                                                                      */
+/* Defect tests: foreign FMU states, refused calls                                             */
 
 /* One foreign FMU: its FMU states are refused by this model's instances and the other way round,
    in memory and serialized, and nothing of either instance changes. */
@@ -1122,9 +1122,10 @@ static void test_fmu_state_of_another_fmu_is_refused(void)
 }
 
 /* ------------------------------------------------------------------------------------------ */
-/* Initial equations (issue 12): test_model_init.c, theta solved from L sin(theta) = h + u + omega  */
+/* Initial equations: test_model_init.c, theta solved from L sin(theta) = h + u + omega  */
 
-enum { I_THETA, I_OMEGA, I_DTHETA, I_DOMEGA, I_U, I_L, I_H, I_STEP, I_Y };
+/* its value references start at 1 (first_vr): 0 and 10 are none */
+enum { I_NONE, I_THETA, I_OMEGA, I_DTHETA, I_DOMEGA, I_U, I_L, I_H, I_STEP, I_Y, I_PAST };
 
 static double other_get(const other_fmu *o, fmi2Component c, fmi2ValueReference vr)
 {
@@ -1152,6 +1153,7 @@ static void test_initial_equations(void)
     c = o.instantiate("init", fmi2CoSimulation, guid, "", &cb, fmi2False, fmi2False);
     CHECK(c != NULL);
     if (!c) { dlclose(o.lib); return; }
+    CHECK(!logged(&lb, "vr_fixed_step", NULL)); /* value reference 8 is solver.fixedStepSize */
 
     /* solved with the default parameters: sin(theta) = (0.5 + 0 + 0.5) / 2 */
     CHECK_OK(o.setup_experiment(c, fmi2False, 0.0, 0.0, fmi2False, 0.0));
@@ -1166,6 +1168,13 @@ static void test_initial_equations(void)
     CHECK_NEAR(other_get(&o, c, I_THETA), asin(0.5), 1e-14);
     CHECK_NEAR(other_get(&o, c, I_OMEGA), 0.1, 0.0);
     CHECK_NEAR(other_get(&o, c, I_Y), 1.0, 1e-14);
+    /* value references start at 1: 0 and the one after the last are none, and refused */
+    CHECK(isnan(other_get(&o, c, I_NONE)));
+    CHECK(logged(&lb, "fmi2GetReal: value reference 0 is out of range", "value references 1 to 9)"));
+    CHECK(isnan(other_get(&o, c, I_PAST)));
+    CHECK(logged(&lb, "fmi2GetReal: value reference 10 is out of range", "value references 1 to 9)"));
+    CHECK(other_set(&o, c, I_NONE, 1.0) == fmi2Error);
+    CHECK(logged(&lb, "fmi2SetReal: value reference 0 is out of range", NULL));
     CHECK_OK(o.do_step(c, 0.0, 0.1, fmi2True));
     o.free_instance(c);
 

@@ -173,5 +173,6 @@ const cosim_model COSIM_MODEL = {
     0, /* eval computes all of z */
     2, calc_hoisted, eval_hoisted,
     vjp,
-    FMI3_LENGTH
+    FMI3_LENGTH,
+    0 /* value references from 0 */
 };

@@ -11,8 +11,9 @@
  * generated code does and reports COSIM_START_NOT_CONVERGED when max |residual| > 1e-10 (or NaN):
  * no real solution for |h + u + omega| > L.
  *
- * Value references: 0 theta   1 omega   2 der(theta)   3 der(omega)   4 u   5 L   6 h
- *                   7 solver.fixedStepSize   8 y
+ * Value references (from 1, as in the FMUs `cosim build` writes; the other test models start at 0):
+ *                   1 theta   2 omega   3 der(theta)   4 der(omega)   5 u   6 L   7 h
+ *                   8 solver.fixedStepSize   9 y
  */
 #include <math.h>
 
@@ -88,7 +89,7 @@ const cosim_model COSIM_MODEL = {
     "{0b7a1c55-2f0e-4c8e-9d3b-6a1e5f4c3b20}",
     2, 1, 3, 0, 1,
     1e-6,
-    7,
+    8,
     types,
     start,
     state_start_calculated,
@@ -102,5 +103,6 @@ const cosim_model COSIM_MODEL = {
     0, /* eval computes all of z */
     0, 0, 0, /* no hoisted parameter terms */
     vjp,
-    0        /* FMI 3: all scalars */
+    0,       /* FMI 3: all scalars */
+    1        /* value references from 1 */
 };

@@ -58,5 +58,6 @@ const cosim_model COSIM_MODEL = {
     0, /* eval computes all of z */
     0, 0, 0, /* no hoisted parameter terms */
     0,       /* no vjp: no adjoint derivatives */
-    0        /* FMI 3: all scalars */
+    0,       /* FMI 3: all scalars */
+    0        /* value references from 0 */
 };

@@ -7,7 +7,7 @@ initializes and steps to the stop time without recording (what a batch study pay
 rate is steps per second of that whole run. Each measurement is the median of --repeat runs,
 the engines taking turns so that a busy machine slows all of them alike.
 
-Targets (issue 14): our master >= 30x libcosim and >= 2x Ecos on every system.
+Targets (docs/benchmarks.md): our master >= 30x libcosim and >= 2x Ecos on every system.
 
 ``--baseline REF``: instead, the step cost of the nonlinear bicycles' FMUs built by this tree and by
 the committed tree REF, side by side in one process (alternating, medians): Co-Simulation steps of
@@ -27,8 +27,6 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-# Python puts this folder first on sys.path, where benchmarks/cosim.py would shadow the cosim package.
-sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
 SYSTEMS = ["lqr-autopilot", "riderless-push", "lane-change"]
 TARGETS = {"libcosim": 30.0, "Ecos": 2.0}
 
