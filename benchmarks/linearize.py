@@ -1,4 +1,4 @@
-"""Linearization over forward speed: the sweep (:func:`cosim.fmu.linearize.linearize_speeds`, one
+"""Linearization over forward speed: the sweep (:func:`cosim.bicycle.linearize.linearize_speeds`, one
 FMU instance re-initialized per speed through the raw FMI functions, the lateral reduction for all
 speeds in one vectorized pass) against the single-speed API loop (:func:`linearize` and
 :func:`steady_motion` per speed, a new instance each), per speed and as a ratio, for the nonlinear
@@ -25,7 +25,8 @@ import numpy as np
 
 from cosim.compiler.build import build_model
 from cosim.compiler.library import load_library
-from cosim.fmu.linearize import linearize, linearize_speeds, steady_motion
+from cosim.bicycle.linearize import linearize_speeds, steady_motion
+from cosim.fmu.linearize import linearize
 
 ROUNDS = 5
 MODELS = {"Bicycle.Bicycles.Whipple": "u_R0", "Bicycle.Bicycles.WhippleRider": "u_R0",

@@ -33,6 +33,7 @@ import warnings
 from pathlib import Path
 
 from cosim import __version__
+from cosim.cli_options import LIBRARY_VARIABLE, library_option, positive_int
 from cosim.errors import CosimError, OutputError, ParameterError, ResultNotWritten
 from cosim.outputs import os_error_message
 
@@ -165,17 +166,6 @@ Run `cosim VERB --help` for the options of a command.
 {ENVIRONMENT}
 
 {EXIT_CODES}"""
-
-
-def positive_int(text: str) -> int:
-    """argparse type of counts such as -j/--jobs and --workers: an integer >= 1."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got '{text}'") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
-    return value
 
 
 def _port(text: str) -> int:
@@ -401,8 +391,9 @@ def _write_incomplete(exc, output: Path, plot_path: str | None, title: str, verb
 
 
 def _cmd_simulate(args) -> int:
+    from cosim.bicycle.parameters import from_command_line
     from cosim.fmu.access import ALL_FMI_VERSIONS, read_fmu
-    from cosim.fmu.parameters import declarations, from_command_line
+    from cosim.fmu.parameters import declarations
     from cosim.fmu.simulate import IncompleteResult, SimulationTerminated, check_run, input_signals, simulate
     from cosim.fmu.target import is_fmu_path, resolve_fmu
 
@@ -457,9 +448,11 @@ def _operating_point(target: str, assignments: list[str], declared: dict | None 
 
 
 def _cmd_linearize(args) -> int:
+    from cosim.bicycle.linearize import NotSteadyMotion, is_bicycle, steady_motion
+    from cosim.bicycle.parameters import from_command_line
     from cosim.fmu.access import ALL_FMI_VERSIONS
-    from cosim.fmu.linearize import NotSteadyMotion, is_bicycle, linearize, steady_motion
-    from cosim.fmu.parameters import declarations, from_command_line
+    from cosim.fmu.linearize import linearize
+    from cosim.fmu.parameters import declarations
     from cosim.fmu.target import resolve_fmu
 
     if args.speeds is not None:
@@ -518,10 +511,11 @@ def _cmd_linearize(args) -> int:
 
 
 def _linearize_sweep(args) -> int:
-    """``cosim linearize MODEL --speeds ...``: :func:`cosim.fmu.linearize.linearize_speeds`."""
+    """``cosim linearize MODEL --speeds ...``: :func:`cosim.bicycle.linearize.linearize_speeds`."""
     from cosim.fmu.access import ALL_FMI_VERSIONS
-    from cosim.fmu.linearize import NotSteadyMotion, linearize_speeds, parse_speeds
-    from cosim.fmu.parameters import declarations, forward_speed, from_command_line
+    from cosim.bicycle.linearize import NotSteadyMotion, linearize_speeds, parse_speeds
+    from cosim.bicycle.parameters import forward_speed, from_command_line
+    from cosim.fmu.parameters import declarations
     from cosim.fmu.target import resolve_fmu
 
     speeds = parse_speeds(args.speeds)
@@ -574,8 +568,10 @@ def _linearize_sweep(args) -> int:
 
 
 def _cmd_compare(args) -> int:
-    from cosim.analytic.compare import compare_model, format_table, parse_speeds
-    from cosim.fmu.parameters import forward_speed, split_assignment
+    from cosim.analytic.compare import format_table
+    from cosim.bicycle.compare import compare_model, parse_speeds
+    from cosim.bicycle.parameters import forward_speed
+    from cosim.fmu.parameters import split_assignment
 
     if not args.tol > 0:
         raise ParameterError(f"--tol must be > 0, got {args.tol:g}")
@@ -694,23 +690,12 @@ def _cmd_demo(args) -> int:
     return EXIT_OK
 
 
-LIBRARY_VARIABLE = "COSIM_MODELICA_PATH"
-
-
 def lenient_option(p: argparse.ArgumentParser, what: str = "it") -> None:
     """``--lenient``: open FMUs whose model description fails FMPy's checks (findings as warnings)."""
     p.add_argument("--lenient", action="store_true",
                    help=f"open {what} even if its modelDescription.xml fails FMPy's schema or consistency "
                         "checks (as FMPy's validate=False does): each finding is a warning line, the run is "
                         "attempted; unsafe archives and unsupported FMI versions are still refused")
-
-
-def library_option(p: argparse.ArgumentParser) -> None:
-    """``--library DIR`` of every verb that resolves model names (see :func:`use_library`)."""
-    p.add_argument("--library", default=None, metavar="DIR",
-                   help=f"folder of your own Modelica packages (several: separated by '{os.pathsep}'), searched "
-                        "before the library shipped with the package, which model names always resolve in "
-                        f"too (default: ${LIBRARY_VARIABLE}); the first folder holding a top-level package wins")
 
 
 @contextlib.contextmanager

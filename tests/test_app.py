@@ -415,7 +415,7 @@ def _check_rear_steered(page, eigenvalues) -> tuple[float, float]:
 
 def _native_lateral(parameters: dict, speed: float, cwd: Path) -> np.ndarray:
     """The lateral eigenvalues of `cosim linearize Bicycle.Bicycles.Whipple --speed V --json`
-    (the native FMU, cosim.fmu.linearize.steady_motion) for the page's parameters."""
+    (the native FMU, cosim.bicycle.linearize.steady_motion) for the page's parameters."""
     import json
 
     args = ["linearize", "Bicycle.Bicycles.Whipple", "--speed", repr(speed), "--json"]
@@ -579,7 +579,7 @@ def test_weave_and_capsize_speeds_shown(page, tmp_path, name):
         assert self_stable_interval(s["parameters"], v_min=BACKWARD_MIN, v_max=0.0) is None
         assert weave_text == capsize_text == "not defined riding backwards"
     else:
-        from cosim.fmu.linearize import linearize_speeds
+        from cosim.bicycle.linearize import linearize_speeds
 
         fmu = Path(os.environ["COSIM_FMU_DIR"]) / "Bicycle_Bicycles_Whipple.fmu"
         weave = s["weave"]

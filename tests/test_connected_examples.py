@@ -530,7 +530,7 @@ def test_example_is_the_system_file_with_its_twins(models, example):
     from fmpy import read_model_description
 
     from cosim.cosimulation.modelica_twins import with_twins
-    from cosim.fmu.stability import parameters_for_model
+    from cosim.analytic.parameters import parameters_for_model
 
     spec, _ = with_twins(load_system(ROOT / "cosim" / "systems" / MIRRORS[example]))
     case = CASES[example]

@@ -27,8 +27,9 @@ from scipy.optimize import brentq
 from cosim.analytic import simple as S
 from cosim.compiler.build import build_model
 from cosim.figures import fig5, fig15
-from cosim.fmu import stability as WP
-from cosim.fmu.linearize import linearize, steady_motion
+from cosim.bicycle import stability as WP
+from cosim.bicycle.linearize import steady_motion
+from cosim.fmu.linearize import linearize
 from cosim.nonlinear.model import MODEL as WHIPPLE
 from cosim.nonlinear.model import speed_parameters
 

@@ -1,5 +1,5 @@
 """Speed sweeps of the linearization: `cosim linearize MODEL --speeds A:B:STEP|V1,V2,...` and
-:func:`cosim.fmu.linearize.linearize_speeds` (one FMU instance re-initialized per speed).
+:func:`cosim.bicycle.linearize.linearize_speeds` (one FMU instance re-initialized per speed).
 
 What is checked, with the tolerances used:
 
@@ -30,7 +30,8 @@ import pytest
 
 from conftest import run_cli
 from cosim.errors import ParameterError
-from cosim.fmu.linearize import linearize, linearize_speeds, parse_speeds, steady_motion
+from cosim.bicycle.linearize import linearize_speeds, parse_speeds, steady_motion
+from cosim.fmu.linearize import linearize
 
 # the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs
 pytestmark = pytest.mark.slow
@@ -178,7 +179,7 @@ def test_cli_matrices_and_text(built):
 def test_speed_grammar(text, expected):
     """The one --speeds parser (linearize and compare): inclusive ranges without rounding drift,
     lists, and one message per malformed text."""
-    from cosim.analytic import compare
+    from cosim.bicycle import compare
 
     assert compare.parse_speeds is parse_speeds
     if isinstance(expected, list):

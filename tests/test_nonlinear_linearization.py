@@ -33,7 +33,8 @@ from cosim.analytic.compare import root_set_error
 from cosim.analytic.parameters import load_parameters, load_upper_body, split_upper_body, validate_parameters
 from cosim.analytic.twins import merged_rear_frame
 from cosim.cli import main
-from cosim.fmu.linearize import ZERO_MODES, linearize, steady_motion
+from cosim.bicycle.linearize import ZERO_MODES, steady_motion
+from cosim.fmu.linearize import linearize
 from cosim.nonlinear.model import MODEL, RIDER_MODEL
 
 # the quick run (-m 'not slow') leaves this module out: its tests build, compile or run FMUs

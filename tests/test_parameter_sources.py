@@ -28,7 +28,7 @@ from cosim.analytic import whipple as W
 from cosim.analytic.simple import SimpleBicycle
 from cosim.compiler.catalog import summarize
 from cosim.compiler.library import DEFAULT_LIBRARY, Library
-from cosim.fmu import stability as WP
+from cosim.bicycle import stability as WP
 
 ROOT = Path(__file__).resolve().parents[1]
 RECORDS = ROOT / "modelica" / "Bicycle" / "Records"

@@ -53,7 +53,7 @@ def test_no_public_name_is_also_a_submodule():
 
     clashes = [name for name in cosim.__all__ if name != "__version__" and importlib.util.find_spec(f"cosim.{name}")]
     assert clashes == []
-    out = _fresh_python("import cosim, cosim.fmu.linearize, cosim.analytic.compare, cosim.cli; "
+    out = _fresh_python("import cosim, cosim.fmu.linearize, cosim.bicycle.compare, cosim.cli; "
                         "print(type(cosim.linearize).__name__, type(cosim.compare).__name__)")
     assert out.split() == ["function", "function"]
 

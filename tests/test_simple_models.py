@@ -32,7 +32,8 @@ from cosim.analytic import simple
 from cosim.analytic.compare import minimal_zpk, root_set_error as root_error
 from cosim.fmu.linearize import linearize
 from cosim.fmu.simulate import simulate
-from cosim.analytic.twins import TWINS, analytic_system
+from cosim.analytic.twins import TWINS
+from cosim.bicycle.twins import analytic_system
 
 PKG = "Bicycle.Bicycles."
 

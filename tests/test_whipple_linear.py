@@ -23,7 +23,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from conftest import assert_plotted, calculated_parameters, png_pixels
-from cosim.fmu import stability as WP
+from cosim.bicycle import stability as WP
 from cosim.analytic import parameters as P
 from cosim.analytic import whipple as W
 from cosim.analytic.compare import root_set_error

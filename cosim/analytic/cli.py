@@ -11,6 +11,8 @@ import argparse
 import json
 import math
 
+from cosim.errors import ParameterError
+
 __all__ = ["add_parser", "run", "analytic_report", "format_report"]
 
 MATRIX_UNITS = {"M": "kg m^2", "C1": "kg m (times v)", "K0": "kg m (times g)", "K2": "kg (times v^2)"}
@@ -37,20 +39,17 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 def analytic_report(params_name: str, speeds: list[float]) -> dict:
     """Everything `cosim analytic` prints, as a JSON-ready dict."""
+    # not at the top: `cosim VERB` for every verb builds this parser, and these load numpy and dataclasses
     from cosim.analytic import whipple as W
-    from cosim.fmu.parameters import parameter_set_waiver
-    from cosim.fmu.stability import parameters_for_model
-
-    from cosim.errors import ParameterError
-    from cosim.fmu.linearize import MAX_SPEED
+    from cosim.analytic.parameters import MAX_SPEED, load_set_for_models
 
     for v in speeds:
         if not math.isfinite(v):
             raise ParameterError(f"--speed must be finite, got {v}")
         if abs(v) > MAX_SPEED:
             raise ParameterError(f"--speed {v:g}: at most {MAX_SPEED:g} m/s in magnitude")
-    params = parameters_for_model(params_name)
-    waiver = parameter_set_waiver(params_name)  # the checks the set's file waives, reported with it
+    loaded = load_set_for_models(params_name)
+    params, waiver = loaded.values, loaded.waiver  # the checks the set's file waives, reported with it
     M, C1, K0, K2 = W.matrices(params)
     weave = W.weave_speed(params)
     capsize = W.capsize_speed(params)

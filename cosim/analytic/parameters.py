@@ -33,6 +33,7 @@ from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 
+from cosim.errors import ParameterError
 from cosim.outputs import check_input_file
 
 __all__ = [
@@ -46,6 +47,9 @@ __all__ = [
     "bundled_parameter_sets",
     "load_parameter_set",
     "load_parameters",
+    "load_set_for_models",
+    "parameters_for_model",
+    "MAX_SPEED",
     "validate_parameters",
     "UPPER_BODY_UNITS",
     "SECOND_ORDER_UNITS",
@@ -447,6 +451,51 @@ def load_parameters(name_or_path: str | os.PathLike[str], *, waive: Iterable[str
         return validate_parameters(values, waive=extra | set(waiver.checks if waiver else ()))
     except ValueError as exc:
         raise ValueError(f"{exc} [in {path}]") from exc
+
+
+def load_set_for_models(name_or_path: str | os.PathLike[str], option: str = "--params") -> ParameterSet:
+    """:func:`load_parameter_set` of a set a user names for a model (``--params``, system files).
+
+    The one loader of such sets: the Modelica models with Meijaard's parameters
+    (``Bicycle.Bicycles.WhippleLinear``, ``Whipple``, ...) name them exactly as the symbols of
+    :data:`PARAMETER_NAMES`, so the values apply to a model unchanged.
+
+    Parameters
+    ----------
+    name_or_path : str or path-like
+        A bundled name or a TOML file, as for :func:`load_parameter_set`.
+    option : str
+        How the user named the set, the start of every message.
+
+    Returns
+    -------
+    ParameterSet
+        Values [SI], waiver and file.
+
+    Raises
+    ------
+    ParameterError
+        Unknown bundled name, malformed TOML or an invalid set (the message names the option,
+        the set and the key).
+    FileNotFoundError
+        A path that does not exist.
+    """
+    try:
+        return load_parameter_set(name_or_path)
+    except ValueError as exc:
+        raise ParameterError(f"{option} {os.fspath(name_or_path)}: {exc}") from None
+
+
+def parameters_for_model(name_or_path: str | os.PathLike[str]) -> dict[str, float]:
+    """Parameter values [SI] of a Meijaard set for the models that carry Meijaard's names, by
+    symbol of :data:`PARAMETER_NAMES` (the values of :func:`load_set_for_models`; errors as there).
+    The forward speed is not part of a set."""
+    return dict(load_set_for_models(name_or_path).values)
+
+
+#: Largest forward speed [m/s] in magnitude that --speed/--speeds accept (beyond it the squares of
+#: the speed in the equations of motion lose every digit of the other terms, then overflow).
+MAX_SPEED = 1e4
 
 
 # --------------------------------------------------------------------------- further data sets

@@ -30,9 +30,10 @@ delta, psi and eta; in these variables its twin is (18) as printed, ``rear_steer
 V)``, with the ordinary path (a negative V rides it backwards: (4) at -V).
 
 The nonlinear bicycles have twins of their linearization about upright straight running
-(:data:`STEADY_MOTION_TWINS`, :class:`SteadyMotionTwin`): the FMU's linearization is reduced exactly
-to the lateral states ``phi, delta, u_phi, u_delta`` plus the path ``psi, y``
-(:func:`cosim.fmu.linearize.steady_motion`) and compared with Meijaard et al. (2007):
+(:data:`cosim.bicycle.twins.STEADY_MOTION_TWINS`, on :func:`steady_lateral` here): the FMU's
+linearization is reduced exactly to the lateral states ``phi, delta, u_phi, u_delta`` plus the
+path ``psi, y`` (:func:`cosim.bicycle.linearize.steady_motion`) and compared with Meijaard et al.
+(2007):
 
 =================================  ========================  =====================================
 ``Whipple``                        T_delta T_phi -> phi      Meijaard M, C1, K0, K2 + path (A 9)
@@ -49,20 +50,17 @@ Modelica declarations; the simple models' defaults come from
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from functools import lru_cache
 
 import control
 import numpy as np
 
-from cosim.analytic import simple
-from cosim.analytic.parameters import PARAMETER_NAMES, load_second_order, merged_rear_frame
+from cosim.analytic import simple, whipple
+from cosim.analytic.parameters import PARAMETER_NAMES, load_parameters, load_second_order, merged_rear_frame
 from cosim.analytic.simple import SimpleBicycle
 
-__all__ = ["Twin", "SteadyMotionTwin", "TWINS", "STEADY_MOTION_TWINS", "analytic_system", "bicycle", "twin",
-           "merged_rear_frame"]
+__all__ = ["Twin", "TWINS", "LATERAL_OUTPUTS", "steady_lateral", "bicycle", "merged_rear_frame"]
 
 #: Modelica parameter name -> :class:`SimpleBicycle` field (others are equal).
 _FIELD = {"lambda": "lam"}
@@ -264,8 +262,6 @@ def _crowned_roller(p: Mapping[str, float], V: float) -> control.StateSpace:
 def _whipple_linear(p: Mapping[str, float], v: float) -> control.StateSpace:
     """Meijaard et al. (2007) in :mod:`cosim.analytic.whipple` plus the linearized heading and
     path (Meijaard eq. (A 9)): der(psi) = (v delta + c delta_dot) cos(lam) / w, der(y) = v psi."""
-    from cosim.analytic import whipple
-
     params = {k: p[k] for k in PARAMETER_NAMES}
     A4, B4 = whipple.state_matrices(params, v)
     A = np.zeros((6, 6))
@@ -280,8 +276,6 @@ def _whipple_linear(p: Mapping[str, float], v: float) -> control.StateSpace:
 
 
 def _meijaard_defaults() -> dict:
-    from cosim.analytic.parameters import load_parameters
-
     return {**load_parameters("benchmark"), "v": 5.0, "phi0": 0.0, "delta0": 0.0, "phi_dot0": 0.0,
             "delta_dot0": 0.0}
 
@@ -310,46 +304,21 @@ TWINS: dict[str, Twin] = {t.model: t for t in (
 
 
 # ----------------------------------------------------------------------------
-# twins of the nonlinear bicycles' linearization about upright straight running
+# the nonlinear bicycles' linearization about upright straight running (their twins, which reduce an
+# FMU's linearization first, are cosim.bicycle.twins.STEADY_MOTION_TWINS)
 
-@dataclass(frozen=True)
-class SteadyMotionTwin(Twin):
-    """The analytic twin of a nonlinear bicycle's linearization about upright straight running.
-
-    The FMU's linearization is first reduced exactly to its lateral dynamics and path
-    (:func:`cosim.fmu.linearize.steady_motion`, with the rider's hinge locked if ``lock_hinge``);
-    the defaults are read from the model's Modelica declarations (no copies of the values).
-    """
-
-    lock_hinge: bool = False
-
-    def default_values(self) -> dict[str, float]:
-        return dict(_modelica_defaults(self.model, os.environ.get("COSIM_MODELICA_PATH")))
-
-    def reduce(self, linearization) -> control.StateSpace:
-        from cosim.fmu.linearize import steady_motion
-
-        return steady_motion(linearization, lock_hinge=self.lock_hinge).to_statespace()
-
-
-@lru_cache(maxsize=8)
-def _modelica_defaults(model: str, library: str | None) -> dict[str, float]:
-    """Numeric defaults of the top-level parameters declared by ``model`` (``library``: the cache key)."""
-    from cosim.fmu.parameters import declarations, starts
-
-    return {k: v for k, v in starts(declarations(model)).items() if "." not in k}
-
-
-#: Upper-body parameters of ``WhippleRider`` (the hinge's kU, cU do not matter when it is locked).
-_UPPER_BODY = ("mU", "xU", "hU", "lU", "IUxx", "IUxz", "IUyy", "IUzz")
+#: The states of :func:`steady_lateral`, the outputs of the nonlinear bicycles' twins.
+LATERAL_OUTPUTS = ("phi", "delta", "u_phi", "u_delta", "psi", "y")
 #: Initial values that must be zero for the steady motion the twin describes (the others -- x0,
 #: y0, thetaR0, thetaF0, the Newton start theta_guess -- do not change the linearization).
 _STEADY_STARTS = ("psi0", "phi0", "delta0", "u_phi0", "u_delta0", "beta0", "u_beta0")
 
 
-def _steady_lateral(p: Mapping[str, float], u_R0: float, rider: bool) -> control.StateSpace:
+def steady_lateral(p: Mapping[str, float], u_R0: float, rider: bool) -> control.StateSpace:
     """Meijaard et al. (2007) about upright straight running at v = -u_R0 rR, on the nonlinear
-    bicycle's names: states (phi, delta, u_phi, u_delta, psi, y), inputs (T_delta, T_phi)."""
+    bicycle's names: states (:data:`LATERAL_OUTPUTS`), inputs (T_delta, T_phi); ``u_R0`` [rad/s] the
+    rear wheel rate, ``rider`` whether ``p`` holds an upper body to merge into the rear frame.
+    ValueError for crowned wheels or start values off upright straight running (named)."""
     crowned = [k for k in ("tR", "tF") if p.get(k, 0.0) != 0.0]
     if crowned:
         raise ValueError(f"{', '.join(crowned)}: the analytic model has knife-edge wheels (crown radius 0)")
@@ -360,59 +329,7 @@ def _steady_lateral(p: Mapping[str, float], u_R0: float, rider: bool) -> control
     params = merged_rear_frame(p) if rider else {k: p[k] for k in PARAMETER_NAMES}
     v = -float(u_R0) * float(p["rR"])
     sys = _whipple_linear({**p, **params}, v)
-    names = ["phi", "delta", "u_phi", "u_delta", "psi", "y"]
+    names = list(LATERAL_OUTPUTS)
     order = [1, 0]  # the FMU's inputs are (T_delta, T_phi)
     return control.ss(sys.A, sys.B[:, order], np.eye(6), np.zeros((6, 2)), states=names,
                       inputs=["T_delta", "T_phi"], outputs=names)
-
-
-_LATERAL_OUT = ("phi", "delta", "u_phi", "u_delta", "psi", "y")
-
-#: Twins of the nonlinear bicycles' linearization about upright straight running.
-STEADY_MOTION_TWINS: dict[str, SteadyMotionTwin] = {t.model: t for t in (
-    SteadyMotionTwin("Bicycle.Bicycles.Whipple", lambda p, u: _steady_lateral(p, u, rider=False), {},
-                     ("T_delta", "T_phi"), _LATERAL_OUT, speed="u_R0",
-                     equations="Meijaard et al. (2007) M, C1, K0, K2 plus the path (A 9), about upright "
-                               "straight running"),
-    SteadyMotionTwin("Bicycle.Bicycles.WhippleRider", lambda p, u: _steady_lateral(p, u, rider=True), {},
-                     ("T_delta", "T_phi"), _LATERAL_OUT, speed="u_R0",
-                     equations="Meijaard et al. (2007) with the upper body merged into the rear frame "
-                               "(hip hinge locked)", lock_hinge=True),
-)}
-
-
-def twin(model_name: str) -> Twin:
-    """The twin of ``model_name`` (:data:`TWINS`, else :data:`STEADY_MOTION_TWINS`); ``KeyError``
-    lists the models that have one."""
-    found = TWINS.get(model_name) or STEADY_MOTION_TWINS.get(model_name)
-    if found is None:
-        raise KeyError(f"no analytic twin for '{model_name}'; twins exist for: "
-                       f"{', '.join([*TWINS, *STEADY_MOTION_TWINS])}")
-    return found
-
-
-def analytic_system(model_name: str, parameters: Mapping[str, float] | None = None) -> control.StateSpace:
-    """The analytic state-space model of an exported model at the given parameter values.
-
-    Parameters
-    ----------
-    model_name : str
-        Full Modelica name, a key of :data:`TWINS`.
-    parameters : dict, optional
-        Top-level parameter values by Modelica name (SI units); missing ones take the model's
-        defaults, names containing a dot are ignored.
-
-    Returns
-    -------
-    control.StateSpace
-        Inputs and outputs named and ordered as the FMU's top-level inputs and outputs.
-
-    Raises
-    ------
-    KeyError
-        No twin for the model.
-    ValueError
-        Unknown parameter name, or a value the analytic model rejects (e.g. V at the
-        self-alignment speed, a non-positive mass), naming the parameter.
-    """
-    return twin(model_name).system(parameters)

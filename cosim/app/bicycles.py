@@ -32,7 +32,7 @@ Systems Magazine 25(4), is "the paper"):
     straight running, ``u_R0 = -v/rR``: at that point the columns of the pitch, the forward speed
     and the ignorable coordinates in the lateral rows are exactly zero and the pitch rate's row
     has zero roll and steer coefficients (the pitch is even in roll and steer), so the
-    elimination of :func:`cosim.fmu.linearize.steady_motion` changes nothing and the block is
+    elimination of :func:`cosim.bicycle.linearize.steady_motion` changes nothing and the block is
     the exact lateral reduction
     (tests/test_app.py checks it against ``cosim linearize`` and, for ``tR = 0``, against
     cosim.analytic). ``tR`` has a slider (0-1 m, about the centre-of-mass height, 1.0 m: eq (27)

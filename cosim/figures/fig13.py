@@ -22,7 +22,7 @@ caption "the front wheel"):
   every speed once I_F is below about 0.05 kg m^2, so its curve ends there.
 
 Every speed is a root (``brentq``, 1e-6 m/s) of eigenvalues of FMU linearizations of
-``Bicycle.Bicycles.WhippleLinear`` (see :mod:`cosim.fmu.stability`).
+``Bicycle.Bicycles.WhippleLinear`` (see :mod:`cosim.bicycle.stability`).
 """
 from __future__ import annotations
 
@@ -51,7 +51,7 @@ def critical_speeds(fmu, params: dict, wheels: str, inertias=INERTIAS) -> tuple[
 
     The inertias are processed from large to small with the previous weave speed as the
     bracket guess (the weave speed grows as the inertia shrinks)."""
-    from cosim.fmu import stability as WP
+    from cosim.bicycle import stability as WP
 
     weave = np.full(len(inertias), np.nan)
     capsize = np.full(len(inertias), np.nan)
@@ -69,7 +69,7 @@ def critical_speeds(fmu, params: dict, wheels: str, inertias=INERTIAS) -> tuple[
 
 
 def compute(fmu=None):
-    from cosim.fmu import stability as WP
+    from cosim.bicycle import stability as WP
 
     fmu = fmu or WP.whipple_fmu()
     params = WP.parameters_for_model(PARAMS)

@@ -17,7 +17,7 @@ moment -N_R*R*phi. In the linear model this is a roll-torque feedback
     T_phi = -k*phi,   k = g*mT*(1 - xT/w)*R,   i.e.  K0[0,0] -> mT*zT + mT*(1 - xT/w)*R,
 
 applied through the roll-torque input ``T_phi`` of the linear Whipple FMU
-(``A_cl = A - k*B[:, T_phi]*e_phi'``, :func:`cosim.fmu.stability.closed_loop`). It is the
+(``A_cl = A - k*B[:, T_phi]*e_phi'``, :func:`cosim.bicycle.stability.closed_loop`). It is the
 paper's eq (27) argument (the gravity term m*g*h of the inverted pendulum becomes m*g*(h - R))
 for a roller on the rear wheel only: with rollers on both wheels, N_R + N_F = m*g and the
 correction is exactly eq (27)'s.
@@ -59,8 +59,7 @@ SPEEDS = np.linspace(-10.0, 15.0, 201)
 
 def adapted_parameters() -> dict:
     """The adapted bicycle (Meijaard symbols, validated)."""
-    from cosim.analytic.parameters import load_parameter_set, validate_parameters
-    from cosim.fmu.stability import parameters_for_model
+    from cosim.analytic.parameters import load_parameter_set, parameters_for_model, validate_parameters
 
     p = parameters_for_model(BASE)
     p["mF"] = FRONT_WHEEL_MASS
@@ -87,7 +86,7 @@ def critical_speeds(fmu, params: dict, radius: float) -> tuple[float | None, flo
     ``radius`` [m] (0: knife edge), from linearizations of the linear Whipple FMU ``fmu`` with
     the roll-torque feedback of :func:`roller_stiffness`; None where the mode does not change
     stability below 200 m/s."""
-    from cosim.fmu import stability as WP
+    from cosim.bicycle import stability as WP
 
     k = roller_stiffness(params, radius)
     vw = WP.weave_speed(fmu, params, roll_stiffness=k, xtol=1e-9)
@@ -97,7 +96,7 @@ def critical_speeds(fmu, params: dict, radius: float) -> tuple[float | None, flo
 
 def compute(fmu=None):
     """Per roller radius: eigenvalues over SPEEDS, weave speed, capsize speed (None: none below 200 m/s)."""
-    from cosim.fmu import stability as WP
+    from cosim.bicycle import stability as WP
 
     fmu = fmu or WP.whipple_fmu()
     params = adapted_parameters()

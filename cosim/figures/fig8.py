@@ -24,7 +24,7 @@ SPEEDS = np.linspace(0.0, 15.0, 151)
 
 def compute(fmu=None):
     """Speeds, eigenvalues (len(SPEEDS) x 4), weave and capsize speeds, all from the FMU."""
-    from cosim.fmu import stability as WP
+    from cosim.bicycle import stability as WP
 
     fmu, params, ev, vw, vc = WP.speed_sweep(fmu, PARAMS, SPEEDS)
     marks = {v: WP.eigenvalues(fmu, params, v) for v in (vw, vc) if v is not None}

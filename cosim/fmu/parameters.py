@@ -12,13 +12,13 @@ from __future__ import annotations
 
 import math
 import numbers
-import sys
-from collections.abc import Callable
 from dataclasses import asdict, dataclass
 
-from cosim.compiler.catalog import CALCULATED, START_GUESS, START_VALUE, settable_role
+from cosim.compiler.catalog import CALCULATED, START_GUESS, START_VALUE, indexed_declarations, settable_role
+from cosim.compiler.catalog import fmu_declarations as described_by_compiler
 from cosim.errors import ParameterError
-from cosim.fmu.target import is_fmu_path
+from cosim.fmu.access import READABLE_FMI_VERSIONS, read_fmu
+from cosim.fmu.target import built_fmu, is_fmu_path
 
 #: The roles (:attr:`Declared.causality`) of start values of states.
 START_ROLES = (START_VALUE, START_GUESS)
@@ -95,8 +95,6 @@ def fmu_declarations(path) -> dict[str, Declared]:
     FMUError
         If the file cannot be read (see :func:`cosim.fmu.access.read_fmu`).
     """
-    from cosim.fmu.access import READABLE_FMI_VERSIONS, read_fmu
-
     # Only the model description is read here (FMI 2 or 3): the verb that runs the FMU decides
     # which FMI versions it runs, and refuses the others when it opens the FMU.
     return described(read_fmu(path, READABLE_FMI_VERSIONS))
@@ -115,10 +113,6 @@ def model_declarations(name: str, fmi_version: str = "2") -> dict[str, Declared]
     UnknownModelError, ModelicaError, ModelStructureError
         If the model is not in the library or cannot be built.
     """
-    from cosim.compiler.catalog import fmu_declarations as described_by_compiler
-    from cosim.compiler.catalog import indexed_declarations
-    from cosim.fmu.target import built_fmu
-
     version = str(fmi_version)
     records = indexed_declarations(name, version)
     if records is not None:
@@ -275,174 +269,6 @@ def check(values: dict, declared: dict[str, Declared], input_hint: str | None = 
     return checked
 
 
-def from_command_line(target: str, assignments: list[str], extra: dict | None = None,
-                      parameter_set: str | None = None, input_hint: str | None = SIMULATE_INPUT_HINT,
-                      speed: float | None = None, declared: dict[str, Declared] | None = None,
-                      report: Callable[[str], None] | None = None) -> dict:
-    """``--params`` set, then ``--param`` strings, then ``extra`` values, then the forward speed
-    ``speed`` [m/s] (``--speed``, see :func:`forward_speed`), checked for ``target``.
-
-    ``parameter_set`` is a Meijaard parameter set (bundled name or TOML file) for models whose
-    parameters carry the Meijaard names, such as ``Bicycle.Bicycles.WhippleLinear``. A set whose
-    file waives checks (``allow_nonphysical``, see
-    :func:`cosim.analytic.parameters.load_parameter_set`) is reported by one line to ``report``
-    (default: stderr), since the nonlinear models use such values as they are.
-    ``declared`` (from :func:`declarations`) saves reading the model again."""
-    values = {}
-    if parameter_set:
-        from cosim.fmu.stability import parameters_for_model
-
-        try:
-            values.update(parameters_for_model(parameter_set))
-            waiver = parameter_set_waiver(parameter_set)
-        except FileNotFoundError:
-            raise ParameterError(f"--params {parameter_set}: no such bundled set or file") from None
-        declared = declarations(target) if declared is None else declared
-        if "mU" in declared:
-            values = _split_rider(values, parameter_set, waiver.checks if waiver else ())
-        if waiver is not None:
-            (report or _note_on_stderr)(f"--params {parameter_set}: {waiver.describe()}")
-    values.update(dict(split_assignment(a) for a in assignments))  # a repeated name: the last wins
-    values.update(extra or {})
-    if not values and speed is None:
-        return {}
-    declared = declarations(target) if declared is None else declared
-    if speed is not None:
-        fs = forward_speed(target, declared)
-        values.update(fs.values(speed, {**starts(declared), **values}))
-    return check(values, declared, input_hint)
-
-
-def parameter_set_waiver(parameter_set: str):
-    """The waiver (:class:`cosim.analytic.parameters.Waiver`) a ``--params`` set's file declares,
-    None if it declares none; ParameterError for a set that does not load."""
-    from cosim.analytic.parameters import load_parameter_set
-
-    try:
-        return load_parameter_set(parameter_set).waiver
-    except ValueError as exc:
-        raise ParameterError(f"--params {parameter_set}: {exc}") from None
-
-
-def _note_on_stderr(message: str) -> None:
-    print(f"cosim: note: {message}", file=sys.stderr)
-
-
-def _split_rider(values: dict[str, float], parameter_set: str, waived=()) -> dict[str, float]:
-    """A Meijaard set's rear frame B holds the whole (rigid) rider. For a model with the rider's upper
-    body on a hip hinge (parameters mU, xU, ...), the bundled upper body is split off B, so that with
-    the hinge locked the bicycle is the set's bicycle (not one carrying a second upper body). The
-    checks the set's file waives (``waived``) stay waived for the split rear frame."""
-    from cosim.analytic.parameters import load_upper_body, split_upper_body, validate_parameters
-
-    try:
-        split = split_upper_body(values, load_upper_body())
-        validate_parameters({k: split[k] for k in values}, waive=waived)
-    except ValueError as exc:
-        raise ParameterError(f"--params {parameter_set}: the rear frame of the set cannot carry the rider's "
-                             f"upper body of this model: {exc}") from None
-    return split
-
-
 def starts(declared: dict[str, Declared]) -> dict[str, float]:
     """The numeric default (start) values of the declared parameters."""
     return {n: d.start for n, d in declared.items() if d.causality == "parameter" and d.start is not None}
-
-
-SPEED_NAMES = ("V", "v")
-
-
-#: Rolling bicycles: the initial rear wheel rate [rad/s] and the rear wheel radius [m].
-WHEEL_RATE, WHEEL_RADIUS = "u_R0", "rR"
-
-
-@dataclass(frozen=True)
-class ForwardSpeed:
-    """How the forward speed ``V`` [m/s] of a model is set.
-
-    * ``V`` (simple models) or ``v`` (``WhippleLinear``): the speed parameter itself (any finite
-      value its declaration allows);
-    * ``u_R0`` with ``rR`` (the nonlinear bicycles ``Whipple``, ``WhippleRider``): upright straight
-      running at forward speed ``V >= 0``, i.e. the initial rear wheel rate ``u_R0 = -V/rR``
-      (pitch 0 when upright with zero steer, so the rear contact moves at ``-u_R rR``).
-    """
-
-    parameter: str
-    wheel_radius: str | None = None
-
-    @property
-    def label(self) -> str:
-        """The speed's symbol in tables (``V``, ``v``)."""
-        return "v" if self.wheel_radius else self.parameter
-
-    def check(self, V) -> float:
-        """``V`` as a float [m/s]; ParameterError if it is not a finite number or, for a rolling
-        bicycle, negative (the declared ``min``/``max`` of ``V``/``v`` are checked with the other
-        parameters, see :func:`check`)."""
-        try:
-            V = float(V)
-        except (TypeError, ValueError):
-            raise ParameterError(f"the speed must be a number [m/s], got {V!r}") from None
-        if not math.isfinite(V):
-            raise ParameterError(f"the speed must be finite, got {V}")
-        if self.wheel_radius is not None and V < 0:
-            raise ParameterError(f"the forward speed must be >= 0 m/s (upright straight running forwards), got {V:g}")
-        return V
-
-    def values(self, V: float, known: dict) -> dict[str, float]:
-        """Parameter values for speed ``V`` [m/s] (refused as by :meth:`check`); ``known`` holds
-        the other parameter values (``rR`` [m] for a rolling bicycle)."""
-        V = self.check(V)
-        if self.wheel_radius is None:
-            return {self.parameter: V}
-        radius = known.get(self.wheel_radius)
-        try:  # a --param value is still text here
-            r = float(radius)
-        except (TypeError, ValueError):
-            r = math.nan
-        if not (math.isfinite(r) and r > 0):
-            raise ParameterError(f"the speed needs a positive rear wheel radius {self.wheel_radius} [m], "
-                                 f"got {radius!r}")
-        return {self.parameter: -V / r}
-
-    def speed(self, values: dict) -> float:
-        """The forward speed [m/s] that parameter ``values`` set (inverse of :meth:`values`)."""
-        if self.wheel_radius is None:
-            return float(values[self.parameter])
-        return -float(values[self.parameter]) * float(values[self.wheel_radius])
-
-
-def forward_speed(target: str, declared: dict[str, Declared] | None = None) -> ForwardSpeed:
-    """How the forward speed of a model or FMU is set (:class:`ForwardSpeed`).
-
-    Parameters
-    ----------
-    target : str
-        Model name or FMU file.
-    declared : dict, optional
-        Its :func:`declarations` (read if not given).
-
-    Raises
-    ------
-    ParameterError
-        The model has no forward speed (no ``V``, ``v`` or ``u_R0`` with ``rR``).
-    """
-    declared = declarations(target) if declared is None else declared
-
-    def parameter(name):
-        return name in declared and declared[name].causality == "parameter"
-
-    for name in SPEED_NAMES:
-        if parameter(name):
-            return ForwardSpeed(name)
-    if parameter(WHEEL_RATE) and parameter(WHEEL_RADIUS):
-        return ForwardSpeed(WHEEL_RATE, WHEEL_RADIUS)
-    raise ParameterError(f"{target} has no forward speed (no parameter {', '.join(SPEED_NAMES)}, "
-                         f"or {WHEEL_RATE} with {WHEEL_RADIUS}); --speed does not apply")
-
-
-def speed_parameter(target: str) -> str:
-    """The parameter that sets the forward speed of a model or FMU (``V`` in the simple models,
-    ``v`` in ``WhippleLinear``, ``u_R0`` in the nonlinear bicycles, see :func:`forward_speed`);
-    :class:`ParameterError` if it has none."""
-    return forward_speed(target).parameter

@@ -1,6 +1,7 @@
-"""``python -m cosim.matrix SPEC [options]``: the ``cosim matrix`` command on its own."""
+"""``python -m cosim.matrix SPEC [options]``: the ``cosim matrix`` command on its own (one error
+handling for both: the top command line runs it)."""
 import sys
 
-from cosim.matrix.cli import main
+from cosim.cli import main
 
-sys.exit(main())
+sys.exit(main(["matrix", *sys.argv[1:]]))

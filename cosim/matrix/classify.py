@@ -50,9 +50,11 @@ decisive prediction); ``failed`` if the case could not be run.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
+
+from cosim.matrix.pencil import MODAL_SIGNIFICANT, SMALL_ORDER, SMALL_PENCIL, ModalFit
+from cosim.matrix.pencil import native as native_pencil
 
 UNSTABLE = ("unstable", "fell", "diverged")
 
@@ -63,32 +65,6 @@ MODAL_MAX_ORDER = 30
 #: Samples used by the fit (longer runs are decimated; Re(lambda) = ln|z| / h is alias-free): the
 #: pencil's cost grows with their cube and more do not identify better (docs/benchmarks.md).
 MODAL_SAMPLES = 200
-#: The pencil parameter tried first, kept when it finds at most :data:`SMALL_ORDER` modes, else the
-#: fit is redone with n/3 columns: a small Hankel matrix makes the SVD, most of a case's CPU time,
-#: cheap without changing a class; runs that fell keep n/3 (``observe``), as near a fall the signal
-#: is no sum of modes (docs/benchmarks.md).
-SMALL_PENCIL = 24
-SMALL_ORDER = SMALL_PENCIL // 2 - 2
-#: A mode counts when its largest contribution |a| max_k |z|^k is at least this fraction of the peak
-#: of |x| (and 100 times the fit's RMS residual): smaller ones are fitting noise.
-MODAL_SIGNIFICANT = 1e-6
-
-
-@dataclass
-class ModalFit:
-    """Exponents of ``x(t) ~ sum_m a_m exp(lambda_m (t - t_m))`` fitted to uniform samples.
-
-    ``rate`` [1/s] is the largest Re(lambda) of the significant modes, ``modes`` those exponents
-    [1/s] (largest real part first), ``contributions`` their largest |a_m exp(lambda_m t)| over
-    the window relative to the peak of |x|, ``residual`` the relative 2-norm error of the fit,
-    ``start`` [s] the beginning of the fitted window."""
-
-    rate: float
-    modes: list
-    contributions: list
-    residual: float
-    order: int
-    start: float
 
 
 def _median(a: np.ndarray) -> float:
@@ -221,9 +197,7 @@ def modal_fit(t, x, *, max_samples: int = MODAL_SAMPLES, max_order: int = MODAL_
         and over its later two thirds (where the response to a pulse has become free).
     """
     if native:
-        from cosim.matrix.pencil import native as compiled
-
-        fitter = compiled()
+        fitter = native_pencil()
         if fitter is not None:
             return fitter.modal_fit(t, x, max_samples, max_order, max_residual, small)
     t = np.asarray(t, float)

@@ -5,11 +5,13 @@
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 
-from cosim.cli import library_option, positive_int
+from cosim.cli_options import library_option, positive_int
+from cosim.matrix.spec import MAX_CASES, bundled_specs
 
-__all__ = ["add_parser", "run", "main"]
+__all__ = ["add_parser", "run"]
 
 EPILOG = """\
 an output folder that already holds results is refused unless --resume (keep them: run only the
@@ -27,8 +29,6 @@ Bundled specs (give the name instead of a file): {bundled}
 
 
 def _bundled() -> list[str]:
-    from cosim.matrix.spec import bundled_specs
-
     return bundled_specs()
 
 
@@ -47,8 +47,6 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 
 def _arguments(p: argparse.ArgumentParser) -> None:
-    from cosim.matrix.spec import MAX_CASES
-
     p.add_argument("spec", help="matrix spec (TOML file) or the name of a bundled spec")
     p.add_argument("--workers", type=positive_int, default=None, metavar="N",
                    help="local worker processes, >= 1 (default: number of CPUs)")
@@ -82,9 +80,7 @@ def run(args) -> int:
     CosimError
         For a spec, output-folder or usage error (printed by :func:`cosim.cli.main`).
     """
-    import json
-
-    from cosim.matrix.runner import run_matrix
+    from cosim.matrix.runner import run_matrix  # not needed to build the parser of every verb
 
     try:
         result = run_matrix(args.spec, args.output, workers=args.workers, scheduler=args.scheduler,
@@ -107,10 +103,3 @@ def run(args) -> int:
         print(f"{'PASS' if result.passed else 'FAIL'}: report in {result.report.get('markdown')} and "
               f"{result.report.get('html')}")
     return result.exit_code
-
-
-def main(argv: list[str] | None = None) -> int:
-    """``python -m cosim.matrix ARGS``: ``cosim matrix ARGS`` (one error handling for both)."""
-    from cosim.cli import main as cosim_main
-
-    return cosim_main(["matrix", *(sys.argv[1:] if argv is None else argv)])

@@ -5,15 +5,47 @@ from numpy's own LAPACK library (the OpenBLAS numpy's wheels bundle, ILP64 with 
 ``scipy_dgesdd_64_`` ...; an LP64 ``dgesdd_`` elsewhere), so it needs nothing numpy does not
 have. :func:`native` is None where that library or a C compiler cannot be had; classify.py then
 fits with numpy. Both give the same modes to rounding (tests/test_matrix_pencil.py); the C one
-costs a third as much per case.
+costs a third as much per case. The settings both share (:data:`SMALL_PENCIL`, :data:`SMALL_ORDER`,
+:data:`MODAL_SIGNIFICANT`) and the result type :class:`ModalFit` are defined here.
 """
 from __future__ import annotations
 
 from ctypes import CDLL, POINTER, Structure, addressof, c_double, c_int, c_size_t, c_void_p, cast
+from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
+
+from cosim.native import load, loaded_libraries
+
+#: The pencil parameter tried first, kept when it finds at most :data:`SMALL_ORDER` modes, else the
+#: fit is redone with n/3 columns: a small Hankel matrix makes the SVD, most of a case's CPU time,
+#: cheap without changing a class; runs that fell keep n/3 (``observe``), as near a fall the signal
+#: is no sum of modes (docs/benchmarks.md).
+SMALL_PENCIL = 24
+SMALL_ORDER = SMALL_PENCIL // 2 - 2
+#: A mode counts when its largest contribution |a| max_k |z|^k is at least this fraction of the peak
+#: of |x| (and 100 times the fit's RMS residual): smaller ones are fitting noise.
+MODAL_SIGNIFICANT = 1e-6
+
+
+@dataclass
+class ModalFit:
+    """Exponents of ``x(t) ~ sum_m a_m exp(lambda_m (t - t_m))`` fitted to uniform samples.
+
+    ``rate`` [1/s] is the largest Re(lambda) of the significant modes, ``modes`` those exponents
+    [1/s] (largest real part first), ``contributions`` their largest |a_m exp(lambda_m t)| over
+    the window relative to the peak of |x|, ``residual`` the relative 2-norm error of the fit,
+    ``start`` [s] the beginning of the fitted window."""
+
+    rate: float
+    modes: list
+    contributions: list
+    residual: float
+    order: int
+    start: float
+
 
 SOURCE = Path(__file__).with_name("pencil.c")
 #: -ffp-contract=off: no fused multiply-adds (the products round as numpy's do).
@@ -45,8 +77,6 @@ def numpy_lapack() -> tuple[CDLL, str, bool] | None:
     among the libraries loaded in this process (``/proc/self/maps``, Linux), or None."""
     import numpy.linalg  # noqa: F401  (loads numpy's LAPACK)
 
-    from cosim.native import loaded_libraries
-
     for path in loaded_libraries("openblas|lapack|blas"):
         try:
             lib = CDLL(path)
@@ -64,17 +94,15 @@ class NativePencil:
     """pencil.c with numpy's LAPACK: :meth:`modal_fit` as classify.modal_fit."""
 
     def __init__(self, lib: CDLL, lapack: CDLL, pattern: str):
-        from cosim.matrix import classify
-
         self._function = lib.cosim_modal_fit
         self._function.restype = c_int
         # addresses as integers: a case calls this once, and ctypes' pointer objects cost more than the fit's set-up
         self._function.argtypes = [c_void_p, c_void_p, c_void_p, c_void_p, c_size_t, c_int, c_void_p]
         self._lapack = _Lapack(*[cast(getattr(lapack, pattern.format(r)), c_void_p).value for r in ROUTINES])
         self._lapack_address = addressof(self._lapack)
-        self._small = (classify.SMALL_PENCIL, classify.SMALL_ORDER, classify.MODAL_SIGNIFICANT)
+        self._small = (SMALL_PENCIL, SMALL_ORDER, MODAL_SIGNIFICANT)
         self._settings = {}
-        self._fit_class = classify.ModalFit
+        self._fit_class = ModalFit
 
     def _prepared(self, max_samples: int, max_order: int, max_residual: float):
         """(settings, result structure, its arrays) for these limits, made once."""
@@ -112,8 +140,6 @@ class NativePencil:
 @lru_cache(maxsize=1)
 def native() -> NativePencil | None:
     """pencil.c compiled for numpy's LAPACK, or None where either cannot be had."""
-    from cosim.native import load
-
     found = numpy_lapack()
     if found is None:
         return None

@@ -277,7 +277,7 @@ class MatrixSpec:
 
 @lru_cache(maxsize=32)
 def _parameter_set_cached(name: str) -> tuple:
-    from cosim.fmu.stability import parameters_for_model
+    from cosim.analytic.parameters import parameters_for_model  # `cosim --help` loads this module
 
     return tuple(parameters_for_model(name).items())
 

@@ -4,7 +4,8 @@ The Modelica model names its top-level parameters exactly as the symbols of Meij
 (2007), Table 1 (``w c lam g rR mR IRxx IRyy xB zB mB IBxx IBxz IByy IBzz xH zH mH IHxx IHxz
 IHyy IHzz rF mF IFxx IFyy``), so a parameter set of :mod:`cosim.analytic.parameters` (a bundled
 name such as ``benchmark``, ``astrom2005``, ``astrom2005-riderless`` or a TOML file) maps onto the
-FMU by identity after validation; the forward speed is the FMU parameter ``v``.
+FMU by identity after validation (:func:`cosim.analytic.parameters.parameters_for_model`); the
+forward speed is the FMU parameter ``v``.
 
 FMU analysis helpers (all from :func:`cosim.fmu.linearize.linearize` of the FMU, never from the
 analytic Python model):
@@ -21,19 +22,19 @@ Sign conventions are Meijaard's: roll positive leaning right, steer positive to 
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 
-from cosim.errors import ParameterError
+from cosim.analytic.parameters import parameters_for_model
+from cosim.bicycle.linearize import linearize_speeds
+from cosim.fmu.linearize import linearize
 
 __all__ = [
     "MODEL",
     "WHIPPLE_STATES",
     "SPEED",
-    "PARAMETER_MAP",
     "parameters_for_model",
     "speed_sweep",
     "whipple_fmu",
@@ -60,57 +61,13 @@ SPEED = "v"
 INPUTS: tuple[str, ...] = ("T_phi", "T_delta")
 
 
-def _parameter_map() -> dict[str, str]:
-    from cosim.analytic.parameters import PARAMETER_NAMES
-
-    return {name: name for name in PARAMETER_NAMES}
-
-
-#: Meijaard symbol -> FMU parameter name (identical by design of the Modelica model).
-PARAMETER_MAP: dict[str, str] = _parameter_map()
-
-
-def parameters_for_model(name_or_path: str | os.PathLike[str]) -> dict[str, float]:
-    """FMU parameter values of ``Bicycle.Bicycles.WhippleLinear`` for a Meijaard parameter set.
-
-    Parameters
-    ----------
-    name_or_path : str or path-like
-        A bundled set (``benchmark``, ``astrom2005``, ``astrom2005-riderless``; see
-        :func:`cosim.analytic.parameters.bundled_parameter_sets`) or a TOML file with one
-        ``key = number`` line per Meijaard symbol (SI units, Meijaard conventions).
-
-    Returns
-    -------
-    dict of str to float
-        FMU parameter name -> value, the 26 symbols of Meijaard's Table 1 (the names are the
-        same in the FMU). The speed ``v`` is not part of a parameter set.
-
-    Raises
-    ------
-    ParameterError
-        Unknown bundled name, malformed TOML or an invalid set (the message names the key,
-        from :func:`cosim.analytic.parameters.validate_parameters`).
-    FileNotFoundError
-        A path that does not exist.
-    """
-    from cosim.analytic.parameters import load_parameters
-
-    try:
-        values = load_parameters(name_or_path)
-    except FileNotFoundError:
-        raise
-    except ValueError as exc:
-        raise ParameterError(f"--params {os.fspath(name_or_path)}: {exc}") from None
-    return {PARAMETER_MAP[k]: float(v) for k, v in values.items()}
-
-
 def whipple_fmu(output: str | Path | None = None) -> Path:
     """The FMU of :data:`MODEL`, built into ``output`` (default: the project's ``fmus/``) if needed.
 
     The build is incremental (nothing is compiled when the FMU is up to date), so this is cheap
     to call repeatedly.
     """
+    # the compiler imports pymoca and CasADi: only for a build
     from cosim.compiler.build import DEFAULT_OUTPUT, build_model
     from cosim.compiler.library import load_library
 
@@ -119,8 +76,6 @@ def whipple_fmu(output: str | Path | None = None) -> Path:
 
 def linearization(fmu: str | Path, params: Mapping[str, float], v: float):
     """:func:`cosim.fmu.linearize.linearize` of the FMU at speed ``v`` (FMU parameter names)."""
-    from cosim.fmu.linearize import linearize
-
     return linearize(fmu, {**{k: float(x) for k, x in params.items()}, SPEED: float(v)})
 
 
@@ -141,10 +96,8 @@ def state_space(fmu: str | Path, params: Mapping[str, float], v: float) -> tuple
 
 def state_spaces(fmu: str | Path, params: Mapping[str, float], speeds) -> list[tuple[np.ndarray, np.ndarray]]:
     """:func:`state_space` at each of ``speeds`` [m/s] from one speed sweep
-    (:func:`cosim.fmu.linearize.linearize_speeds`: one FMU instance, the same matrices as one
+    (:func:`cosim.bicycle.linearize.linearize_speeds`: one FMU instance, the same matrices as one
     :func:`linearization` per speed); ValueError as :func:`state_space`."""
-    from cosim.fmu.linearize import linearize_speeds
-
     sweep = linearize_speeds(fmu, [float(v) for v in speeds], {k: float(x) for k, x in params.items()})
     return _bicycle_blocks(fmu, sweep.states, sweep.inputs, sweep.A, sweep.B)
 
