@@ -65,8 +65,8 @@ def _command_line() -> str:
     """The command line of this process as a user would type it (``cosim matrix spec.toml ...``)."""
     argv = list(sys.argv) or [sys.executable]
     first = Path(argv[0])
-    if first.name == "__main__.py":  # python -m cosim / python -m cosim.matrix
-        program = "cosim" if first.parent.name == "cosim" else f"cosim {first.parent.name}"
+    if first.name == "__main__.py":  # python -m cosim
+        program = "cosim"
     elif argv[0] == "-c":
         program = "python -c"
     else:

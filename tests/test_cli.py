@@ -246,19 +246,6 @@ def test_analytic_and_matrix_errors_have_the_one_prefix_style(args, message, tmp
     assert len(lines) == 1 and lines[0].startswith(message), result.stderr
 
 
-def test_python_m_cosim_matrix_reports_errors_like_cosim_matrix(tmp_path):
-    import subprocess
-    import sys
-
-    bad = tmp_path / "bad.toml"
-    bad.write_text("[matrix]\nname = 'x'\n")
-    direct = subprocess.run([sys.executable, "-m", "cosim.matrix", str(bad), "-o", str(tmp_path / "a")],
-                            capture_output=True, text=True, cwd=tmp_path, timeout=120)
-    verb = run_cli("matrix", str(bad), "-o", str(tmp_path / "a"), cwd=tmp_path)
-    assert direct.returncode == verb.returncode == 2
-    assert direct.stderr == verb.stderr and direct.stderr.startswith("cosim matrix: error: ")
-
-
 @pytest.mark.parametrize("module", ["cosim.analytic.cli", "cosim.matrix.cli"])
 def test_cli_module_docstrings_describe_the_command_not_its_wiring(module):
     import importlib

@@ -30,7 +30,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("figures", "studies", "matrix"),
     ("app",),
     ("cli",),
-    ("__main__",),  # python -m cosim, python -m cosim.matrix
+    ("__main__",),  # python -m cosim
 ]
 #: The one circle that may stay: blocks and controllers register with the registry, which lists them.
 ALLOWED_CIRCLES = [{"cosim.cosimulation.registry", "cosim.cosimulation.blocks", "cosim.cosimulation.controllers"}]

@@ -425,7 +425,7 @@ def test_hanging_case_times_out(fmus, tmp_path):
 
 def _matrix_cli(*args, **kw) -> subprocess.Popen:
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    return subprocess.Popen([sys.executable, "-m", "cosim.matrix", *args], cwd=ROOT, env=env,
+    return subprocess.Popen([sys.executable, "-m", "cosim", "matrix", *args], cwd=ROOT, env=env,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
 
 

@@ -1,7 +1,7 @@
 """Co-simulation test matrix: many co-simulations, each checked against its analytic prediction.
 
 ``cosim matrix SPEC.toml [--workers N] [--scheduler tcp://HOST:PORT] [-o DIR] [--resume [--keep-failed] | --force]
-[--max-cases N]`` (also ``python -m cosim.matrix ...``). SPEC is a file or the name of a bundled spec
+[--max-cases N]``. SPEC is a file or the name of a bundled spec
 (``cosim/matrix/specs/NAME.toml``; ``paper`` checks the claims of Astrom, Klein & Lennartsson 2005).
 
 Every case is one co-simulation (:mod:`cosim.cosimulation`) plus

@@ -1,7 +1,4 @@
-"""`cosim matrix SPEC.toml`: run a co-simulation test matrix and report.
-
-``python -m cosim.matrix ...`` is the same command (same options, messages and exit status).
-"""
+"""`cosim matrix SPEC.toml`: run a co-simulation test matrix and report."""
 from __future__ import annotations
 
 import argparse
