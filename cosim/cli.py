@@ -491,16 +491,17 @@ def _cmd_linearize(args) -> int:
     np.set_printoptions(precision=6, suppress=False, linewidth=120)
     point = {**params, **inputs}
     print(f"{result.model} linearized ({result.method}) at {point or 'default parameters'}")
-    print(f"states:  {', '.join(result.states)}\ninputs:  {', '.join(result.inputs)}\n"
-          f"outputs: {', '.join(result.outputs)}")
+    system = result.system
+    print(f"states:  {', '.join(system.states)}\ninputs:  {', '.join(system.inputs)}\n"
+          f"outputs: {', '.join(system.outputs)}")
     for name in "ABCD":
-        print(f"{name} =\n{getattr(result, name)}")
+        print(f"{name} =\n{getattr(system, name)}")
     print("eigenvalues:", ", ".join(f"{e:.6g}" for e in result.eigenvalues))
     if steady is not None:
         print(f"upright straight running at v = {steady.speed:.6g} m/s"
               + (f", rider hinge {steady.hinge}" if steady.hinge else "") + ": lateral dynamics")
-        print(f"states:  {', '.join(steady.states)}\ninputs:  {', '.join(steady.inputs)}")
-        print(f"A =\n{steady.A}\nB =\n{steady.B}")
+        print(f"states:  {', '.join(steady.system.states)}\ninputs:  {', '.join(steady.system.inputs)}")
+        print(f"A =\n{steady.system.A}\nB =\n{steady.system.B}")
         print("lateral eigenvalues:", ", ".join(f"{e:.10g}" for e in steady.eigenvalues))
         print("exact zero eigenvalues:")
         for state, reason in steady.zero_modes.items():
@@ -551,11 +552,11 @@ def _linearize_sweep(args) -> int:
     if lateral:
         first = next((s for s in sweep.steady if not isinstance(s, NotSteadyMotion)), None)
         print("eigenvalues [1/s] of the lateral dynamics about upright straight running"
-              + (f" ({', '.join(first.states)}; rider hinge {first.hinge})" if first and first.hinge else
-                 f" ({', '.join(first.states)})" if first else "")
+              + (f" ({', '.join(first.system.states)}; rider hinge {first.hinge})" if first and first.hinge else
+                 f" ({', '.join(first.system.states)})" if first else "")
               + "; the other eigenvalues are exact zeros (see cosim linearize --help)")
     else:
-        print(f"eigenvalues [1/s] of A ({', '.join(sweep.states)})")
+        print(f"eigenvalues [1/s] of A ({', '.join(sweep.systems[0].states)})")
     print(f"{fs.label + ' [m/s]':>10}{'eigenvalues':>22}")
     for k, v in enumerate(sweep.speeds):
         row = ev[k]

@@ -16,6 +16,7 @@ from cosim.cosimulation.factory import python_block
 from cosim.cosimulation.modelica_twins import with_twins
 from cosim.cosimulation.system import SystemError_, system_from_dict
 from cosim.matrix import predict
+from cosim.statespace import StateSpace
 
 BLOCKS = registry.registered()
 H, STOP = 0.01, 2.0  # communication step and end of the step responses [s]
@@ -57,18 +58,18 @@ def _respond(component, count: int) -> np.ndarray:
     return np.array(rows)
 
 
-def _linear_response(block, model: registry.LinearModel) -> np.ndarray:
+def _linear_response(block, model: StateSpace) -> np.ndarray:
     """The declared linear model y = C x + D u + r(t), discretized exactly (ZOH, scipy)."""
     grid = np.arange(round(STOP / H) + 1) * H
     count = len(model.inputs)
-    if model.states:
+    if model.n:
         Ad, Bd, *_ = cont2discrete((model.A, model.B, model.C, model.D), H, method="zoh")
-    x = np.zeros(model.states)
+    x = np.zeros(model.n)
     rows = []
     for t, t_next in zip(grid[:-1], grid[1:]):
         u = _inputs(t, count)
         rows.append(model.C @ x + model.D @ u + block.exogenous(t))
-        if model.states:
+        if model.n:
             x = Ad @ x + Bd @ u
         rows.append(model.C @ x + model.D @ u + block.exogenous(t_next))
     return np.array(rows)
@@ -137,10 +138,11 @@ def test_prediction_reads_the_blocks_linear_model(name, fmus):
         entries.append({"model": cls.twin, "parameters": parameters})
     for entry in entries:
         lti = predict.component_lti("block", entry, {cls.twin: str(fmus[cls.twin])}, SETTINGS)
-        for ours, declared in ((lti.A, model.A), (lti.B, model.B), (lti.C, model.C), (lti.D, model.D)):
-            np.testing.assert_array_equal(ours, declared)
-        assert (lti.inputs, lti.outputs) == (list(cls.inputs), list(cls.outputs))
-        assert lti.kind == ("delay" if model.interpolates else "static" if not model.states else "dynamic")
+        ours = lti.system
+        for found, declared in ((ours.A, model.A), (ours.B, model.B), (ours.C, model.C), (ours.D, model.D)):
+            np.testing.assert_array_equal(found, declared)
+        assert (ours.inputs, ours.outputs) == (list(cls.inputs), list(cls.outputs))
+        assert lti.kind == ("delay" if cls.interpolates else "static" if not model.n else "dynamic")
 
 
 def test_every_block_is_exported_through_its_twin():
@@ -195,7 +197,7 @@ def test_one_class_is_a_block_for_every_consumer(new_block):
     with pytest.raises(SystemError_, match=r"component 'g' \(DoubleGain\): parameter 'a': expected a number"):
         python_block("g", "DoubleGain", {"a": "big"})
     lti = predict.component_lti("g", {"python": "DoubleGain", "parameters": {"a": 3.0}}, {}, SETTINGS)
-    np.testing.assert_array_equal(lti.D, [[3.0], [-3.0]])
+    np.testing.assert_array_equal(lti.system.D, [[3.0], [-3.0]])
     assert "`DoubleGain` (u -> y1, y2; twin `None`): y1 = a u, y2 = -a u (a dimensionless)." in registry.markdown()
     spec = system_from_dict({"components": {"g": {"python": "DoubleGain"}}})
     with pytest.raises(SystemError_, match="the Python block 'DoubleGain' has no Modelica twin"):

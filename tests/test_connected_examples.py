@@ -368,7 +368,7 @@ def _closed_loop(case, models, example):
     """The continuous-time closed loop x' = F x + G r(t) of the bicycle FMU's linearization and
     the Python blocks' linear models, wired by the case's connections, and its initial state
     (the example FMU's states at t = 0). Outputs y = M (C x + r)."""
-    lin = linearize(models[case.bicycle], {k: v for k, v in case.parameters.items() if "." not in k})
+    lin = linearize(models[case.bicycle], {k: v for k, v in case.parameters.items() if "." not in k}).system
     parts = [(case.name, lin.A, lin.B, lin.C, lin.D, lin.inputs, lin.outputs, None)]
     for name, (block, parameters) in case.blocks.items():
         b = registry.lookup(block).create(name, parameters)

@@ -154,8 +154,8 @@ RADII = {f"R = {R:g} m": R for R in fig15.ROLLER_RADII}
 
 def _torus_lateral_matrix(fmu, params, radius, v):
     sm = steady_motion(linearize(fmu, speed_parameters({**params, "tR": radius, "tF": 0.0}, v)))
-    assert sm.states == ["phi", "delta", "u_phi", "u_delta"]
-    return sm.A
+    assert sm.system.states == ["phi", "delta", "u_phi", "u_delta"]
+    return sm.system.A
 
 
 def _torus_weave_speed(fmu, params, radius):

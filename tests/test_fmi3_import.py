@@ -463,13 +463,14 @@ def test_fmi3_array_states_are_linearized_value_by_value(own):
         assert fmu.states == ["x"] and fmu.n_states == 2 and fmu.elements(["x"]) == ["x[1]", "x[2]"]
     exact = linearize(fmi3, {"tau": 0.2})
     differences = linearize(fmi3, {"tau": 0.2}, method="finite-differences")
-    assert exact.states == differences.states == linearize(fmi2, {"tau": 0.2}).states == ["x[1]", "x[2]"]
+    assert (exact.system.states == differences.system.states == linearize(fmi2, {"tau": 0.2}).system.states
+            == ["x[1]", "x[2]"])
     assert differences.method == "central finite differences"
     for name in "ABCD":
-        a, b = getattr(exact, name), getattr(differences, name)
+        a, b = getattr(exact.system, name), getattr(differences.system, name)
         np.testing.assert_allclose(b, a, rtol=0, atol=1e-6 * max(1.0, np.max(np.abs(a))), err_msg=name)
     # x'' + (6/tau) x' + (12/tau^2) x = u: the second-order Pade denominator at tau = 0.2 s
-    np.testing.assert_allclose(exact.A, [[0.0, 1.0], [-12 / 0.2 ** 2, -6 / 0.2]], rtol=1e-12, atol=0)
+    np.testing.assert_allclose(exact.system.A, [[0.0, 1.0], [-12 / 0.2 ** 2, -6 / 0.2]], rtol=1e-12, atol=0)
 
 
 def test_fmi3_variable_types_are_checked_as_their_values(reference):

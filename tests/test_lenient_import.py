@@ -123,7 +123,7 @@ def test_python_api_takes_lenient(defective):
         result = cosim.simulate(fmu, stop_time=1.0, step=0.1, lenient=True)
     assert result["time"][-1] == pytest.approx(1.0, abs=1e-12)
     linear = cosim.linearize(fmu, lenient=True)
-    np.testing.assert_allclose(linear.A, [[0.0, 1.0], [-1.0, -3.0]], rtol=0, atol=LINEARIZE_TOLERANCE)
+    np.testing.assert_allclose(linear.system.A, [[0.0, 1.0], [-1.0, -3.0]], rtol=0, atol=LINEARIZE_TOLERANCE)
     assert access.FMU(fmu, access.ALL_FMI_VERSIONS, lenient=True).description.modelName
 
 

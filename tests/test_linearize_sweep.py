@@ -89,15 +89,18 @@ def test_sweep_equals_single_speed_calls(built, model, lock):
     lateral = sweep.lateral_eigenvalues if model in (WHIPPLE, RIDER) else None
     for k, v in enumerate(SPEEDS):
         single = linearize(built[model], _speed_values(model, v))
-        assert single.states == sweep.states and single.outputs == sweep.outputs
-        for name in ("A", "B", "C", "D", "x0", "xdot0"):
+        swept = sweep.systems[k]
+        assert single.system.states == swept.states and single.system.outputs == swept.outputs
+        for name in ("A", "B", "C", "D"):
+            assert _close(getattr(swept, name), getattr(single.system, name)) <= TOL, (name, v)
+        for name in ("x0", "xdot0"):
             assert _close(getattr(sweep, name)[k], getattr(single, name)) <= TOL, (name, v)
         assert _set_error(eigenvalues[k], single.eigenvalues) <= TOL, v
         if lateral is not None:
             reference = steady_motion(single, lock_hinge=lock)
             assert _close(lateral[k], reference.eigenvalues) <= TOL, v
             assert sweep.steady[k].speed == pytest.approx(v, rel=1e-14, abs=1e-14)
-            assert sweep.steady[k].states == reference.states
+            assert sweep.steady[k].system.states == reference.system.states
     if lateral is None:
         assert sweep.steady is None
         with pytest.raises(ValueError, match="not a nonlinear bicycle"):
@@ -110,7 +113,7 @@ def test_sweep_with_parameters_and_refused_reduction(built):
     sweep = linearize_speeds(built[WHIPPLE], [1.0, 5.0], {"phi0": 0.1, "mB": 80.0})
     for k, v in enumerate([1.0, 5.0]):
         single = linearize(built[WHIPPLE], {"phi0": 0.1, "mB": 80.0, **_speed_values(WHIPPLE, v)})
-        assert _close(sweep.A[k], single.A) <= TOL
+        assert _close(sweep.systems[k].A, single.system.A) <= TOL
         assert "not upright straight running" in str(sweep.steady[k]) and "phi = 0.1" in str(sweep.steady[k])
     assert np.all(np.isnan(sweep.lateral_eigenvalues))
 

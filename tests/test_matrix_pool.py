@@ -395,8 +395,8 @@ def test_block_model_cache_tells_parameters_apart(tau, k):
     model = block_lti("delay", "TransportDelay", {"tau": tau}, settings)
     rider = block_lti("rider", "Proportional", {"k": k}, settings)
     assert (model is base) == (tau == 0.1)
-    assert not model.A.flags.writeable  # shared between cases: nobody may change it
-    assert float(rider.D[0, 0]) == -k  # T = -k phi: a different k is a different cached model
+    assert not model.system.A.flags.writeable  # shared between cases: nobody may change it
+    assert float(rider.system.D[0, 0]) == -k  # T = -k phi: a different k is a different cached model
 
 
 @pytest.mark.parametrize("study, imported", [("fmu", "[]"), ("rider", "['control']")], ids=["fmu-only", "rider"])

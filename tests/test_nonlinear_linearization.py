@@ -175,9 +175,10 @@ def test_locked_hinge_is_exact(rider_fmu, hinge):
         lin = linearize(rider_fmu, {"u_R0": -v / p["rR"], "kU": kU, "cU": cU})
         locked = steady_motion(lin, lock_hinge=True)
         ref = steady_motion(linearize(rider_fmu, {"u_R0": -v / p["rR"]}), lock_hinge=True)
-        assert locked.hinge == "locked" and locked.inputs == ["T_delta", "T_phi"]
-        assert np.abs(locked.A - ref.A).max() <= 1e-12 * np.abs(ref.A).max()
-        assert np.abs(locked.B - ref.B).max() <= 1e-12 * np.abs(ref.B).max()
+        assert locked.hinge == "locked" and locked.system.inputs == ["T_delta", "T_phi"]
+        ours, theirs = locked.system, ref.system
+        assert np.abs(ours.A - theirs.A).max() <= 1e-12 * np.abs(theirs.A).max()
+        assert np.abs(ours.B - theirs.B).max() <= 1e-12 * np.abs(theirs.B).max()
         assert root_set_error(locked.eigenvalues, W.eigenvalues(p, v)) <= ROOT_TOL
 
 
@@ -189,7 +190,7 @@ def test_stiff_hinge_only_approximates_the_lock(rider_fmu):
     errors = []
     for kU in (1e4, 1e6):
         lin = linearize(rider_fmu, {"u_R0": -5.0 / p["rR"], "kU": kU, "cU": 0.0})
-        ev = np.linalg.eigvals(lin.A)
+        ev = np.linalg.eigvals(lin.system.A)
         ev = ev[(np.abs(ev) > 1e-6) & (np.abs(ev) < 30.0)]  # drop the zeros and the fast hinge mode
         errors.append(root_set_error(ev, exact))
     assert errors[0] > 1e-6 and errors[1] < errors[0] / 30.0
@@ -200,7 +201,7 @@ def test_free_hinge_reduction_keeps_the_spectrum(rider_fmu):
     for v in (0.0, 2.0, 5.0, 8.0):
         lin = linearize(rider_fmu, {"u_R0": -v / p["rR"]})
         free = steady_motion(lin)
-        assert free.hinge == "free" and free.states == ["phi", "delta", "beta", "u_phi", "u_delta", "u_beta"]
+        assert free.hinge == "free" and free.system.states == ["phi", "delta", "beta", "u_phi", "u_delta", "u_beta"]
         assert root_set_error(lin.eigenvalues, free.all_eigenvalues()) <= ROOT_TOL
 
 

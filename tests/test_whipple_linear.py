@@ -132,7 +132,7 @@ def test_state_space_matches_analytic(fmu, name, v):
 def test_heading_and_path_kinematics(fmu, v):
     """der(psi) = (v delta + c der(delta)) cos(lam)/w, der(y) = v psi; psi, y do not feed back. Exact to 1e-14."""
     p = WP.parameters_for_model("benchmark")
-    lin = WP.linearization(fmu, p, v)
+    lin = WP.linearization(fmu, p, v).system
     i = {s: k for k, s in enumerate(lin.states)}
     A = lin.A
     k = math.cos(p["lam"]) / p["w"]

@@ -156,7 +156,7 @@ def test_linearization_equals_meijaard(fmu, name):
     p = load_parameters(name)
     worst_eig = worst_ab = 0.0
     for v in SPEEDS:
-        lin = linearize(fmu, speed_parameters(p, v))
+        lin = linearize(fmu, speed_parameters(p, v)).system
         ev = np.linalg.eigvals(lin.A)
         expected = np.concatenate([W.eigenvalues(p, v), np.zeros(7)])
         worst_eig = max(worst_eig, root_set_error(ev, expected))
@@ -170,7 +170,7 @@ def test_linearization_equals_meijaard(fmu, name):
 
 
 def _roll_steer_block(fmu, params):
-    lin = linearize(fmu, params)
+    lin = linearize(fmu, params).system
     idx = [lin.states.index(s) for s in ("phi", "delta", "u_phi", "u_delta")]
     return lin.A[np.ix_(idx, idx)]
 
@@ -315,7 +315,7 @@ def test_rider_interface_and_locked_hinge(rider_fmu):
     p = load_parameters("benchmark")
     for v in (1.0, 5.0):
         lin = linearize(rider_fmu, {"u_R0": -v / p["rR"], "kU": 1e9, "cU": 0.0})
-        ev = np.linalg.eigvals(lin.A)
+        ev = np.linalg.eigvals(lin.system.A)
         ev = ev[(np.abs(ev) > 1e-9) & (np.abs(ev) < 1e3)]  # drop the zeros and the stiff hinge mode
         assert root_set_error(ev, W.eigenvalues(p, v)) <= 1e-7
 

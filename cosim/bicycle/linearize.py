@@ -20,8 +20,9 @@ from cosim.analytic.parameters import MAX_SPEED
 from cosim.bicycle.parameters import forward_speed
 from cosim.errors import ParameterError
 from cosim.fmu.isolation import DEFAULT_TIMEOUT
-from cosim.fmu.linearize import Linearization, coordinate_matrix, linearize_sweep
+from cosim.fmu.linearize import Linearization, coordinate_matrix, linearize_sweep, stacked
 from cosim.fmu.parameters import declarations, starts
+from cosim.statespace import StateSpace
 
 # --------------------------------------------------------------------------- steady motion
 
@@ -59,7 +60,7 @@ def further_coordinates(states) -> list[tuple[str, str]]:
 def is_bicycle(lin: Linearization) -> bool:
     """Whether the FMU has the quantities of the nonlinear bicycles (:data:`IGNORABLE` etc.) as
     states or outputs, so that :func:`steady_motion` applies."""
-    return names_of_bicycle() <= set(lin.states) | set(lin.outputs)
+    return names_of_bicycle() <= set(lin.system.states) | set(lin.system.outputs)
 
 
 def names_of_bicycle() -> set[str]:
@@ -75,8 +76,9 @@ class NotSteadyMotion(ValueError):
 class SteadyMotion:
     """The exact lateral linearization of a nonlinear bicycle about upright straight running.
 
-    ``x' = A x + B u`` on the lateral states (roll, steer[, lean], their rates), ``path_A``,
-    ``path_B`` the rows of yaw and lateral position (``psi' , y'``) on ``states + path``.
+    ``system`` is ``x' = A x + B u`` on the lateral states (roll, steer[, lean], their rates),
+    every state an output; ``path_A``, ``path_B`` the rows of yaw and lateral position
+    (``psi' , y'``) on ``system.states + path``.
     The eigenvalues of the whole model are :attr:`eigenvalues` and one exact zero for each
     entry of :attr:`zero_modes`.
     """
@@ -84,10 +86,7 @@ class SteadyMotion:
     model: str
     speed: float  # forward speed v [m/s] of the operating point
     hinge: str | None  # "free", "locked" or None (no rider hinge)
-    states: list[str]
-    inputs: list[str]
-    A: np.ndarray
-    B: np.ndarray
+    system: StateSpace
     path: list[str]
     path_A: np.ndarray
     path_B: np.ndarray
@@ -97,7 +96,7 @@ class SteadyMotion:
     @property
     def eigenvalues(self) -> np.ndarray:
         """The eigenvalues [1/s] of the lateral dynamics, sorted by real, then imaginary part."""
-        ev = np.linalg.eigvals(self.A)
+        ev = np.linalg.eigvals(self.system.A)
         return ev[np.lexsort((ev.imag, ev.real))]
 
     def all_eigenvalues(self) -> np.ndarray:
@@ -109,20 +108,21 @@ class SteadyMotion:
         every state an output."""
         import control
 
-        n = len(self.states)
+        s = self.system
+        n = len(s.states)
         A = np.zeros((n + len(self.path),) * 2)
-        A[:n, :n] = self.A
+        A[:n, :n] = s.A
         A[n:] = self.path_A
-        B = np.vstack([self.B, self.path_B])
-        names = self.states + self.path
-        return control.ss(A, B, np.eye(len(names)), np.zeros((len(names), len(self.inputs))), states=names,
-                          inputs=self.inputs, outputs=names, name=self.model.replace(".", "_"))
+        B = np.vstack([s.B, self.path_B])
+        names = s.states + self.path
+        return control.ss(A, B, np.eye(len(names)), np.zeros((len(names), len(s.inputs))), states=names,
+                          inputs=s.inputs, outputs=names, name=self.model.replace(".", "_"))
 
     def to_dict(self) -> dict:
         return {
             "operating_point": f"upright straight running at forward speed v = {self.speed:.15g} m/s",
-            "speed": self.speed, "hinge": self.hinge, "states": self.states, "inputs": self.inputs,
-            "A": self.A.tolist(), "B": self.B.tolist(),
+            "speed": self.speed, "hinge": self.hinge, "states": self.system.states, "inputs": self.system.inputs,
+            "A": self.system.A.tolist(), "B": self.system.B.tolist(),
             "eigenvalues": [[float(e.real), float(e.imag)] for e in self.eigenvalues],
             "path": {"states": self.path, "A": self.path_A.tolist(), "B": self.path_B.tolist()},
             "zero_eigenvalues": [{"state": k, "reason": r} for k, r in self.zero_modes.items()],
@@ -169,9 +169,10 @@ def steady_motion(lin: Linearization, lock_hinge: bool = False) -> SteadyMotion:
     ValueError
         The FMU lacks the bicycle's quantities.
     """
-    (result,) = _steady_motions(lin.model, lin.states, lin.inputs, lin.outputs, lin.C, lin.D, lin.A[None],
-                                lin.B[None], _point(lin.x0, len(lin.states))[None],
-                                _point(lin.xdot0, len(lin.states))[None], lin.method, lock_hinge)
+    s = lin.system
+    (result,) = _steady_motions(lin.model, s.states, s.inputs, s.outputs, s.C, s.D, s.A[None],
+                                s.B[None], _point(lin.x0, len(s.states))[None],
+                                _point(lin.xdot0, len(s.states))[None], lin.method, lock_hinge)
     if isinstance(result, NotSteadyMotion):
         raise result
     return result
@@ -278,10 +279,13 @@ def _steady_motions(model, states, inputs, outputs, C, D, A, B, x0, xdot0, metho
     zero_modes = {n: ZERO_MODES[n] for n in [PITCH, FORWARD_SPEED, *IGNORABLE]}
     method = method + ("; hinge locked by its reaction torque" if hinge == "locked" else "")
     lateral_A, lateral_B = A[:, lat][:, :, lat], B[:, lat]
+    eye, no_feedthrough = np.eye(len(lat)), np.zeros((len(lat), len(inputs)))  # every state an output
     path_A, path_B = A[:, path][:, :, lat + path], B[:, path]
     return [refused[k] if k in refused else
-            SteadyMotion(model, float(speed[k]), hinge, list(lateral), inputs, lateral_A[k], lateral_B[k], list(PATH),
-                         path_A[k], path_B[k], dict(zero_modes), method)
+            SteadyMotion(model, float(speed[k]), hinge,
+                         StateSpace(lateral_A[k], lateral_B[k], eye, no_feedthrough, list(lateral), inputs,
+                                    list(lateral)),
+                         list(PATH), path_A[k], path_B[k], dict(zero_modes), method)
             for k in range(n_points)]
 
 
@@ -339,8 +343,8 @@ def parse_speeds(text: str, option: str = "--speeds") -> list[float]:
 class SpeedSweep:
     """Linearizations of one model at N forward speeds (:func:`linearize_speeds`).
 
-    ``A`` (N, nx, nx), ``B`` (N, nx, nu), ``C`` (N, ny, nx), ``D`` (N, ny, nu), ``x0``, ``xdot0``
-    (N, nx) in the state order of :class:`Linearization`; ``values`` the speed parameter's value
+    ``systems`` one :class:`~cosim.statespace.StateSpace` per speed (the same names, the state
+    order of :class:`Linearization`), ``x0``, ``xdot0`` (N, nx); ``values`` the speed parameter's value
     per speed (``V``/``v`` [m/s] or ``u_R0`` [rad/s]). For the nonlinear bicycles ``steady``
     holds per speed the :class:`SteadyMotion` or the :class:`NotSteadyMotion` that refuses it
     (None for other models).
@@ -351,13 +355,7 @@ class SpeedSweep:
     speed_parameter: str
     speeds: np.ndarray
     values: np.ndarray
-    states: list[str]
-    inputs: list[str]
-    outputs: list[str]
-    A: np.ndarray
-    B: np.ndarray
-    C: np.ndarray
-    D: np.ndarray
+    systems: list[StateSpace]
     x0: np.ndarray
     xdot0: np.ndarray
     method: str
@@ -370,8 +368,8 @@ class SpeedSweep:
     def eigenvalues(self) -> np.ndarray:
         """(N, nx) eigenvalues [1/s] of ``A`` per speed (one batched LAPACK call, each row the
         same numbers as :attr:`Linearization.eigenvalues`)."""
-        n = len(self.states)
-        return np.linalg.eigvals(self.A) if n else np.zeros((len(self), 0), complex)
+        n = len(self.systems[0].states)
+        return np.linalg.eigvals(stacked(self.systems, "A")) if n else np.zeros((len(self), 0), complex)
 
     @property
     def lateral_eigenvalues(self) -> np.ndarray:
@@ -381,19 +379,20 @@ class SpeedSweep:
         if self.steady is None:
             raise ValueError(f"{self.model} is not a nonlinear bicycle; it has no steady-motion reduction")
         good = [k for k, s in enumerate(self.steady) if isinstance(s, SteadyMotion)]
-        n = len(self.steady[good[0]].states) if good else 0
+        n = len(self.steady[good[0]].system.states) if good else 0
         out = np.full((len(self), n), np.nan + 0j)
         if good:
-            ev = np.linalg.eigvals(np.array([self.steady[k].A for k in good]))
+            ev = np.linalg.eigvals(np.array([self.steady[k].system.A for k in good]))
             for row, k in zip(ev, good):
                 out[k] = row[np.lexsort((row.imag, row.real))]
         return out
 
     def linearization(self, k: int) -> Linearization:
         """The :class:`Linearization` at ``speeds[k]``."""
+        s = self.systems[k]
         return Linearization(self.model, {**self.parameters, self.speed_parameter: float(self.values[k])},
-                             list(self.states), list(self.inputs), list(self.outputs), self.A[k], self.B[k],
-                             self.C[k], self.D[k], self.method, self.x0[k], self.xdot0[k])
+                             StateSpace(s.A, s.B, s.C, s.D, list(s.states), list(s.inputs), list(s.outputs)),
+                             self.method, self.x0[k], self.xdot0[k])
 
     def to_dict(self, matrices: bool = False) -> dict:
         """JSON-ready: the common fields once, per speed the eigenvalues (and the lateral
@@ -407,23 +406,24 @@ class SpeedSweep:
         for k, v in enumerate(self.speeds):
             point = {"speed": float(v), self.speed_parameter: float(self.values[k]), "eigenvalues": full[k]}
             if matrices:
-                point.update({name: getattr(self, name)[k].tolist() for name in "ABCD"})
+                point.update({name: getattr(self.systems[k], name).tolist() for name in "ABCD"})
             if self.steady is not None:
                 s = self.steady[k]
                 if isinstance(s, SteadyMotion):
-                    point["steady_motion"] = {"A": s.A.tolist(), "B": s.B.tolist(), "eigenvalues": lateral[k],
+                    point["steady_motion"] = {"A": s.system.A.tolist(), "B": s.system.B.tolist(),
+                                              "eigenvalues": lateral[k],
                                               "path": {"A": s.path_A.tolist(), "B": s.path_B.tolist()}}
                 else:
                     point["steady_motion"] = None
                     point["steady_motion_note"] = str(s)
             points.append(point)
         report = {"model": self.model, "parameters": self.parameters, "speed_parameter": self.speed_parameter,
-                  "speeds": [float(v) for v in self.speeds], "states": self.states, "inputs": self.inputs,
-                  "outputs": self.outputs, "method": self.method}
+                  "speeds": [float(v) for v in self.speeds], "states": self.systems[0].states,
+                  "inputs": self.systems[0].inputs, "outputs": self.systems[0].outputs, "method": self.method}
         good = [s for s in self.steady or [] if isinstance(s, SteadyMotion)]
         if good:
             s = good[0]
-            report["steady_motion"] = {"hinge": s.hinge, "states": s.states, "inputs": s.inputs,
+            report["steady_motion"] = {"hinge": s.hinge, "states": s.system.states, "inputs": s.system.inputs,
                                        "path": {"states": s.path},
                                        "zero_eigenvalues": [{"state": n, "reason": r} for n, r in s.zero_modes.items()],
                                        "method": s.method}
@@ -486,24 +486,27 @@ def linearize_speeds(fmu_path: str | Path, speeds, parameters: dict | None = Non
     known = {**starts(declared), **parameters}
     values = np.array([fs.values(float(v), known)[fs.parameter] for v in speeds])
     swept = linearize_sweep(fmu_path, fs.parameter, values, parameters, inputs, isolate, timeout)
-    states, input_names, output_names = swept.states, swept.inputs, swept.outputs
-    C, D, x0, xdot0, N = swept.C, swept.D, swept.x0, swept.xdot0, len(speeds)
-    sweep = SpeedSweep(swept.model, swept.parameters, fs.parameter, speeds, swept.values, states, input_names,
-                       output_names, swept.A, swept.B, C, D, x0, xdot0, swept.method)
+    first = swept.systems[0]
+    states, input_names, output_names = first.states, first.inputs, first.outputs
+    C, D, x0, xdot0, N = stacked(swept.systems, "C"), stacked(swept.systems, "D"), swept.x0, swept.xdot0, len(speeds)
+    sweep = SpeedSweep(swept.model, swept.parameters, fs.parameter, speeds, swept.values, swept.systems, x0, xdot0,
+                       swept.method)
     if names_of_bicycle() <= set(states) | set(output_names):
         # the rows of C and D of the outputs that alias the bicycle's states are the same at every
         # speed (checked, else the reduction goes one speed at a time)
         aliases = {*names_of_bicycle(), *HINGE, *(n for pair in further_coordinates(states) for n in pair)}
         rows = [k for k, n in enumerate(output_names) if n in aliases]
         if np.all(C[:, rows] == C[:1, rows]) and np.all(D[:, rows] == D[:1, rows]):
-            sweep.steady = _steady_motions(sweep.model, states, input_names, output_names, C[0], D[0], sweep.A,
-                                           sweep.B, x0, xdot0, sweep.method, lock_hinge)
+            sweep.steady = _steady_motions(sweep.model, states, input_names, output_names, C[0], D[0],
+                                           stacked(sweep.systems, "A"), stacked(sweep.systems, "B"), x0, xdot0,
+                                           sweep.method, lock_hinge)
         else:
             sweep.steady = []
             for k in range(N):
                 lin = sweep.linearization(k)
-                sweep.steady += _steady_motions(lin.model, states, input_names, output_names, lin.C, lin.D,
-                                                lin.A[None], lin.B[None], lin.x0[None], lin.xdot0[None],
+                s = lin.system
+                sweep.steady += _steady_motions(lin.model, states, input_names, output_names, s.C, s.D,
+                                                s.A[None], s.B[None], lin.x0[None], lin.xdot0[None],
                                                 lin.method, lock_hinge)
     elif lock_hinge:
         raise NotSteadyMotion(f"{sweep.model} is not a nonlinear bicycle with a rider hinge to lock")

@@ -90,8 +90,8 @@ def state_space(fmu: str | Path, params: Mapping[str, float], v: float) -> tuple
         If the FMU lacks one of the states or inputs, or the remaining states (``psi``, ``y``)
         feed back into them (which would make the 4x4 block's eigenvalues not the bicycle's).
     """
-    lin = linearization(fmu, params, v)
-    return _bicycle_blocks(fmu, lin.states, lin.inputs, [lin.A], [lin.B])[0]
+    system = linearization(fmu, params, v).system
+    return _bicycle_blocks(fmu, system.states, system.inputs, [system.A], [system.B])[0]
 
 
 def state_spaces(fmu: str | Path, params: Mapping[str, float], speeds) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -99,7 +99,9 @@ def state_spaces(fmu: str | Path, params: Mapping[str, float], speeds) -> list[t
     (:func:`cosim.bicycle.linearize.linearize_speeds`: one FMU instance, the same matrices as one
     :func:`linearization` per speed); ValueError as :func:`state_space`."""
     sweep = linearize_speeds(fmu, [float(v) for v in speeds], {k: float(x) for k, x in params.items()})
-    return _bicycle_blocks(fmu, sweep.states, sweep.inputs, sweep.A, sweep.B)
+    first = sweep.systems[0]
+    return _bicycle_blocks(fmu, first.states, first.inputs, [s.A for s in sweep.systems],
+                           [s.B for s in sweep.systems])
 
 
 def _bicycle_blocks(fmu, states: list[str], inputs: list[str], As, Bs) -> list[tuple[np.ndarray, np.ndarray]]:

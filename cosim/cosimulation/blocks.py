@@ -18,7 +18,8 @@ import numpy as np
 from scipy.linalg import expm
 
 from cosim.errors import ParameterError
-from cosim.cosimulation.registry import Block, LinearModel, Native, Window
+from cosim.cosimulation.registry import Block, Native, Window
+from cosim.statespace import StateSpace
 
 
 def matvec(M: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -103,8 +104,8 @@ class Affine(Block, register=False):
 
     def linear(self, settings):
         D = self.gain()
-        return LinearModel(np.zeros((0, 0)), np.zeros((0, len(self.inputs))), np.zeros((len(self.outputs), 0)),
-                           D, list(self.inputs), list(self.outputs))
+        return StateSpace.of(np.zeros((0, 0)), np.zeros((0, len(self.inputs))), np.zeros((len(self.outputs), 0)),
+                             D, self.inputs, self.outputs)
 
 
 class Linear(Block, register=False):
@@ -190,9 +191,8 @@ class Linear(Block, register=False):
 
     def linear(self, settings):
         n = self.x.size
-        return LinearModel(self.A if n else np.zeros((0, 0)), self.B if n else np.zeros((0, len(self.inputs))),
-                           self.C if n else np.zeros((len(self.outputs), 0)), self.D,
-                           list(self.inputs), list(self.outputs))
+        return StateSpace.of(self.A if n else np.zeros((0, 0)), self.B if n else np.zeros((0, len(self.inputs))),
+                             self.C if n else np.zeros((len(self.outputs), 0)), self.D, self.inputs, self.outputs)
 
 
 def _pade_matrices(tau: float, n: int):
@@ -239,6 +239,7 @@ class TransportDelay(Block):
     twin = "Bicycle.Rider.PadeDelay"
     twin_same_parameters = False
     twin_approximation = "exact delay -> Pade approximation, n = 2"
+    interpolates = True
     native_methods = Block.native_methods + ("_delayed",)
 
     def __init__(self, name: str, tau: float = 0.1):
@@ -328,7 +329,7 @@ class TransportDelay(Block):
 
     def linear(self, settings):
         order = int(settings.get("pade_order", 2))
-        return LinearModel(*_pade_matrices(self.tau, order), ["u"], ["y"], interpolates=True)
+        return StateSpace.of(*_pade_matrices(self.tau, order), ["u"], ["y"])
 
 
 class Pulse(Affine):

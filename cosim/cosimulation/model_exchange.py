@@ -254,7 +254,7 @@ class _BlockModel:
         except NotImplementedError:
             raise SystemError_(f"{where}: component '{block.name}' ({kind}) has no continuous-time model, "
                                f"which algorithm = \"{ALGORITHM}\" needs") from None
-        if model.interpolates:
+        if block.interpolates:
             # Its linear model is a Pade approximation: integrating that would change the system.
             raise SystemError_(f"{where}: component '{block.name}' ({kind}) reads its input history (an exact "
                                f"delay is no ODE) and cannot take part in algorithm = \"{ALGORITHM}\"; "
@@ -264,7 +264,7 @@ class _BlockModel:
                                f"{model.inputs} -> {model.outputs} are not the block's {block.inputs} -> "
                                f"{block.outputs}")
         self.model = model
-        self.inputs, self.outputs, self.nx = list(block.inputs), list(block.outputs), model.states
+        self.inputs, self.outputs, self.nx = list(block.inputs), list(block.outputs), model.n
         self._u, self._x, self.t = np.zeros(len(self.inputs)), np.zeros(self.nx), 0.0
 
     def feedthrough(self, output: str) -> set[str]:

@@ -7,8 +7,10 @@ A block is one class, a subclass of :class:`Block`, and declares everything abou
 * its **Modelica twin**: ``twin`` (the class name in the Modelica library, e.g.
   ``"Bicycle.Control.PD"``) and :meth:`Block.twin_parameters` (the twin's parameter values; by
   default the parameters the system states, unchanged);
-* its **linear model**: :meth:`Block.linear`, ``y = C x + D u + r(t)`` with ``r`` the
-  exogenous part (:meth:`Block.exogenous`: sources, references) that stability does not see;
+* its **linear model**: :meth:`Block.linear`, a :class:`~cosim.statespace.StateSpace`
+  ``y = C x + D u + r(t)`` with ``r`` the exogenous part (:meth:`Block.exogenous`: sources,
+  references) that stability does not see (the class attribute ``interpolates`` marks a block
+  that does not hold its inputs over a communication step);
 * its **native form** (optional): :meth:`Block.native`, a :class:`Native` description with which
   the master's C stepping loop (:mod:`cosim.cosimulation.fastloop`) steps the block exactly as its
   Python methods do. The shared kinds (``Affine``, ``Linear``, ``TransportDelay`` in
@@ -42,39 +44,11 @@ import numpy as np
 
 from cosim.errors import ParameterError
 from cosim.cosimulation.component import Component
+from cosim.statespace import StateSpace
 
 #: Registered blocks by name (the ``python = "NAME"`` of a system file).
 BLOCKS: dict[str, type[Block]] = {}
 _SIGNATURES: dict[type, dict] = {}  # Block.parameters by class
-
-
-@dataclass
-class LinearModel:
-    """``x' = A x + B u``, ``y = C x + D u`` (+ the block's exogenous ``r(t)``), named inputs and outputs.
-
-    ``interpolates`` is True for a block that does not hold its inputs over a communication step
-    (the exact transport delay reads the input history): the prediction models no hold lag for it.
-    """
-
-    A: np.ndarray
-    B: np.ndarray
-    C: np.ndarray
-    D: np.ndarray
-    inputs: list[str]
-    outputs: list[str]
-    interpolates: bool = False
-
-    def __post_init__(self):
-        n = np.size(self.A) and np.shape(np.atleast_2d(self.A))[0]
-        self.A = np.asarray(self.A, float).reshape(n, n)
-        self.B = np.asarray(self.B, float).reshape(n, len(self.inputs))
-        self.C = np.asarray(self.C, float).reshape(len(self.outputs), n)
-        self.D = np.asarray(self.D, float).reshape(len(self.outputs), len(self.inputs))
-
-    @property
-    def states(self) -> int:
-        """Number of states."""
-        return self.A.shape[0]
 
 
 @dataclass(frozen=True)
@@ -243,7 +217,12 @@ class Block(Component):
         defaults are the block's, checked by tests/test_block_registry.py)."""
         return dict(self.given)
 
-    def linear(self, settings: dict) -> LinearModel:
+    #: True for a block that does not hold its inputs over a communication step (the exact
+    #: transport delay reads the input history): the prediction models no hold lag for it, and
+    #: its linear model is an approximation, not the block.
+    interpolates: ClassVar[bool] = False
+
+    def linear(self, settings: dict) -> StateSpace:
         """The linear model ``y = C x + D u`` (+ :meth:`exogenous`); ``settings`` of a matrix spec
         (``pade_order``) where the block needs them."""
         raise NotImplementedError(f"{type(self).__name__} declares no linear model")

@@ -24,6 +24,7 @@ from cosim.errors import FMUError, ParameterError, SimulationError
 from cosim.fmu.isolation import DEFAULT_TIMEOUT, built_here, can_isolate, run_isolated
 from cosim.fmu.access import (ALL_FMI_VERSIONS, FMU, get_continuous_states, get_state_derivatives, lenient_reading,
                               read_fmu, set_continuous_states)
+from cosim.statespace import StateSpace
 
 FD_STEP = 1e-6  # relative step of the central differences
 #: Largest difference between the Jacobian from directional and the one from adjoint derivatives,
@@ -34,17 +35,12 @@ ADJOINT_TOLERANCE = 1e-12
 
 @dataclass
 class Linearization:
-    """x' = A x + B u, y = C x + D u about an operating point (deviations)."""
+    """x' = A x + B u, y = C x + D u about an operating point (deviations): the FMU's
+    :class:`~cosim.statespace.StateSpace` and where and how it was found."""
 
     model: str
     parameters: dict
-    states: list[str]
-    inputs: list[str]
-    outputs: list[str]
-    A: np.ndarray
-    B: np.ndarray
-    C: np.ndarray
-    D: np.ndarray
+    system: StateSpace
     method: str
     #: The operating point: state values and their time derivatives (FMU state order; SI units).
     x0: np.ndarray | None = field(default=None, repr=False)
@@ -55,20 +51,18 @@ class Linearization:
 
     @property
     def eigenvalues(self) -> np.ndarray:
-        return np.linalg.eigvals(self.A) if self.A.size else np.zeros(0, complex)
+        return self.system.eigenvalues
 
     def to_statespace(self):
         """A python-control StateSpace with named states, inputs and outputs."""
-        import control
-
-        return control.ss(self.A, self.B, self.C, self.D, states=self.states, inputs=self.inputs,
-                          outputs=self.outputs, name=self.model.replace(".", "_"))
+        return self.system.to_control(self.model.replace(".", "_"))
 
     def to_dict(self) -> dict:
+        s = self.system
         return {
-            "model": self.model, "parameters": self.parameters, "states": self.states,
-            "inputs": self.inputs, "outputs": self.outputs,
-            "A": self.A.tolist(), "B": self.B.tolist(), "C": self.C.tolist(), "D": self.D.tolist(),
+            "model": self.model, "parameters": self.parameters, "states": s.states,
+            "inputs": s.inputs, "outputs": s.outputs,
+            "A": s.A.tolist(), "B": s.B.tolist(), "C": s.C.tolist(), "D": s.D.tolist(),
             "eigenvalues": [[float(e.real), float(e.imag)] for e in self.eigenvalues],
             "method": self.method, "adjoint_difference": self.adjoint_difference,
         }
@@ -220,10 +214,11 @@ def _linearize(fmu_path, parameters, inputs, method, doing=lambda text: None) ->
 
 def _finite_matrices(fmu_path, lin: Linearization) -> Linearization:
     """``lin`` if A, B, C and D are finite, else the first non-finite entry named."""
-    rows = {"A": lin.states, "B": lin.states, "C": lin.outputs, "D": lin.outputs}
-    columns = {"A": lin.states, "B": lin.inputs, "C": lin.states, "D": lin.inputs}
+    s = lin.system
+    rows = {"A": s.states, "B": s.states, "C": s.outputs, "D": s.outputs}
+    columns = {"A": s.states, "B": s.inputs, "C": s.states, "D": s.inputs}
     for name in "ABCD":
-        matrix = np.asarray(getattr(lin, name), float)
+        matrix = np.asarray(getattr(s, name), float)
         bad = np.argwhere(~np.isfinite(matrix))
         if len(bad):
             i, j = bad[0]
@@ -333,7 +328,7 @@ def _jacobians(fmu, md, point, use_dd, parameters, st: _Structure):
     method = "directional derivatives" if use_dd else "central finite differences"
     if adjoint is not None:
         method += f" (adjoint derivatives agree to {adjoint:.1e})"
-    return Linearization(md.modelName, parameters, st.states, st.inputs, st.outputs, A, B, C, D,
+    return Linearization(md.modelName, parameters, StateSpace(A, B, C, D, st.states, st.inputs, st.outputs),
                          method, x0.copy(), xdot0, adjoint)
 
 
@@ -542,25 +537,30 @@ class _FastPoint:
 class Sweep:
     """Linearizations of one FMU at N values of one parameter (:func:`linearize_sweep`).
 
-    ``A`` (N, nx, nx), ``B`` (N, nx, nu), ``C`` (N, ny, nx), ``D`` (N, ny, nu), ``x0``, ``xdot0``
-    (N, nx) in the state order of :class:`Linearization`; ``values`` the swept parameter's value
-    per point (in its unit), ``parameters`` the other parameter values.
+    ``systems`` one :class:`~cosim.statespace.StateSpace` per point (the same names, the state
+    order of :class:`Linearization`), ``x0``, ``xdot0`` (N, nx); ``values`` the swept parameter's
+    value per point (in its unit), ``parameters`` the other parameter values.
     """
 
     model: str
     parameters: dict
     parameter: str
     values: np.ndarray
-    states: list[str]
-    inputs: list[str]
-    outputs: list[str]
-    A: np.ndarray
-    B: np.ndarray
-    C: np.ndarray
-    D: np.ndarray
+    systems: list[StateSpace]
     x0: np.ndarray
     xdot0: np.ndarray
     method: str
+
+
+def systems_of(A, B, C, D, states, inputs, outputs) -> list[StateSpace]:
+    """One :class:`~cosim.statespace.StateSpace` per matrix of the stacks ``A`` (N, nx, nx),
+    ``B`` (N, nx, nu), ``C`` (N, ny, nx), ``D`` (N, ny, nu) (views: nothing is copied)."""
+    return [StateSpace(A[k], B[k], C[k], D[k], states, inputs, outputs) for k in range(len(A))]
+
+
+def stacked(systems: list[StateSpace], name: str) -> np.ndarray:
+    """The matrix ``name`` ("A", "B", "C" or "D") of every system, stacked on a first axis."""
+    return np.array([getattr(s, name) for s in systems])
 
 
 def linearize_sweep(fmu_path: str | Path, parameter: str, values, parameters: dict | None = None,
@@ -627,5 +627,6 @@ def linearize_sweep(fmu_path: str | Path, parameter: str, values, parameters: di
         method += f" (adjoint derivatives agree to {point.adjoint_difference:.1e})"
     A, B = J[:, :nx, :nx], J[:, :nx, nx:]
     C, D = st.output_matrices(J)
-    return Sweep(md.modelName, parameters, parameter, values, states, input_names, output_names,
-                 np.ascontiguousarray(A), np.ascontiguousarray(B), C, D, x0, xdot0, method)
+    return Sweep(md.modelName, parameters, parameter, values,
+                 systems_of(np.ascontiguousarray(A), np.ascontiguousarray(B), C, D, states, input_names, output_names),
+                 x0, xdot0, method)

@@ -1,6 +1,7 @@
 """The analytic prediction of a case: closed-loop eigenvalues of the linear models of its components.
 
-Every component gets a linear model (:class:`LTI`):
+Every component gets a linear model (:class:`ComponentModel`: a :class:`~cosim.statespace.StateSpace`
+and how the master treats its inputs):
 
 * bicycles: the analytic twins of :mod:`cosim.analytic.twins` (the paper's equations) and, for
   ``Bicycle.Bicycles.WhippleLinear``, :func:`cosim.analytic.whipple.state_matrices` (Meijaard et al.
@@ -32,6 +33,7 @@ import numpy as np
 
 from cosim.cosimulation import algorithms
 from cosim.errors import CosimError
+from cosim.statespace import StateSpace
 
 
 class PredictionError(CosimError, ValueError):
@@ -39,40 +41,30 @@ class PredictionError(CosimError, ValueError):
 
 
 @dataclass
-class LTI:
-    """x' = A x + B u, y = C x + D u with named inputs and outputs."""
+class ComponentModel:
+    """The linear model of one component: its ``system`` and how the master treats its inputs.
 
-    A: np.ndarray
-    B: np.ndarray
-    C: np.ndarray
-    D: np.ndarray
-    inputs: list
-    outputs: list
-    kind: str = "dynamic"   # dynamic (inputs held by the master), static (no states), delay (interpolating)
+    ``kind`` is ``dynamic`` (inputs held by the master), ``static`` (no states) or ``delay``
+    (interpolating); ``source`` says where the model comes from."""
+
+    system: StateSpace
+    kind: str = "dynamic"
     source: str = ""
 
-    @property
-    def n(self) -> int:
-        return self.A.shape[0]
 
-
-def _lti(A, B, C, D, inputs, outputs, kind=None, source="") -> LTI:
-    A = np.atleast_2d(np.asarray(A, float)) if np.size(A) else np.zeros((0, 0))
-    n = A.shape[0]
-    B = np.asarray(B, float).reshape(n, len(inputs))
-    C = np.asarray(C, float).reshape(len(outputs), n)
-    D = np.asarray(D, float).reshape(len(outputs), len(inputs))
+def _lti(A, B, C, D, inputs, outputs, kind=None, source="", states=None) -> ComponentModel:
+    system = StateSpace.of(A, B, C, D, inputs, outputs, states)
     if kind is None:
-        kind = "static" if n == 0 else "dynamic"
-    return LTI(A, B, C, D, list(inputs), list(outputs), kind, source)
+        kind = "static" if system.n == 0 else "dynamic"
+    return ComponentModel(system, kind, source)
 
 
-def static(D, inputs, outputs, source="") -> LTI:
+def static(D, inputs, outputs, source="") -> ComponentModel:
     return _lti(np.zeros((0, 0)), np.zeros((0, len(inputs))), np.zeros((len(outputs), 0)),
                 np.asarray(D, float).reshape(len(outputs), len(inputs)), inputs, outputs, "static", source)
 
 
-def tf_to_lti(num, den, inputs=("u",), outputs=("y",), kind=None, source="") -> LTI:
+def tf_to_lti(num, den, inputs=("u",), outputs=("y",), kind=None, source="") -> ComponentModel:
     """Controllable canonical form of a proper SISO transfer function."""
     num = np.atleast_1d(np.asarray(num, float))
     den = np.atleast_1d(np.asarray(den, float))
@@ -99,7 +91,7 @@ def _pade(tau: float, n: int):
     return tuple(num), tuple(den)
 
 
-def delay_lti(tau: float, order: int, inputs=("u",), outputs=("y",), kind="delay", source="") -> LTI:
+def delay_lti(tau: float, order: int, inputs=("u",), outputs=("y",), kind="delay", source="") -> ComponentModel:
     """exp(-s tau) as the [order/order] Pade approximation (python-control's ``pade``)."""
     if tau <= 0:
         return static([[1.0]], inputs, outputs, source)
@@ -120,8 +112,9 @@ def _frozen(value):
     raise TypeError(f"no cache key for {type(value).__name__}")
 
 
-def _read_only(model: LTI) -> LTI:
-    for array in (model.A, model.B, model.C, model.D):
+def _read_only(model: ComponentModel) -> ComponentModel:
+    s = model.system
+    for array in (s.A, s.B, s.C, s.D):
         array.setflags(write=False)
     return model
 
@@ -133,7 +126,7 @@ _BLOCK_MODELS: dict = {}
 _BLOCK_MODELS_MAX = 4096
 
 
-def block_lti(name: str, block: str, parameters: dict, settings: dict) -> LTI:
+def block_lti(name: str, block: str, parameters: dict, settings: dict) -> ComponentModel:
     """The linear model a registered Python block declares, for the parameters given (its
     defaults for the others); a block that interpolates its inputs is of kind ``delay``.
 
@@ -155,7 +148,7 @@ def block_lti(name: str, block: str, parameters: dict, settings: dict) -> LTI:
     return model
 
 
-def _block_lti(name: str, block: str, parameters: dict, settings: dict) -> LTI:
+def _block_lti(name: str, block: str, parameters: dict, settings: dict) -> ComponentModel:
     from cosim.cosimulation import registry
 
     try:
@@ -163,7 +156,7 @@ def _block_lti(name: str, block: str, parameters: dict, settings: dict) -> LTI:
         model = instance.linear(settings)
     except (CosimError, NotImplementedError) as exc:  # unknown block or parameter, no linear model
         raise PredictionError(f"component '{name}': {exc}") from None
-    kind = "delay" if model.interpolates else None
+    kind = "delay" if instance.interpolates else None
     return _lti(model.A, model.B, model.C, model.D, model.inputs, model.outputs, kind,
                 f"{block}: {type(instance).summary()}")
 
@@ -202,7 +195,7 @@ def whipple_state_matrices(p: dict, v: float) -> tuple[np.ndarray, np.ndarray]:
     return assembled_state_matrices(Minv, C1, K0, K2, g, float(v))
 
 
-def _whipple(params: dict) -> LTI:
+def _whipple(params: dict) -> ComponentModel:
     from cosim.analytic.parameters import PARAMETER_NAMES
 
     base = _benchmark()
@@ -216,12 +209,12 @@ def _whipple(params: dict) -> LTI:
     A[5, 4] = v                                 # der(y) = v psi
     B = np.zeros((6, 2))
     B[:4] = B4
-    return _lti(A, B, np.eye(6), np.zeros((6, 2)), ["T_phi", "T_delta"],
-                ["phi", "delta", "phi_dot", "delta_dot", "psi", "y"], "dynamic",
-                "linear Whipple model (Meijaard et al. 2007)")
+    names = ["phi", "delta", "phi_dot", "delta_dot", "psi", "y"]
+    return _lti(A, B, np.eye(6), np.zeros((6, 2)), ["T_phi", "T_delta"], names, "dynamic",
+                "linear Whipple model (Meijaard et al. 2007)", names)
 
 
-def _twin(model: str, params: dict) -> LTI | None:
+def _twin(model: str, params: dict) -> ComponentModel | None:
     from cosim.analytic.twins import TWINS
 
     twin = TWINS.get(model)
@@ -233,7 +226,7 @@ def _twin(model: str, params: dict) -> LTI | None:
     except ValueError as exc:
         raise PredictionError(f"analytic twin of {model}: {exc}") from None
     return _lti(sys.A, sys.B, sys.C, sys.D, list(sys.input_labels), list(sys.output_labels), "dynamic",
-                f"analytic twin: {twin.equations}")
+                f"analytic twin: {twin.equations}", list(sys.state_labels))
 
 
 @lru_cache(maxsize=64)
@@ -251,7 +244,7 @@ def _fmu_info(path: str):
     return md.modelName, starts
 
 
-def component_lti(name: str, entry: dict, fmu_paths: dict, settings: dict) -> LTI:
+def component_lti(name: str, entry: dict, fmu_paths: dict, settings: dict) -> ComponentModel:
     """The linear model of one component of a system dict."""
     from cosim.cosimulation import registry
 
@@ -277,8 +270,8 @@ def component_lti(name: str, entry: dict, fmu_paths: dict, settings: dict) -> LT
     if path:
         from cosim.fmu.linearize import linearize
 
-        lin = linearize(path, dict(params))
-        return _lti(lin.A, lin.B, lin.C, lin.D, lin.inputs, lin.outputs, None, "FMU linearization")
+        s = linearize(path, dict(params)).system
+        return _lti(s.A, s.B, s.C, s.D, s.inputs, s.outputs, None, "FMU linearization", s.states)
     raise PredictionError(f"component '{name}': no analytic model for '{model_name}'")
 
 
@@ -327,8 +320,8 @@ class Loop:
         for text in system.get("connections", []):
             c = parse_connection(text, "system")
             for comp, var, attr in ((c.source, c.output, "outputs"), (c.target, c.input, "inputs")):
-                if comp not in blocks or var not in getattr(blocks[comp], attr):
-                    listed = ", ".join(getattr(blocks[comp], attr)) if comp in blocks else "no such component"
+                if comp not in blocks or var not in getattr(blocks[comp].system, attr):
+                    listed = ", ".join(getattr(blocks[comp].system, attr)) if comp in blocks else "no such component"
                     raise PredictionError(f"connection '{c}': the linear model of '{comp}' has no "
                                           f"{attr[:-1]} '{var}' ({listed})")
             lag = 0.0
@@ -336,9 +329,9 @@ class Loop:
                 src, dst = blocks[c.source], blocks[c.target]
                 m_src = int(comps[c.source].get("step_multiple", 1))
                 m_dst = int(comps[c.target].get("step_multiple", 1))
-                if src.kind == "static" and src.D.size:
+                if src.kind == "static" and src.system.D.size:
                     lag += coupling.output_lag(h * m_src)
-                if dst.kind == "dynamic" and dst.n > 0:
+                if dst.kind == "dynamic" and dst.system.n > 0:
                     lag += coupling.hold_lag(h * m_dst)
             if lag > 0:
                 lname = f"lag:{c}"
@@ -350,6 +343,7 @@ class Loop:
         self.slices = {}
         nx = nu = ny = 0
         for n, b in blocks.items():
+            b = b.system
             self.slices[n] = (slice(nx, nx + b.n), slice(nu, nu + len(b.inputs)), slice(ny, ny + len(b.outputs)))
             nx, nu, ny = nx + b.n, nu + len(b.inputs), ny + len(b.outputs)
         self.A, self.B = np.zeros((nx, nx)), np.zeros((nx, nu))
@@ -358,23 +352,24 @@ class Loop:
             self._write(n, b)
         self.K = np.zeros((nu, ny))
         for s, out, t, inp in wiring:
-            self.K[self.slices[t][1].start + blocks[t].inputs.index(inp),
-                   self.slices[s][2].start + blocks[s].outputs.index(out)] = 1.0
+            self.K[self.slices[t][1].start + blocks[t].system.inputs.index(inp),
+                   self.slices[s][2].start + blocks[s].system.outputs.index(out)] = 1.0
         ocomp, ovar = _split(observe)
-        if ocomp not in blocks or ovar not in blocks[ocomp].outputs:
+        if ocomp not in blocks or ovar not in blocks[ocomp].system.outputs:
             raise PredictionError(f"observed signal '{observe}' is not an output of the linear model of '{ocomp}'")
-        self.observed = self.slices[ocomp][2].start + blocks[ocomp].outputs.index(ovar)
+        self.observed = self.slices[ocomp][2].start + blocks[ocomp].system.outputs.index(ovar)
         self.connected = bool(wiring)
         self.eye = np.eye(ny)
         self.keep = None  # states kept: fixed while tuning (the structure does not change)
 
-    def _write(self, name: str, b: LTI) -> None:
+    def _write(self, name: str, b: ComponentModel) -> None:
         xs, us, ys = self.slices[name]
-        self.A[xs, xs], self.B[xs, us], self.C[ys, xs], self.D[ys, us] = b.A, b.B, b.C, b.D
+        s = b.system
+        self.A[xs, xs], self.B[xs, us], self.C[ys, xs], self.D[ys, us] = s.A, s.B, s.C, s.D
 
-    def replace(self, name: str, b: LTI) -> None:
-        old = self.blocks[name]
-        if (old.A.shape, old.D.shape) != (b.A.shape, b.D.shape):
+    def replace(self, name: str, b: ComponentModel) -> None:
+        old, new = self.blocks[name].system, b.system
+        if (old.A.shape, old.D.shape) != (new.A.shape, new.D.shape):
             raise PredictionError(f"component '{name}': the tuned model changed its size")
         self.blocks[name] = self.models[name] = b
         self._write(name, b)

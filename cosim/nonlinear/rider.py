@@ -84,7 +84,7 @@ def path_system(fmu, params: dict, v: float):
     from cosim.nonlinear.model import defaults, speed_parameters
 
     params = {**defaults(fmu, ["rR"]), **params}
-    lin = linearize(fmu, speed_parameters(params, v))
+    lin = linearize(fmu, speed_parameters(params, v)).system
     keep = [lin.states.index(s) for s in PATH_STATES]
     drop = [k for k in range(len(lin.states)) if k not in keep]
     A = lin.A[np.ix_(keep, keep)]
