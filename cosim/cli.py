@@ -32,10 +32,13 @@ import traceback
 import warnings
 from pathlib import Path
 
+# Each command's handler below imports the modules that carry the command out when it runs, so
+# that `cosim --help` and `cosim VERB --help` load only the parsers (the implementations bring in
+# numpy, fmpy, CasADi, pymoca, scipy, matplotlib or python-control).
 from cosim import __version__
 from cosim.cli_options import LIBRARY_VARIABLE, library_option, positive_int
 from cosim.errors import CosimError, OutputError, ParameterError, ResultNotWritten
-from cosim.outputs import os_error_message
+from cosim.outputs import check_output, os_error_message
 
 EXIT_OK, EXIT_CHECK_FAILED, EXIT_BAD_INPUT, EXIT_FELL, EXIT_INCOMPLETE = 0, 1, 2, 3, 4
 EXIT_INTERNAL, EXIT_INTERRUPTED = 70, 130
@@ -625,7 +628,6 @@ def _cmd_run(args) -> int:
 def _cmd_export_ssp(args) -> int:
     from cosim.cosimulation.ssp import FileNote, export_ssp
     from cosim.cosimulation.system import load_system
-    from cosim.outputs import check_output
 
     check_output(args.output, "SSP file")  # before anything is built
     path, notes = export_ssp(load_system(args.system), args.output, fmi_version=args.fmi_version,
@@ -889,6 +891,7 @@ def parser() -> argparse.ArgumentParser:
     library_option(fig)
     fig.set_defaults(func=_cmd_figures)
 
+    # loaded when the parser is built, so that importing cosim.cli stays cheap
     from cosim.analytic import cli as analytic_cli
     from cosim.matrix import cli as matrix_cli
 

@@ -39,7 +39,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 def analytic_report(params_name: str, speeds: list[float]) -> dict:
     """Everything `cosim analytic` prints, as a JSON-ready dict."""
-    # not at the top: `cosim VERB` for every verb builds this parser, and these load numpy and dataclasses
+    # deferred: `cosim VERB` for every verb builds this parser, and these load numpy and dataclasses
     from cosim.analytic import whipple as W
     from cosim.analytic.parameters import MAX_SPEED, load_set_for_models
 
@@ -89,7 +89,7 @@ def format_report(report: dict) -> str:
              "  M q'' + v C1 q' + (g K0 + v^2 K2) q = [T_phi, T_delta],  q = [phi, delta] "
              "(roll right, steer right positive)"]
     if report.get("waiver"):
-        from cosim.analytic.parameters import Waiver
+        from cosim.analytic.parameters import Waiver  # deferred: as above, not for the parser
 
         waiver = report["waiver"]
         lines.append(f"  {Waiver(tuple(waiver['checks']), waiver['reason']).describe()}")

@@ -42,6 +42,9 @@ from cosim.errors import InputDataError, ParameterError
 from cosim.outputs import check_input_file, check_output, read_text_file, write_text
 
 from cosim.app.export import STATIC, VENDOR, Script
+from cosim.analytic.parameters import load_parameters
+from cosim.fmu.parameters import split_assignment
+from cosim.fmu.simulate import finite_number
 
 REQUIRED = ("phi", "delta")
 OPTIONAL = ("x", "y", "psi", "theta", "thetaR", "thetaF")
@@ -91,7 +94,6 @@ def read_result(path: str | os.PathLike) -> dict[str, np.ndarray]:
     path = check_input_file(path, InputDataError)  # a folder, a FIFO, a device: refused before opening
     if path.suffix.lower() == ".npy":
         return _read_npy(path)
-    from cosim.fmu.simulate import finite_number
 
     lines = read_text_file(path, InputDataError, str(path)).splitlines()
     header_row = next((i for i, line in enumerate(lines) if line.strip()), None)
@@ -194,9 +196,6 @@ def geometry(params: str | None = None, overrides: list[str] = ()) -> dict[str, 
         For an unknown or unreadable set, an assignment of another name, a value that is not a
         finite number or is out of range (w, rR, rF > 0; 0 <= tR <= rR, 0 <= tF <= rF).
     """
-    from cosim.analytic.parameters import load_parameters
-    from cosim.fmu.parameters import split_assignment
-
     try:
         values = load_parameters(params or "benchmark")
     except (ValueError, OSError) as exc:

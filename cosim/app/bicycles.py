@@ -45,6 +45,7 @@ Every parameter of a choice can also be typed into the page's parameter editor.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from cosim.analytic.parameters import load_parameter_set
 
 LINEAR = "Bicycle.Bicycles.WhippleLinear"
 NONLINEAR = "Bicycle.Bicycles.Whipple"
@@ -161,8 +162,6 @@ def bicycle_data(bicycle: Bicycle, description: dict | None = None) -> dict:
         A parameter that is not a parameter of the module, a lateral state it lacks, a value
         outside its slider's range or an unknown slider (each named).
     """
-    from cosim.analytic.parameters import load_parameter_set
-
     loaded = load_parameter_set(bicycle.parameter_set)
     values = {**loaded.values, **bicycle.modifiers}
     states = LATERAL_STATES[bicycle.module]

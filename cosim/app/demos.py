@@ -48,6 +48,7 @@ import tomllib
 from pathlib import Path
 
 from cosim.errors import CosimError
+from cosim.analytic.parameters import load_parameters
 
 DEMOS = Path(__file__).resolve().parent / "demos"
 DEFAULT_STEP = 0.01  # [s]
@@ -243,8 +244,6 @@ def resolve(demo: dict, descriptions: dict, path: str | Path | None = None) -> d
         If a model is not one the page carries, a parameter set does not exist, or a parameter,
         input, output or signal name is not one of the model's.
     """
-    from cosim.analytic.parameters import load_parameters
-
     where = _where(Path(path)) if path else f"demo '{demo['name']}'"
     out = dict(demo)
     signals = set()

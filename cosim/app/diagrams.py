@@ -17,6 +17,9 @@ from __future__ import annotations
 
 import html
 import re
+from cosim.compiler.library import load_library
+from cosim.diagram.graphics import Graphics
+from cosim.diagram.svg import draw
 
 #: What each part of a bicycle model is, in a student's words (component name -> words).
 PARTS = {
@@ -93,10 +96,6 @@ def diagram_data(model: str, library=None) -> dict:
     UnknownModelError, ModelicaError
         As :func:`cosim.diagram.svg.draw`.
     """
-    from cosim.compiler.library import load_library
-    from cosim.diagram.graphics import Graphics
-    from cosim.diagram.svg import draw
-
     library = library or load_library()
     drawing = draw(model, library=library)
     names = [html.unescape(n) for n in _COMPONENT.findall(drawing.svg)]

@@ -34,6 +34,9 @@ from cosim.app.bicycles import CROWN_RADIUS, page_data
 from cosim.app.diagrams import page_diagrams
 from cosim.folder_lock import folder_lock
 from cosim.outputs import check_output_folder, write_text
+from cosim.analytic.parameters import load_parameters
+from cosim.app.demos import DEMOS, load_demos
+from cosim.wasm.build import build_wasm, LOADER, zig_command
 
 HERE = Path(__file__).resolve().parent
 STATIC = HERE / "static"
@@ -102,8 +105,6 @@ class Script:
 def _scripts() -> tuple[Script, ...]:
     """The scripts of ``bundle.js`` in their order: the vendored libraries first, then the
     page's own code (each file one concern, see the comments at their tops)."""
-    from cosim.wasm.build import LOADER
-
     # three.js before ride3d.js (it uses the global THREE); ride3d.js and plots.js before ride.js
     # (which uses CosimRide3D and CosimPlots). app.js and ride.js are independent of each other;
     # ride.js comes first so that the rides are defined even if app.js throws while loading (one
@@ -122,6 +123,7 @@ def _scripts() -> tuple[Script, ...]:
 
 
 def _fmu_folder() -> Path:
+    # deferred: loads casadi, numpy, which importing this module does not
     from cosim.compiler.build import DEFAULT_OUTPUT
 
     return Path(os.environ.get("COSIM_FMU_DIR") or DEFAULT_OUTPUT)
@@ -145,9 +147,6 @@ def ride_data(descriptions: dict, demos_folder: str | os.PathLike | None = None)
     ValueError
         If a bicycle of :data:`RIDE_BICYCLES` has a value that is not a parameter of the ride model.
     """
-    from cosim.analytic.parameters import load_parameters
-    from cosim.app.demos import DEMOS, load_demos
-
     parameters = {v["name"] for v in descriptions[RIDE_MODEL]["variables"] if v["causality"] == "parameter"}
     bicycles = []
     for name, label, params, backwards, values in RIDE_BICYCLES:
@@ -201,10 +200,6 @@ def export_app(folder: str | os.PathLike, demos: str | os.PathLike | None = None
     ModelicaError
         If a model the page draws has a malformed graphical annotation (its ``file:line``).
     """
-    from cosim.wasm.build import zig_command
-
-    from cosim.app.demos import DEMOS, load_demos
-
     folder = check_output_folder(folder, "app folder")
     load_demos(demos or DEMOS)  # a bad demo file: its message before any build
     zig_command()  # no ziglang: one message before any work
@@ -214,8 +209,8 @@ def export_app(folder: str | os.PathLike, demos: str | os.PathLike | None = None
 
 def _export(folder: Path, demos: str | os.PathLike | None) -> ExportResult:
     """:func:`export_app` into a checked and locked folder."""
+    # deferred: loads casadi, numpy, which importing this module does not
     from cosim.compiler.build import build
-    from cosim.wasm.build import build_wasm
 
     modules = {}
     for result in build(list(MODULES), output=_fmu_folder()):

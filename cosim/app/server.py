@@ -15,6 +15,7 @@ import webbrowser
 
 from cosim.errors import OutputError
 from cosim.outputs import temporary_folder
+from cosim.app.export import export_app
 
 HOST = "127.0.0.1"
 
@@ -58,8 +59,6 @@ def serve(port: int = 8000, open_browser: bool = False, announce=print) -> None:
 
 
 def _serve(port: int, open_browser: bool, announce) -> None:
-    from cosim.app.export import export_app
-
     with temporary_folder("app") as folder:  # (removes those of ended `cosim app` processes)
         try:  # the port first: a port in use is refused before any build
             httpd = http.server.ThreadingHTTPServer((HOST, port), functools.partial(_Handler, directory=folder))

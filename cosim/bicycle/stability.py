@@ -30,6 +30,7 @@ import numpy as np
 from cosim.analytic.parameters import parameters_for_model
 from cosim.bicycle.linearize import linearize_speeds
 from cosim.fmu.linearize import linearize
+from cosim.compiler.library import load_library
 
 __all__ = [
     "MODEL",
@@ -68,8 +69,8 @@ def whipple_fmu(output: str | Path | None = None) -> Path:
     to call repeatedly.
     """
     # the compiler imports pymoca and CasADi: only for a build
+    # deferred: loads casadi, which importing this module does not
     from cosim.compiler.build import DEFAULT_OUTPUT, build_model
-    from cosim.compiler.library import load_library
 
     return build_model(MODEL, output or DEFAULT_OUTPUT, load_library()).fmu
 

@@ -47,6 +47,7 @@ from cosim.compiler.fmu import MANIFEST, compile_binary, pack, platform_folder, 
 from cosim.compiler.library import Library, load_library
 from cosim.compiler.model_description import build_description_xml, model_description_xml
 from cosim.compiler.ode import make_explicit
+from cosim.compiler.catalog import cache_folder
 
 # Where `cosim build` and every command that builds on demand put FMUs: fmus/ of the working
 # directory (never the installed package), or the folder named by COSIM_FMU_DIR (the tests point
@@ -59,8 +60,6 @@ def runtime_cache() -> Path:
     compiler and flags (:func:`cosim.compiler.fmu.load_runtime_object`), compiled once per
     machine, not per FMU nor per output folder (a clean build of the library does not compile it
     again; like ccache, the object is keyed by everything it is made from)."""
-    from cosim.compiler.catalog import cache_folder
-
     return cache_folder() / "runtime"
 
 

@@ -16,6 +16,7 @@ from pathlib import Path
 from cosim.compiler.library import (Library, compiler_digest, library_digest, library_paths,
                                     load_library)
 from cosim.errors import CosimError, ModelicaError
+from cosim.compiler.flatten import fewer_collections, flatten
 
 
 #: Longest parameter value `cosim list` prints in full; longer ones (expressions) are shortened.
@@ -85,7 +86,7 @@ def summarize(name: str, library: Library | None = None) -> ModelSummary:
         if cached is not None:
             return cached
         library = load_library()
-    from cosim.compiler.flatten import flatten  # pymoca and CasADi: only where the library is parsed
+    from cosim.compiler.flatten import flatten  # deferred: pymoca and CasADi, only where the library is parsed
 
     entry = library.entry(name)
     return _summary(entry, flatten(library, name))
@@ -356,8 +357,8 @@ def model_description(name: str, fmi_version: str = "2", library: Library | None
 def _model_description(library: Library, name: str, fmi_version: str):
     """``(summary, modelDescription.xml)`` of the model ``name`` (:func:`summarize`,
     :func:`model_description`) from one flattening."""
-    from cosim.compiler.description import describe  # pymoca and CasADi: only here
-    from cosim.compiler.flatten import fewer_collections, flatten
+    # deferred: pymoca and CasADi, only where a model is flattened
+    from cosim.compiler.description import describe
     from cosim.compiler.model_description import model_description_xml
     from cosim.compiler.ode import make_explicit
 

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 
 from cosim.errors import ModelicaError
 from cosim.compiler.library import Library
+from cosim.compiler import pymoca_patches
 
 BUILTIN = ("Real", "Integer", "Boolean", "String")
 
@@ -610,8 +611,6 @@ def _flatten(library: Library, model_name: str) -> FlatModel:
     from pymoca import ast, tree
     from pymoca.backends.casadi._options import _merge_default_options
     from pymoca.backends.casadi.generator import Generator, GeneratorWalker
-
-    from cosim.compiler import pymoca_patches
 
     pymoca_patches.apply()
     library.entry(model_name)

@@ -19,6 +19,8 @@ from functools import lru_cache
 from pathlib import Path
 
 from cosim.errors import ModelicaError, UnknownModelError
+from cosim import __version__
+from cosim.compiler import pymoca_patches
 
 
 def _bundled_library() -> Path:
@@ -216,8 +218,6 @@ def _parse_text(text: str):
     import sqlite3
 
     from pymoca import parser
-
-    from cosim.compiler import pymoca_patches
 
     pymoca_patches.apply()  # the parser patches must see every file
     try:
@@ -567,8 +567,6 @@ def tool_versions() -> dict:
     (importing pymoca and CasADi to ask them would take most of a second)."""
     import platform
     from importlib import metadata
-
-    from cosim import __version__
 
     def version(name: str) -> str:
         try:

@@ -826,7 +826,7 @@ def apply() -> None:
     from pymoca.tree import _instantiation as instantiation
     from pymoca.tree.instance import InstanceSymbol, InstanceTree
 
-    from cosim.compiler import pymoca_flattening  # imports pymoca
+    from cosim.compiler import pymoca_flattening  # deferred: imports pymoca
 
     to_ast_value = flattening._to_ast_value
 

@@ -18,14 +18,13 @@ import json
 import os
 import tempfile
 from pathlib import Path
+from cosim.compiler.catalog import cache_folder
 
 LOG_NAME = "build-seconds.json"
 MAX_ENTRIES = 2000  # models remembered (the oldest entries are dropped beyond this)
 
 
 def log_file() -> Path:
-    from cosim.compiler.catalog import cache_folder
-
     return cache_folder() / LOG_NAME
 
 

@@ -30,6 +30,9 @@ import numpy as np
 from fmpy.fmi1 import FMICallException
 
 from cosim.errors import SimulationError
+from cosim.cosimulation import fastloop  # fastloop.library looked up when used: a replacement is seen
+from cosim.cosimulation.fastloop import address, fmi3_adapters, Fmi3Adapter
+from cosim.fmu.access import ALL_FMI_VERSIONS, FMU
 
 
 class Component:
@@ -207,8 +210,6 @@ class FMUComponent(Component):
     """
 
     def __init__(self, name: str, path: str | Path, parameters: dict | None = None, tolerance: float | None = None):
-        from cosim.fmu.access import ALL_FMI_VERSIONS, FMU
-
         super().__init__(name)
         self.fmu = FMU(path, versions=ALL_FMI_VERSIONS)
         md = self.fmu.description
@@ -300,13 +301,11 @@ class FMUComponent(Component):
     def _setup_fmi3(self, functions) -> None:
         """The FMI 2 signatures on an FMI 3 instance: fastloop.c's adapters, or where the loop's
         library cannot be had (no C compiler) the same adaptation in Python."""
-        from cosim.cosimulation.fastloop import Fmi3Adapter, address, fmi3_adapters, library
-
         set_float64, get_float64 = functions["fmi3SetFloat64"], functions["fmi3GetFloat64"]
         do_step = functions["fmi3DoStep"]
         adapter = self._adapter = Fmi3Adapter(self.instance.component, address(set_float64), address(get_float64),
                                               address(do_step), 0, 0, 0, 0, self.now)
-        lib = library()
+        lib = fastloop.library()
         if lib is not None:
             self._component = addressof(adapter)
             self._set_real, self._get_real, self._do_step = fmi3_adapters(lib)

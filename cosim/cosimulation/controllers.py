@@ -13,6 +13,8 @@ import numpy as np
 from cosim.errors import ParameterError
 from cosim.cosimulation.blocks import Affine, Linear
 from cosim.cosimulation.registry import Window
+from cosim.analytic.parameters import load_parameters
+from cosim.analytic.whipple import state_matrices
 
 
 class Proportional(Affine):
@@ -117,9 +119,6 @@ def lqr_gains(params: str | dict, v: float, q_roll: float = 10.0, q_steer: float
         For an unknown or invalid parameter set, negative weights, or no stabilizing design.
     """
     import control
-
-    from cosim.analytic.parameters import load_parameters
-    from cosim.analytic.whipple import state_matrices
 
     try:
         p = load_parameters(params) if isinstance(params, str) else params

@@ -10,6 +10,10 @@ from cosim.cosimulation.component import Component, FMUComponent
 from cosim.cosimulation.system import SystemError_, SystemSpec, load_system
 from cosim.fmu.isolation import DEFAULT_TIMEOUT, built_here, can_isolate
 from cosim.outputs import check_input_file
+from cosim.compiler.library import load_library
+from cosim.cosimulation.isolated import run_isolated_system
+from cosim.cosimulation.master import run_components
+from cosim.fmu.parameters import check, declarations
 
 
 def python_block(name: str, block: str, parameters: dict, where: str = "system") -> Component:
@@ -42,8 +46,6 @@ def check_parameters(spec: SystemSpec) -> dict[str, dict]:
     UnknownModelError, ModelicaError, ModelStructureError
         A model that is not in the library or cannot be built.
     """
-    from cosim.fmu.parameters import check, declarations
-
     where = str(spec.path or spec.name)
     checked = {}
     for name, entry in spec.components.items():
@@ -69,8 +71,8 @@ def create_components(spec: SystemSpec, fmu_dir: str | Path | None = None) -> di
     """Component objects for every entry of the system (models are built into ``fmu_dir``, as
     FMI 2.0 or 3.0 FMUs by their ``fmi_version``; FMU files may be either). Every component's
     parameters are checked (:func:`check_parameters`) before any model is built."""
+    # deferred: loads casadi, which importing this module does not
     from cosim.compiler.build import DEFAULT_OUTPUT, build_model
-    from cosim.compiler.library import load_library
 
     where = str(spec.path or spec.name)
     values = check_parameters(spec)
@@ -136,9 +138,6 @@ def run_system(path_or_spec, fmu_dir: str | Path | None = None, isolate: bool | 
     FMUProcessError
         (isolated) An FMU's binary ended the process or stopped answering before the first row.
     """
-    from cosim.cosimulation.isolated import run_isolated_system
-    from cosim.cosimulation.master import run_components
-
     spec = path_or_spec if isinstance(path_or_spec, SystemSpec) else load_system(path_or_spec)
     components = create_components(spec, fmu_dir)
     foreign = [name for name, c in components.items() if isinstance(c, FMUComponent) and not built_here(c.fmu.path)]

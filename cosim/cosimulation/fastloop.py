@@ -7,6 +7,7 @@ from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
+from cosim.native import load
 
 
 SOURCE = Path(__file__).with_name("fastloop.c")
@@ -130,8 +131,6 @@ def fast_block(native, u_set: np.ndarray, keep: list) -> FastBlock:
 def library():
     """The compiled loop, or None where it cannot be had (no C compiler, no writable cache
     folder, a library that does not load): the master then steps in Python, with the same results."""
-    from cosim.native import load
-
     lib = load(SOURCE, FLAGS)
     if lib is not None:
         lib.cosim_fast_run.restype = c_int

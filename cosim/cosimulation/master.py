@@ -13,10 +13,13 @@ import numpy as np
 
 from cosim.errors import SimulationError
 from cosim.cosimulation import algorithms
-from cosim.cosimulation.component import Component, SimulationEnded, StepFailed
+from cosim.cosimulation.component import Component, FMUComponent, SimulationEnded, StepFailed
 from cosim.cosimulation.model_exchange import ModelExchange
 from cosim.cosimulation.outcome import Outcome, RunFailed, RunResult, complete_message, finished, terminated
 from cosim.cosimulation.system import MAX_STEPS, Connection, SystemError_, SystemSpec
+from cosim.cosimulation import fastloop  # fastloop.library looked up when used: a replacement is seen
+from cosim.cosimulation.fastloop import address, fast_block, FastComponent
+from cosim.fmu.simulate import physical_cause
 
 
 #: Largest recording one run keeps in memory [bytes].
@@ -400,8 +403,6 @@ class System:
     def _failed_outcome(self, component: str, t: float, text: str) -> Outcome:
         """The outcome of a run an FMU could not continue, naming the physical cause if the last
         communicated outputs show one (see :func:`cosim.fmu.simulate.physical_cause`)."""
-        from cosim.fmu.simulate import physical_cause
-
         values = self._last_values()
         values.update(getattr(self.components[component], "last_outputs", {}) or {})  # nearer the failure
         cause = physical_cause(values)
@@ -415,8 +416,6 @@ class System:
     def _natives(self, grid: np.ndarray, multiples: dict[str, int]) -> dict | None:
         """The native form of every Python block (registry.Native), or None if a component is
         neither an FMU nor a block that has one (then the Python loop steps the system)."""
-        from cosim.cosimulation.component import FMUComponent
-
         blocks = [n for n in self.names if not isinstance(self.components[n], FMUComponent)]
         if not all(callable(getattr(self.components[n], "native_form", None)) for n in blocks):
             return None
@@ -436,9 +435,7 @@ class System:
     def _fast_run(self, data: np.ndarray, grid: np.ndarray, record_idx: np.ndarray, multiples: dict[str, int]):
         """Step in C when every component is an FMU or a native block; None where the Python loop
         must do it."""
-        from cosim.cosimulation.fastloop import library
-
-        lib = library()
+        lib = fastloop.library()
         natives = self._natives(grid, multiples) if lib is not None else None
         if natives is None:
             return None
@@ -453,8 +450,6 @@ class System:
                     record_idx: np.ndarray):
         """One call of ``cosim_fast_run`` (fastloop.c) over the whole grid: (outcome, rows)."""
         from ctypes import byref, c_double, c_int, c_long, c_uint, c_void_p, pointer
-
-        from cosim.cosimulation.fastloop import FastComponent, address, fast_block
 
         spec = self.spec
         n_steps = len(grid) - 1

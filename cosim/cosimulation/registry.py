@@ -284,6 +284,7 @@ def _argument(key: str, value, annotation: str):
 
 def _load() -> dict[str, type[Block]]:
     """The registry with the built-in blocks imported (they register when their module loads)."""
+    # deferred: blocks and controllers import this module to register with it
     from cosim.cosimulation import blocks, controllers  # noqa: F401
 
     return BLOCKS

@@ -24,7 +24,12 @@ from pathlib import Path
 
 from cosim.cosimulation import algorithms
 from cosim.cosimulation.component import FMUComponent
-from cosim.cosimulation.system import SystemError_, SystemSpec
+from cosim.cosimulation.system import FMI_VERSIONS, SystemError_, SystemSpec
+from cosim.cosimulation.factory import create_components
+from cosim.cosimulation.master import assemble, step_grid
+from cosim.cosimulation.modelica_twins import with_twins
+from cosim.fmu.access import ALL_FMI_VERSIONS, read_fmu
+from cosim.outputs import atomic_output, check_output
 
 NS = {
     "ssd": "http://ssp-standard.org/SSP1/SystemStructureDescription",
@@ -91,8 +96,6 @@ def system_structure(spec: SystemSpec, fmus: dict[str, Path], ssp_version: str =
 
     ``ssp_version`` is one of :data:`SSP_VERSIONS`.
     """
-    from cosim.fmu.access import ALL_FMI_VERSIONS, read_fmu
-
     if ssp_version not in SSP_VERSIONS:
         raise SystemError_(f"SSP version '{ssp_version}' cannot be exported (choose {' or '.join(SSP_VERSIONS)})")
     types = TYPES if ssp_version == "1.0" else TYPES_2
@@ -150,8 +153,6 @@ def _built_as(spec: SystemSpec, fmi_version: str) -> SystemSpec:
     """The system with every model component built as ``fmi_version`` ("2" or "3")."""
     import dataclasses
 
-    from cosim.cosimulation.system import FMI_VERSIONS
-
     version = {"2.0": "2", "3.0": "3"}.get(fmi_version, fmi_version)
     if version not in FMI_VERSIONS:
         raise SystemError_(f"FMI version '{fmi_version}' cannot be exported (choose 2 or 3)")
@@ -188,11 +189,6 @@ def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | 
         is not 1.0 or 2.0, or SSP annotations cannot describe the system's coupling algorithm
         (of the built-in ones only Jacobi: OSP's FixedStepAlgorithm).
     """
-    from cosim.outputs import atomic_output, check_output
-    from cosim.cosimulation.factory import create_components
-    from cosim.cosimulation.master import step_grid
-    from cosim.cosimulation.modelica_twins import with_twins
-
     destination = check_output(destination, "SSP file")  # before anything is built
     if ssp_version not in SSP_VERSIONS:
         raise SystemError_(f"SSP version '{ssp_version}' cannot be exported (choose {' or '.join(SSP_VERSIONS)})")
@@ -207,8 +203,6 @@ def export_ssp(spec: SystemSpec, destination: str | Path, fmu_dir: str | Path | 
                            "but the OSP FixedStepAlgorithm of an SSP cannot: choose a step that divides it")
     components = create_components(spec, fmu_dir)  # builds models, checks parameters
     try:
-        from cosim.cosimulation.master import assemble
-
         assemble(spec, components)  # checks the wiring before anything is written
         fmus = {name: Path(comp.fmu.path) for name, comp in components.items() if isinstance(comp, FMUComponent)}
         if fmi_version is not None:

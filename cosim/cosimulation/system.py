@@ -336,7 +336,7 @@ def _component(problems: _Problems, name: str, entry, path: Path | None) -> Comp
     if kind == "fmu" and path is not None and not Path(source).is_absolute():
         source = os.path.abspath(path.parent / source)  # (not resolve(): a loop of links is named later)
     if parameter_set is not None:
-        # not at the top: `cosim --help` loads this module, and parameter sets rarely
+        # deferred: `cosim --help` loads this module, and parameter sets rarely
         from cosim.analytic.parameters import parameters_for_model
 
         if path is not None and (parameter_set.endswith(".toml") or "/" in parameter_set):

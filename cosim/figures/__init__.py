@@ -10,6 +10,8 @@ import pkgutil
 from pathlib import Path
 
 from cosim.errors import ParameterError
+from cosim.folder_lock import folder_lock
+from cosim.outputs import atomic_output, check_output_folder
 
 
 def registry() -> dict:
@@ -39,8 +41,6 @@ def make_figures(names: list[str], output: str | Path) -> list[Path]:
     unknown = [n for n in names if n not in figures]
     if unknown:
         raise ParameterError(f"unknown figure(s) {', '.join(unknown)}; available: {', '.join(figures)}")
-    from cosim.folder_lock import folder_lock
-    from cosim.outputs import check_output_folder
 
     output = check_output_folder(output, "figures folder")  # before any figure is computed
     written = []
@@ -53,8 +53,6 @@ def make_figures(names: list[str], output: str | Path) -> list[Path]:
 def save(fig, path: Path) -> Path:
     """Save a matplotlib figure (format by suffix) atomically and close it."""
     import matplotlib.pyplot as plt
-
-    from cosim.outputs import atomic_output
 
     try:
         with atomic_output(path, "figure") as tmp:

@@ -21,6 +21,10 @@ import numpy as np
 
 from cosim.outputs import write_text
 from cosim.figures import pyplot, save
+from cosim.fmu.simulate import simulate
+from cosim.nonlinear import model as nonlinear_model  # its build looked up when used: a replacement is seen
+from cosim.nonlinear.model import Bicycle, MODEL, parameters, speed_parameters
+from cosim.nonlinear.periodic import periodic_orbit, settle
 
 NAME = "fig10"
 PARAMS = "astrom2005-riderless"
@@ -33,12 +37,10 @@ SETTLE = 60.0  # s of integration before the Newton iteration for the orbit
 
 def compute(fmu=None) -> dict:
     """Both simulations, the weave speed and the periodic orbit, all from the FMU."""
+    # deferred: loads fmpy, which importing this module does not
     from cosim.nonlinear.continuation import SteadyTurns
-    from cosim.nonlinear.model import MODEL, Bicycle, build, parameters, speed_parameters
-    from cosim.nonlinear.periodic import periodic_orbit, settle
-    from cosim.fmu.simulate import simulate
 
-    fmu = fmu or build(MODEL)
+    fmu = fmu or nonlinear_model.build(MODEL)
     p = parameters(PARAMS)
     runs = {}
     for label, v in (("below", V_BELOW), ("above", V_ABOVE)):

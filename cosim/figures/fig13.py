@@ -51,6 +51,7 @@ def critical_speeds(fmu, params: dict, wheels: str, inertias=INERTIAS) -> tuple[
 
     The inertias are processed from large to small with the previous weave speed as the
     bracket guess (the weave speed grows as the inertia shrinks)."""
+    # deferred: loads fmpy, which importing this module does not
     from cosim.bicycle import stability as WP
 
     weave = np.full(len(inertias), np.nan)
@@ -69,6 +70,7 @@ def critical_speeds(fmu, params: dict, wheels: str, inertias=INERTIAS) -> tuple[
 
 
 def compute(fmu=None):
+    # deferred: loads fmpy, which importing this module does not
     from cosim.bicycle import stability as WP
 
     fmu = fmu or WP.whipple_fmu()

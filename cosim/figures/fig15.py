@@ -48,6 +48,8 @@ from pathlib import Path
 import numpy as np
 
 from cosim.figures import pyplot, save
+from cosim.analytic.parameters import load_parameter_set, parameters_for_model, validate_parameters
+from cosim.figures.fig9 import plot_real_parts
 
 NAME = "fig15"
 BASE = "astrom2005"
@@ -59,8 +61,6 @@ SPEEDS = np.linspace(-10.0, 15.0, 201)
 
 def adapted_parameters() -> dict:
     """The adapted bicycle (Meijaard symbols, validated)."""
-    from cosim.analytic.parameters import load_parameter_set, parameters_for_model, validate_parameters
-
     p = parameters_for_model(BASE)
     p["mF"] = FRONT_WHEEL_MASS
     p["IFyy"] = FRONT_WHEEL_MASS * p["rF"] ** 2
@@ -86,6 +86,7 @@ def critical_speeds(fmu, params: dict, radius: float) -> tuple[float | None, flo
     ``radius`` [m] (0: knife edge), from linearizations of the linear Whipple FMU ``fmu`` with
     the roll-torque feedback of :func:`roller_stiffness`; None where the mode does not change
     stability below 200 m/s."""
+    # deferred: loads fmpy, which importing this module does not
     from cosim.bicycle import stability as WP
 
     k = roller_stiffness(params, radius)
@@ -96,6 +97,7 @@ def critical_speeds(fmu, params: dict, radius: float) -> tuple[float | None, flo
 
 def compute(fmu=None):
     """Per roller radius: eigenvalues over SPEEDS, weave speed, capsize speed (None: none below 200 m/s)."""
+    # deferred: loads fmpy, which importing this module does not
     from cosim.bicycle import stability as WP
 
     fmu = fmu or WP.whipple_fmu()
@@ -110,8 +112,6 @@ def compute(fmu=None):
 
 
 def make(output: Path) -> list[Path]:
-    from cosim.figures.fig9 import plot_real_parts
-
     plt = pyplot()
     _, results = compute()
     fig, axes = plt.subplots(1, 2, figsize=(11.0, 4.8), sharey=True)

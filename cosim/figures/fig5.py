@@ -30,6 +30,7 @@ import numpy as np
 
 from cosim.figures import pyplot, save
 from cosim.outputs import write_text
+from cosim.fmu.simulate import simulate
 
 NAME = "fig5"
 MODEL = "Bicycle.Bicycles.SelfStabilizing"
@@ -61,6 +62,7 @@ def steady_state(V: float, T: float, bike=None) -> tuple[float, float]:
     ValueError
         If V is not above V_c or condition (17) fails (no stable steady state).
     """
+    # deferred: loads control, matplotlib, scipy, which importing this module does not
     from cosim.analytic import simple as S
 
     bike = bike or S.SimpleBicycle()
@@ -86,6 +88,7 @@ def operating_point(phi: float, delta: float, bike=None) -> tuple[float, float]:
         gives that), or the speed that gives the ratio is not above V_c (not a stable
         steady state).
     """
+    # deferred: loads control, matplotlib, scipy, which importing this module does not
     from cosim.analytic import simple as S
 
     bike = bike or S.SimpleBicycle()
@@ -102,6 +105,7 @@ def operating_point(phi: float, delta: float, bike=None) -> tuple[float, float]:
 
 
 def _check_stable(bike, V: float) -> None:
+    # deferred: loads control, matplotlib, scipy, which importing this module does not
     from cosim.analytic import simple as S
 
     if not S.is_self_stabilizing(bike, V):
@@ -119,8 +123,8 @@ def simulate_fig5(fmu: Path | None = None, speed: float | None = None, torque: f
 
     ``speed`` [m/s] and ``torque`` [N m] default to :func:`paper_operating_point`.
     """
+    # deferred: loads casadi, which importing this module does not
     from cosim.compiler.build import DEFAULT_OUTPUT, build_model
-    from cosim.fmu.simulate import simulate
 
     if speed is None or torque is None:
         speed, torque = paper_operating_point()

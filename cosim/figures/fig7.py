@@ -32,6 +32,9 @@ import numpy as np
 
 from cosim.outputs import write_text
 from cosim.figures import pyplot, save
+from cosim.analytic import whipple as W
+from cosim.nonlinear import model as nonlinear_model  # its build looked up when used: a replacement is seen
+from cosim.nonlinear.model import Bicycle, MODEL, parameters
 
 NAME = "fig7"
 PARAMS = "astrom2005"
@@ -45,6 +48,7 @@ SEED_STEERS = np.linspace(-np.pi, np.pi, 121)  # steer grid over the full circle
 
 def window():
     """The search window (see the module docstring)."""
+    # deferred: loads fmpy, which importing this module does not
     from cosim.nonlinear.continuation import Window
 
     return Window(phi_max=np.pi / 2, delta_max=np.pi, v_min=0.0, v_max=V_MAX)
@@ -86,12 +90,11 @@ def compute(fmu=None, crown: float = 0.0, *, speeds=None, rolls=None, steers=Non
         ``curves`` (phi > 0 side), their ``folds`` (list per curve), the upright stable
         ``interval`` [m/s] and, for the knife edge, the linear model's ``analytic_interval``.
     """
-    from cosim.analytic import whipple as W
+    # deferred: loads fmpy, which importing this module does not
     from cosim.nonlinear.continuation import Branch, SteadyTurns
-    from cosim.nonlinear.model import MODEL, Bicycle, build, parameters
 
     win = win or window()
-    fmu = fmu or build(MODEL)
+    fmu = fmu or nonlinear_model.build(MODEL)
     # the Meijaard set (for the linear model) and the FMU's parameters with the crown radii
     p = parameters(PARAMS)
     p_fmu = {**p, "tR": crown, "tF": crown}
@@ -250,10 +253,8 @@ def _summary(data: dict) -> dict:
 
 
 def make(output: Path) -> list[Path]:
-    from cosim.nonlinear.model import MODEL, build
-
     plt = pyplot()
-    fmu = build(MODEL)
+    fmu = nonlinear_model.build(MODEL)
     variants = [compute(fmu, 0.0), compute(fmu, CROWN)]
     fig, axes = plt.subplots(2, 2, figsize=(13.0, 8.5), sharex=True)
     for col, data in enumerate(variants):

@@ -24,6 +24,7 @@ SPEEDS = np.linspace(0.0, 15.0, 151)
 
 def compute(fmu=None):
     """Speeds, eigenvalues (len(SPEEDS) x 4), weave and capsize speeds, all from the FMU."""
+    # deferred: loads fmpy, which importing this module does not
     from cosim.bicycle import stability as WP
 
     fmu, params, ev, vw, vc = WP.speed_sweep(fmu, PARAMS, SPEEDS)

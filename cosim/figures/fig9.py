@@ -23,6 +23,7 @@ SPEEDS = np.linspace(-10.0, 15.0, 201)
 
 def plot_real_parts(ax, speeds, ev, vw=None, vc=None, shade=True, no_capsize_note: str | None = None) -> None:
     """The paper's style: dot = real pole, o = complex pole; red = unstable, blue = stable."""
+    # deferred: loads fmpy, which importing this module does not
     from cosim.bicycle.stability import oscillatory
 
     vv = np.repeat(speeds, ev.shape[1])
@@ -53,6 +54,7 @@ def plot_real_parts(ax, speeds, ev, vw=None, vc=None, shade=True, no_capsize_not
 
 
 def compute(fmu=None):
+    # deferred: loads fmpy, which importing this module does not
     from cosim.bicycle import stability as WP
 
     _, _, ev, vw, vc = WP.speed_sweep(fmu, PARAMS, SPEEDS)

@@ -4,6 +4,7 @@ from __future__ import annotations
 import json
 
 from cosim.fmu.target import is_fmu_path
+from cosim.compiler.catalog import shorten, summarize
 
 
 def _number(value):
@@ -75,6 +76,7 @@ def _dimensions(md, v) -> list | None:
 
 def fmu_info(path) -> dict:
     """Model description of an FMU as a plain dict."""
+    # deferred: loads numpy, which importing this module does not
     from cosim.fmu.access import READABLE_FMI_VERSIONS, read_fmu
 
     md = read_fmu(path, versions=READABLE_FMI_VERSIONS, runnable=False)
@@ -139,8 +141,6 @@ def _format_fmu(info: dict) -> str:
 
 
 def _format_model(summary) -> str:
-    from cosim.compiler.catalog import shorten
-
     lines = [f"{summary.name}: {summary.description}",
              f"  exported: {'yes' if summary.exported else 'no'}"]
     if summary.experiment:
@@ -159,7 +159,6 @@ def describe_target(target: str, as_json: bool = False) -> str:
     if is_fmu_path(target):
         info = fmu_info(target)
         return json.dumps(info, indent=2, default=str) if as_json else _format_fmu(info)
-    from cosim.compiler.catalog import summarize
 
     summary = summarize(target)
     return json.dumps(summary.to_dict(), indent=2) if as_json else _format_model(summary)

@@ -76,7 +76,7 @@ def can_isolate() -> bool:
 def built_here(path: str | os.PathLike) -> bool:
     """True for an FMU this project built: its ``generationTool`` is cosim and it carries the build
     manifest. Anything else (or anything unreadable) is foreign."""
-    from cosim.compiler.fmu import MANIFEST
+    from cosim.compiler.fmu import MANIFEST  # deferred: `cosim --help` loads this module
 
     try:
         with zipfile.ZipFile(path) as archive:

@@ -34,10 +34,14 @@ from pathlib import Path
 
 import numpy as np
 
-from cosim.errors import InputDataError, ParameterError, SimulationError
+from cosim.errors import CosimError, InputDataError, ParameterError, SimulationError
 from cosim.fmu.isolation import DEFAULT_TIMEOUT, FMUProcessError, built_here, can_isolate, run_isolated
-from cosim.outputs import check_input_file, read_text_file
-from cosim.fmu.parameters import split_assignment
+from cosim import outputs as output_files  # atomic_output looked up when used: a replacement is seen
+from cosim.outputs import check_input_file, check_output, read_text_file
+from cosim.fmu.parameters import FIXED_STEP_PARAMETER, split_assignment
+from cosim.compiler.catalog import singular_configurations
+from cosim.compiler.library import load_library
+from cosim.fmu.access import ALL_FMI_VERSIONS, FMU, FMULog, read_fmu
 
 #: Result formats by file suffix (``-o``).
 RESULT_FORMATS = {".csv": "CSV text with a header row", ".npy": "a NumPy structured array for numpy.load"}
@@ -89,8 +93,6 @@ class IncompleteResult(SimulationError):
 
 
 def _variables(fmu: Path):
-    from cosim.fmu.access import ALL_FMI_VERSIONS, read_fmu
-
     md = read_fmu(fmu, ALL_FMI_VERSIONS)
     return md, {v.name: v for v in md.modelVariables}
 
@@ -550,8 +552,6 @@ def check_run(md, stop_time: float | None, step: float | None, fmi_type: str, st
         step and the rows, never a silently coarser step), or ``solver.fixedStepSize`` with
         Model Exchange.
     """
-    from cosim.fmu.parameters import FIXED_STEP_PARAMETER
-
     if fmi_type not in ("cs", "me"):
         raise ParameterError(f"--fmi-type must be 'cs' or 'me', got '{fmi_type}'")
     if stop_time is not None and not math.isfinite(stop_time):
@@ -630,8 +630,6 @@ def simulate(fmu: str | Path, stop_time: float | None = None, step: float | None
     SimulationError
         The FMU failed before the first step (nothing computed).
     """
-    from cosim.fmu.access import ALL_FMI_VERSIONS, FMU
-
     fmu = Path(fmu)
     # FMPy's simulate_fmu runs FMI 2 and FMI 3 alike
     handle = FMU(fmu, versions=ALL_FMI_VERSIONS, lenient=lenient)
@@ -670,8 +668,6 @@ class _Run:
 
     def __call__(self, worker) -> np.ndarray:
         from fmpy import simulate_fmu
-
-        from cosim.fmu.access import FMULog
 
         handle, md, fmu, t1 = self.handle, self.handle.description, self.handle.path, self.t1
         if self.kind == "me":
@@ -939,9 +935,6 @@ def model_singularities(model_name: str):
     """The singular configurations ``model_name`` declares (:func:`cosim.compiler.catalog.
     singular_configurations`); empty for a model the library does not have (an FMU from
     elsewhere) or whose annotation cannot be read (the failure is reported without it)."""
-    from cosim.compiler.catalog import singular_configurations
-    from cosim.errors import CosimError
-
     try:
         return singular_configurations(model_name)
     except CosimError:
@@ -1009,9 +1002,6 @@ def physical_cause(values: dict[str, float], singular=None) -> str | None:
 def _library_singularities():
     """Every singular configuration declared in the library, for :func:`physical_cause` without a
     model (one per model and variable; the first model that declares a variable names it)."""
-    from cosim.compiler.library import load_library
-    from cosim.errors import CosimError
-
     try:
         library = load_library()
     except CosimError:
@@ -1029,8 +1019,6 @@ def _library_singularities():
 
 def check_result_output(path: str | Path, option: str = "-o") -> Path:
     """Refuse a result path with an unknown suffix or that cannot be written (before any work)."""
-    from cosim.outputs import check_output
-
     path = check_output(path, "result file")
     if path.suffix.lower() not in RESULT_FORMATS:
         known = " or ".join(f"{s} ({d})" for s, d in RESULT_FORMATS.items())
@@ -1042,8 +1030,6 @@ def check_result_output(path: str | Path, option: str = "-o") -> Path:
 
 def check_plot_output(path: str | Path, option: str = "--plot") -> Path:
     """Refuse a plot path whose format matplotlib does not write, or that cannot be written."""
-    from cosim.outputs import check_output
-
     path = check_output(path, "plot file")
     formats = _plot_formats()
     if path.suffix.lower().lstrip(".") not in formats:
@@ -1074,9 +1060,7 @@ def write_result(result: np.ndarray, path: str | Path) -> Path:
     one field of its shape (``numpy.load(path)["y"]`` has the shape ``(rows, n)``)."""
     path = Path(path)
     if path.suffix.lower() == ".npy":
-        from cosim.outputs import atomic_output
-
-        with atomic_output(path, "result file") as tmp:
+        with output_files.atomic_output(path, "result file") as tmp:
             np.save(tmp, text_as_str(result), allow_pickle=False)
         return path
     return write_csv(result, path)
@@ -1089,8 +1073,6 @@ def write_csv(result: np.ndarray, path: str | Path) -> Path:
     ``(n,)`` or ``(n, m, ...)``) is flattened row-major to the columns ``name[1]``, ``name[2]``, ...
     or ``name[1,1]``, ``name[1,2]``, ... (1-based, as Modelica and FMI index arrays), so that every
     column has its own unique name. A name holding a comma is quoted (RFC 4180)."""
-    from cosim.outputs import atomic_output
-
     # 64-bit integers (FMI 3 Int64, UInt64) are written exactly, which a float cannot hold; the text
     # of a String output as it is (quoted where RFC 4180 asks for it)
     wide = any((result.dtype[n].base.kind in "iu" and result.dtype[n].base.itemsize == 8)
@@ -1117,7 +1099,7 @@ def write_csv(result: np.ndarray, path: str | Path) -> Path:
     data = np.hstack(columns) if columns else np.zeros((len(result), 0))
     header = io.StringIO()
     csv.writer(header, lineterminator="").writerow(names)
-    with atomic_output(path, "result file") as tmp:
+    with output_files.atomic_output(path, "result file") as tmp:
         np.savetxt(tmp, data, delimiter=",", header=header.getvalue(), comments="",
                    fmt=formats if wide else "%.17g")
     return Path(path)
@@ -1137,8 +1119,6 @@ def plot(result: np.ndarray, path: str | Path, title: str = "") -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from cosim.outputs import atomic_output
-
     names = numeric_names(result)
     fig, axes = plt.subplots(len(names) or 1, 1, sharex=True, figsize=(7, 1.8 * max(1, len(names))), squeeze=False)
     try:
@@ -1150,7 +1130,7 @@ def plot(result: np.ndarray, path: str | Path, title: str = "") -> Path:
         if title:
             axes[0, 0].set_title(title)
         fig.tight_layout()
-        with atomic_output(path, "plot file") as tmp:
+        with output_files.atomic_output(path, "plot file") as tmp:
             fig.savefig(tmp, dpi=120)
     finally:
         plt.close(fig)

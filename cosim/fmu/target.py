@@ -5,6 +5,7 @@ import contextlib
 import os
 import sys
 from pathlib import Path
+from cosim.compiler.library import fmu_up_to_date, load_library
 
 
 def is_fmu_path(target: str) -> bool:
@@ -52,6 +53,7 @@ def resolve_fmu(target: str, output: str | Path | None = None, versions: tuple[s
         The model cannot be found or built (see :func:`cosim.compiler.build.build_model`).
     """
     if is_fmu_path(target):
+        # deferred: loads numpy, which importing this module does not
         from cosim.fmu.access import SUPPORTED_FMI_VERSIONS, read_fmu
 
         path = Path(target)
@@ -62,8 +64,8 @@ def resolve_fmu(target: str, output: str | Path | None = None, versions: tuple[s
     fmu = built_fmu(target, folder)
     if fmu is not None:
         return fmu
+    # deferred: loads casadi, numpy, which importing this module does not
     from cosim.compiler.build import build_model
-    from cosim.compiler.library import load_library
 
     return build_model(target, folder, load_library()).fmu
 
@@ -75,8 +77,6 @@ def built_fmu(model: str, output: str | Path | None = None, fmi_version: str = "
     The check needs neither cosim.compiler.build nor a parse of the library: importing it
     (pymoca, CasADi) and parsing would cost seconds before a simulation of an FMU that is
     already built."""
-    from cosim.compiler.library import fmu_up_to_date
-
     folder = (Path(output) if output is not None else default_output()).absolute()
     if str(fmi_version) == "3":
         folder = folder / "fmi3"  # as cosim.compiler.build.fmu_path

@@ -108,8 +108,6 @@ def _archive_problems(path: Path, fmu: FMU) -> list[str]:
 
 
 def _binary_problems(path: Path, fmu: FMU) -> list[str]:
-    from cosim.errors import FMUError
-
     problems = []
     for kind in ("me", "cs"):
         section = fmu.description.modelExchange if kind == "me" else fmu.description.coSimulation

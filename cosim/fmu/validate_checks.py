@@ -98,7 +98,7 @@ from typing import Callable
 import numpy as np
 
 from cosim.errors import FMUError
-from cosim.fmu.access import get_continuous_states, get_state_derivatives, set_continuous_states
+from cosim.fmu.access import FMULog, get_continuous_states, get_state_derivatives, set_continuous_states
 
 #: Relative tolerance of a directional derivative against central differences (elementwise,
 #: relative to max(1, |fd|)): what exact derivatives meet; beyond it a warning.
@@ -273,8 +273,6 @@ class Session:
     def raw_instance(self, kind: str, token: str):
         """Instantiate with the given GUID / instantiationToken, bypassing the access layer (which
         always passes the right one). Raises FMPy's Exception if the FMU refuses (NULL)."""
-        from cosim.fmu.access import FMULog
-
         if self.fmi3:
             from fmpy.fmi3 import FMU3Model as Model, FMU3Slave as Slave
         else:
@@ -866,8 +864,6 @@ def check_cs_step(s: Session, f: Findings) -> None:
 
 def _short_run(s: Session, f: Findings, kind: str) -> None:
     from fmpy import simulate_fmu
-
-    from cosim.fmu.access import FMULog
 
     if kind not in s.kinds():
         f.skip(f"the FMU has no {'Model Exchange' if kind == 'me' else 'Co-Simulation'} interface")

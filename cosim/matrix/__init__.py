@@ -99,12 +99,12 @@ __all__ = ["load_spec", "run_matrix"]
 
 
 def load_spec(path_or_name):
-    from cosim.matrix.spec import load_spec as _load
+    from cosim.matrix.spec import load_spec as _load  # deferred: importing a matrix module loads this package
 
     return _load(path_or_name)
 
 
 def run_matrix(*args, **kwargs):
-    from cosim.matrix.runner import run_matrix as _run
+    from cosim.matrix.runner import run_matrix as _run  # deferred: importing a matrix module loads this package
 
     return _run(*args, **kwargs)

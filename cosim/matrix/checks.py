@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 
 from cosim.matrix import expr
 from cosim.matrix.classify import UNSTABLE
+from cosim.matrix.predict import max_re_at
 
 
 @dataclass
@@ -74,8 +75,6 @@ def _agreement(study, pairs) -> CheckResult:
 
 def _stable_interval(study, pairs, check, fmu_paths) -> CheckResult:
     from scipy.optimize import brentq
-
-    from cosim.matrix.predict import max_re_at
 
     axis = check["axis"]
     lo, hi = (float(v) for v in check["expected"])

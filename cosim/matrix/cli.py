@@ -77,7 +77,7 @@ def run(args) -> int:
     CosimError
         For a spec, output-folder or usage error (printed by :func:`cosim.cli.main`).
     """
-    from cosim.matrix.runner import run_matrix  # not needed to build the parser of every verb
+    from cosim.matrix.runner import run_matrix  # deferred: not needed to build the parser of every verb
 
     try:
         result = run_matrix(args.spec, args.output, workers=args.workers, scheduler=args.scheduler,

@@ -25,6 +25,7 @@ class ExpressionError(ParameterError):
 
 
 def _weave_speed(parameter_set: str) -> float:
+    # deferred: `cosim --help` loads this module (the matrix parser); these load numpy
     from cosim.analytic.parameters import load_parameters
     from cosim.analytic.whipple import weave_speed
 
@@ -34,7 +35,7 @@ def _weave_speed(parameter_set: str) -> float:
 def _second_order(key: str, parameter_set: str = "astrom2005") -> float:
     """A parameter of the paper's second-order models (cosim/params/second-order/SET.toml): the
     studies read m, g, h, J from the data set instead of repeating its numbers."""
-    from cosim.analytic.parameters import load_second_order
+    from cosim.analytic.parameters import load_second_order  # deferred: `cosim --help` loads this module
 
     values = load_second_order(parameter_set)
     if key not in values:
@@ -44,6 +45,7 @@ def _second_order(key: str, parameter_set: str = "astrom2005") -> float:
 
 
 def _capsize_speed(parameter_set: str) -> float:
+    # deferred: `cosim --help` loads this module (the matrix parser); these load numpy
     from cosim.analytic.parameters import load_parameters
     from cosim.analytic.whipple import capsize_speed
 

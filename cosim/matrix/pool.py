@@ -30,8 +30,11 @@ import uuid
 from collections import deque
 from pathlib import Path
 
-from cosim.errors import CosimError
-from cosim.matrix.worker import BLAS_THREAD_VARIABLES, failed_record, read_message, write_message
+from cosim.errors import CosimError, MissingExtraError
+from cosim.matrix.worker import (BLAS_THREAD_VARIABLES, failed_record, import_plugins, read_message, serve,
+                                 set_blas_threads, warm_fmus, warm_imports, warm_up, write_message)
+from cosim.fmu import access
+from cosim.processes import die_with_parent
 
 _PACKAGE_ROOT = str(Path(__file__).resolve().parents[2])
 
@@ -85,8 +88,6 @@ def _remove_own_extractions() -> None:
     """Remove the FMU extraction folder of this (forked) process: ``os._exit`` skips the atexit
     hook that removes it -- and must, since the inherited hooks are the supervisor's."""
     try:
-        from cosim.fmu import access
-
         own = access._PROCESS_FOLDER
         if own is not None and own[0] == os.getpid():
             access._remove_extracted(*own)
@@ -110,7 +111,6 @@ class _Forked:
                 stream.flush()
             except (AttributeError, OSError, ValueError):  # None (no console), closed
                 pass
-        from cosim.matrix.worker import set_blas_threads
 
         set_blas_threads(1)  # the child inherits it (run_local restores the supervisor's count)
         pid = os.fork()
@@ -137,10 +137,8 @@ class _Forked:
                 # as in a spawned worker: a crash is reported by the supervisor (signal and log
                 # tail), not by a dump the supervisor's faulthandler (pytest's) writes to its stderr
                 faulthandler.disable()
-                from cosim.processes import die_with_parent
 
                 die_with_parent(parent)
-                from cosim.matrix.worker import serve
 
                 # one BLAS thread, inherited (set before the fork: see cosim.matrix.worker)
                 code = serve(os.fdopen(to_child_r, "rb", buffering=0), os.fdopen(from_child_w, "wb", buffering=0),
@@ -354,7 +352,6 @@ def run_local(cases: list[dict], init: dict, workers: int, on_record, timeout: f
     method = start_method()
     blas_threads = {}
     if method == "fork":  # imported once here, inherited by every forked worker
-        from cosim.matrix.worker import import_plugins, set_blas_threads, warm_fmus, warm_imports, warm_up
 
         import_plugins(init.get("imports", []))
         warm_up()
@@ -441,8 +438,6 @@ def run_local(cases: list[dict], init: dict, workers: int, on_record, timeout: f
             else:  # interrupted (Ctrl-C, an error): do not wait for running cases
                 child.kill()
         if blas_threads:
-            from cosim.matrix.worker import set_blas_threads
-
             set_blas_threads(blas_threads)
     return {"startup": t1 - t0, "run": t2 - t1, "start": method}
 
@@ -506,7 +501,6 @@ def connect(address: str, timeout: float = SCHEDULER_TIMEOUT):
     try:
         from distributed import Client
     except ImportError:  # the optional extra `cluster`
-        from cosim.errors import MissingExtraError
 
         raise MissingExtraError("--scheduler", "dask.distributed", "cluster") from None
     _check_address(address)  # a malformed one would leave a half-made Client that hangs at exit

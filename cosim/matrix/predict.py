@@ -34,6 +34,10 @@ import numpy as np
 from cosim.cosimulation import algorithms
 from cosim.errors import CosimError
 from cosim.statespace import StateSpace
+from cosim.analytic.parameters import load_parameters, PARAMETER_NAMES
+from cosim.analytic.whipple import assembled_state_matrices, matrices
+from cosim.cosimulation.system import parse_connection
+from cosim.fmu.access import read_fmu, READABLE_FMI_VERSIONS
 
 
 class PredictionError(CosimError, ValueError):
@@ -132,6 +136,7 @@ def block_lti(name: str, block: str, parameters: dict, settings: dict) -> Compon
 
     Models are cached by their arguments and the block's class (a block's linear model is a
     function of its parameters and the settings); the cached arrays are read-only."""
+    # deferred: loads fmpy, which importing this module does not
     from cosim.cosimulation import registry
 
     try:
@@ -149,6 +154,7 @@ def block_lti(name: str, block: str, parameters: dict, settings: dict) -> Compon
 
 
 def _block_lti(name: str, block: str, parameters: dict, settings: dict) -> ComponentModel:
+    # deferred: loads fmpy, which importing this module does not
     from cosim.cosimulation import registry
 
     try:
@@ -166,8 +172,6 @@ WHIPPLE = "Bicycle.Bicycles.WhippleLinear"
 
 @lru_cache(maxsize=1)
 def _benchmark() -> dict:
-    from cosim.analytic.parameters import load_parameters
-
     return load_parameters("benchmark")
 
 
@@ -176,8 +180,6 @@ def _whipple_matrices(items: tuple) -> tuple:
     """M, C1, K0, K2 (read-only), M^-1 and g of a parameter set (given as sorted items): the
     part of :func:`cosim.analytic.whipple.state_matrices` that does not depend on the speed,
     computed (and the parameters validated) once per parameter set instead of once per case."""
-    from cosim.analytic.whipple import matrices
-
     p = dict(items)
     M, C1, K0, K2 = matrices(p)
     Minv = np.linalg.inv(M)
@@ -189,15 +191,11 @@ def _whipple_matrices(items: tuple) -> tuple:
 def whipple_state_matrices(p: dict, v: float) -> tuple[np.ndarray, np.ndarray]:
     """:func:`cosim.analytic.whipple.state_matrices` with the speed-independent part cached:
     the same operations in the same order, so the same bits (tests/test_matrix_pool.py)."""
-    from cosim.analytic.whipple import assembled_state_matrices
-
     M, C1, K0, K2, Minv, g = _whipple_matrices(tuple(sorted(p.items())))
     return assembled_state_matrices(Minv, C1, K0, K2, g, float(v))
 
 
 def _whipple(params: dict) -> ComponentModel:
-    from cosim.analytic.parameters import PARAMETER_NAMES
-
     base = _benchmark()
     p = {k: float(params.get(k, base[k])) for k in PARAMETER_NAMES}
     v = float(params.get("v", 5.0))
@@ -215,6 +213,7 @@ def _whipple(params: dict) -> ComponentModel:
 
 
 def _twin(model: str, params: dict) -> ComponentModel | None:
+    # deferred: loads control, matplotlib, scipy, which importing this module does not
     from cosim.analytic.twins import TWINS
 
     twin = TWINS.get(model)
@@ -231,8 +230,6 @@ def _twin(model: str, params: dict) -> ComponentModel | None:
 
 @lru_cache(maxsize=64)
 def _fmu_info(path: str):
-    from cosim.fmu.access import READABLE_FMI_VERSIONS, read_fmu
-
     md = read_fmu(path, READABLE_FMI_VERSIONS)  # the one cached reading per process (cosim.fmu.access)
     starts = {}
     for v in md.modelVariables:
@@ -246,6 +243,7 @@ def _fmu_info(path: str):
 
 def component_lti(name: str, entry: dict, fmu_paths: dict, settings: dict) -> ComponentModel:
     """The linear model of one component of a system dict."""
+    # deferred: loads fmpy, which importing this module does not
     from cosim.cosimulation import registry
 
     params = dict(entry.get("parameters", {}))
@@ -268,6 +266,7 @@ def component_lti(name: str, entry: dict, fmu_paths: dict, settings: dict) -> Co
         return block_lti(name, block.__name__, {k: v for k, v in {**starts, **params}.items() if k in accepted},
                          settings)
     if path:
+        # deferred: loads fmpy, which importing this module does not
         from cosim.fmu.linearize import linearize
 
         s = linearize(path, dict(params)).system
@@ -303,8 +302,6 @@ class Loop:
     (tuning) before :meth:`prediction` is evaluated again."""
 
     def __init__(self, system: dict, observe: str, fmu_paths: dict, settings: dict, models: dict | None = None):
-        from cosim.cosimulation.system import parse_connection
-
         comps = system["components"]
         self.models = models or {n: component_lti(n, e, fmu_paths, settings) for n, e in comps.items()}
         sysset = system.get("system", {})

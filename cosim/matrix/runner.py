@@ -21,6 +21,9 @@ from cosim.errors import OutputError, ParameterError, ResultNotWritten
 from cosim.folder_lock import check_not_busy, folder_lock
 from cosim.matrix.spec import MAX_CASES, Case, MatrixSpec, SpecError, load_spec
 from cosim.matrix.store import RESULTS, ResultStore, has_results
+from cosim.matrix.progress import Progress
+from cosim.matrix.report import write_report
+from cosim.outputs import check_output_folder, write_text
 
 
 @dataclass
@@ -67,6 +70,7 @@ def check_names(cases: list[Case], where: str) -> None:
         Naming the spec, the study, the component and the name: unknown, an input, a calculated
         parameter, or an ``initial`` entry that is not a state's start value.
     """
+    # deferred: loads numpy, which importing this module does not
     from cosim.fmu.parameters import START_ROLES, declarations, settable
 
     declared: dict[str, dict] = {}
@@ -102,6 +106,7 @@ def check_names(cases: list[Case], where: str) -> None:
 
 def build_fmus(cases: list[Case], fmu_dir: str | Path | None, jobs: int = 1) -> dict:
     """Every model the cases use, built (incrementally) once: model name -> FMU path."""
+    # deferred: loads casadi, numpy, which importing this module does not
     from cosim.compiler.build import DEFAULT_OUTPUT, build
 
     models = sorted({e["model"] for c in cases for e in c.system["components"].values() if "model" in e})
@@ -124,8 +129,6 @@ def prepare_directory(directory: Path, resume: bool = False, force: bool = False
         being written by another run (:class:`cosim.folder_lock.FolderBusy`), or already holds
         results of an earlier run and neither ``resume`` nor ``force`` is given.
     """
-    from cosim.outputs import check_output_folder
-
     if resume and force:
         raise OutputError("give either --resume (keep the results) or --force (discard them), not both")
     directory = check_output_folder(directory)
@@ -139,8 +142,6 @@ def prepare_directory(directory: Path, resume: bool = False, force: bool = False
 
 
 def _write_json(path: Path, data: dict) -> None:
-    from cosim.outputs import write_text
-
     write_text(path, json.dumps(data, indent=2) + "\n")
 
 
@@ -169,6 +170,7 @@ def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = Non
     SpecError, OutputError, SchedulerError, BuildError
         Before any case is run, each with one message (see the module docstring).
     """
+    # deferred: loads fmpy, numpy, which importing this module does not
     from cosim.matrix.pool import connect
 
     started = time.perf_counter()
@@ -182,8 +184,6 @@ def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = Non
     spec.check_count(max_cases)
     directory = prepare_directory(Path(directory or f"matrix-{spec.name}"), resume, force)
     if fmu_dir is not None:
-        from cosim.outputs import check_output_folder
-
         check_output_folder(fmu_dir, "FMU folder")
     workers = workers or os.cpu_count() or 1
     client = connect(scheduler) if scheduler else None  # an unreachable scheduler: one message, now
@@ -207,8 +207,8 @@ def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = Non
 def _run_locked(spec, cases, directory, client, scheduler, workers, resume, keep_failed, fmu_dir, progress,
                 stream, started) -> MatrixResult:
     """:func:`run_matrix` holding the output folder's lock: build, dispatch, store, check."""
+    # deferred: loads numpy, which importing this module does not
     from cosim.matrix import checks as checks_mod
-    from cosim.matrix.progress import Progress
 
     fmu_paths = build_fmus(cases, fmu_dir, workers)
     with ResultStore(directory, resume, retry_failed=resume and not keep_failed) as store:
@@ -232,8 +232,6 @@ def _run_locked(spec, cases, directory, client, scheduler, workers, resume, keep
 
 def _write_report(result: MatrixResult) -> dict:
     """The report files; one that cannot be written says that the results are kept."""
-    from cosim.matrix.report import write_report
-
     try:
         return write_report(result)
     except OutputError as exc:
@@ -243,6 +241,7 @@ def _write_report(result: MatrixResult) -> dict:
 
 def _import_plugins(spec: MatrixSpec) -> None:
     """The spec's imports (blocks and their linear models), a failing one named in one message."""
+    # deferred: loads fmpy, numpy, which importing this module does not
     from cosim.matrix.worker import import_plugins
 
     for item in spec.imports:
@@ -256,6 +255,7 @@ def _import_plugins(spec: MatrixSpec) -> None:
 def _dispatch(todo: list[Case], spec: MatrixSpec, fmu_paths: dict, directory: Path, client, workers: int,
               store: ResultStore, bar) -> dict:
     """Run ``todo`` on the Dask ``client`` or local workers, each record stored as it arrives."""
+    # deferred: loads fmpy, numpy, which importing this module does not
     from cosim.matrix.pool import run_dask, run_local
 
     init = {"imports": spec.imports, "fmu_paths": fmu_paths}

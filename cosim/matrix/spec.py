@@ -49,7 +49,7 @@ from functools import lru_cache
 from pathlib import Path
 
 from cosim.cosimulation import algorithms
-from cosim.cosimulation.system import type_name
+from cosim.cosimulation.system import system_from_dict, SystemError_, type_name
 from cosim.errors import CosimError, ParameterError
 from cosim.matrix import expr
 from cosim.outputs import check_input_file, read_text_file
@@ -247,8 +247,6 @@ class MatrixSpec:
 
     def cases(self) -> list[Case]:
         """Every case, each system checked against the system-file schema (before any work)."""
-        from cosim.cosimulation.system import SystemError_, system_from_dict
-
         found, seen = [], {}
         for study in self.studies:
             checked = set()
@@ -277,7 +275,7 @@ class MatrixSpec:
 
 @lru_cache(maxsize=32)
 def _parameter_set_cached(name: str) -> tuple:
-    from cosim.analytic.parameters import parameters_for_model  # `cosim --help` loads this module
+    from cosim.analytic.parameters import parameters_for_model  # deferred: `cosim --help` loads this module
 
     return tuple(parameters_for_model(name).items())
 
@@ -647,8 +645,6 @@ def spec_from_dict(data: dict, path: Path | None = None, max_cases: int = MAX_CA
         If a key is unknown or of the wrong type or range, an expression is invalid or too costly,
         or the spec has more than ``max_cases`` cases.
     """
-    from cosim.cosimulation.system import SystemError_, system_from_dict
-
     where = str(path) if path else "spec"
     _table(data, where, "a TOML document")
     table = _table(data.get("matrix", {}), f"{where}: [matrix]")

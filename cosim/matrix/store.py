@@ -18,6 +18,8 @@ import math
 import os
 import time
 from pathlib import Path
+from cosim.errors import OutputError, ResultNotWritten
+from cosim.outputs import atomic_output
 
 RESULTS = "results.jsonl"
 
@@ -98,8 +100,6 @@ class ResultStore:
     """
 
     def __init__(self, directory: Path, resume: bool, retry_failed: bool = False):
-        from cosim.errors import OutputError
-
         self.directory = Path(directory)
         self.path = self.directory / RESULTS
         self._records: dict[str, dict | bytes] = {}  # bytes: a line written, parsed when asked for
@@ -137,8 +137,6 @@ class ResultStore:
 
     def _rewrite(self) -> None:
         """Replace the file by one line per kept record, atomically (a kill leaves the old file)."""
-        from cosim.outputs import atomic_output
-
         with atomic_output(self.path, "results file") as tmp:
             with open(tmp, "wb") as f:
                 for rec in self._records.values():
@@ -191,8 +189,6 @@ class ResultStore:
         self._records[key] = line
 
     def _lost(self, exc: OSError):
-        from cosim.errors import ResultNotWritten
-
         n = len(self._records)
         kept = f"the {n} cases recorded before are kept" if n != 1 else "the case recorded before is kept"
         return ResultNotWritten(f"cannot write results file '{self.path}': {exc.strerror or exc}; {kept} "

@@ -34,6 +34,20 @@ import numpy as np
 
 from cosim.cosimulation.component import FMUComponent
 from cosim.errors import SimulationError
+from cosim.analytic import whipple  # noqa: F401  (the bicycles' predictions)
+from cosim.analytic.parameters import bundled_parameter_sets
+from cosim.cosimulation.factory import python_block
+from cosim.cosimulation.fastloop import library
+from cosim.cosimulation.master import run_components
+from cosim.cosimulation.system import system_from_dict
+from cosim.fmu.access import ALL_FMI_VERSIONS, FMU, read_fmu, READABLE_FMI_VERSIONS
+from cosim.fmu.parameters import check, declarations, START_ROLES
+from cosim.matrix import classify
+from cosim.matrix.predict import predict_case
+from cosim.matrix.spec import Case
+from cosim.matrix.store import encode
+from cosim.native import loaded_libraries
+from cosim.processes import die_with_parent
 
 _HEADER = struct.Struct(">Q")
 
@@ -108,7 +122,6 @@ class ReusableFMUComponent(FMUComponent):
 
     def __init__(self, name: str, path: str | Path):
         super().__init__(name, path, {})
-        from cosim.fmu.parameters import declarations
 
         self._declared = declarations(str(path))
         self._checked: dict = {}  # (name, type, value) -> the checked value
@@ -118,8 +131,6 @@ class ReusableFMUComponent(FMUComponent):
         component: the cases of a study repeat most of them (a parameter set of 28 values and the
         swept one), and checking them all again was a fifth of a case's Python time. The same
         values and the same first error as ``check``."""
-        from cosim.fmu.parameters import check
-
         checked, memo = {}, self._checked
         for name, raw in parameters.items():
             try:
@@ -135,8 +146,6 @@ class ReusableFMUComponent(FMUComponent):
         return checked
 
     def configure(self, parameters: dict, initial: dict) -> None:
-        from cosim.fmu.parameters import START_ROLES
-
         values = self._check(parameters)
         for var in initial:
             declared = self._declared.get(var)
@@ -232,10 +241,6 @@ def _with_fmus(system: dict, fmu_paths: dict) -> dict:
 
 def simulate(system: dict, initial: dict, observe: str, cache: FMUCache, fmu_paths: dict, stop: float | None = None):
     """Co-simulate a system dict; returns (time, observed signal, outcome dict)."""
-    from cosim.cosimulation.factory import python_block
-    from cosim.cosimulation.master import run_components
-    from cosim.cosimulation.system import system_from_dict
-
     system = _with_fmus(system, fmu_paths)
     settings = dict(system.get("system", {}))
     settings["record"] = list(dict.fromkeys([observe, *(settings.get("record") or [])]))
@@ -263,10 +268,6 @@ def simulate(system: dict, initial: dict, observe: str, cache: FMUCache, fmu_pat
 
 def run_case(case: dict, cache: FMUCache, fmu_paths: dict) -> dict:
     """Prediction, co-simulation, classification and agreement of one case (never raises)."""
-    from cosim.matrix import classify
-    from cosim.matrix.predict import predict_case
-    from cosim.matrix.spec import Case
-
     started = time.perf_counter()
     rec = base_record(case)
     try:
@@ -323,8 +324,6 @@ def set_blas_threads(count: int | dict) -> dict:
     of :data:`BLAS_THREAD_VARIABLES` act only before numpy loads it)."""
     import ctypes
 
-    from cosim.native import loaded_libraries
-
     before, seen = {}, set()
     for lib in loaded_libraries("openblas|blas|mkl_rt"):
         try:
@@ -351,19 +350,12 @@ def set_blas_threads(count: int | dict) -> dict:
 def warm_up() -> None:
     """Import what every case needs before reporting ready, and run the classification once.
 
-    A worker's first case otherwise paid 50-100 ms for imports made inside functions and for
-    numpy's first calls -- on 2 workers of a 600-run matrix a sixth of the steady time.
+    A worker's first case otherwise paid 50-100 ms for fmpy's imports, the C loop's library, the
+    package data and numpy's first calls -- on 2 workers of a 600-run matrix a sixth of the steady time.
     python-control (0.8 s to import) and scipy are not among them: they are imported by the
     cases that need them (exact delays, tuning), so that a worker of a matrix of FMUs starts fast."""
     import fmpy.fmi2  # noqa: F401
     import fmpy.fmi3  # noqa: F401
-
-    from cosim.analytic import whipple  # noqa: F401  (the bicycles' predictions)
-    from cosim.analytic.parameters import bundled_parameter_sets
-    from cosim.cosimulation import factory, master, system  # noqa: F401
-    from cosim.cosimulation.fastloop import library
-    from cosim.fmu import access, parameters  # noqa: F401
-    from cosim.matrix import classify, predict, spec, store  # noqa: F401
 
     library()
     bundled_parameter_sets()  # importlib.resources' readers, loaded on the first lookup of package data
@@ -378,8 +370,6 @@ def warm_fmus(fmu_paths: dict, unzip: bool = False) -> None:
     Reading is XML only, no FMU code runs: safe in the supervisor, whose forked workers inherit the
     descriptions; a worker unzips into its own folder before it reports ready. A broken FMU is
     skipped here: the cases that use it fail with their own message."""
-    from cosim.fmu.access import ALL_FMI_VERSIONS, FMU, READABLE_FMI_VERSIONS, read_fmu
-
     for path in dict.fromkeys(str(p) for p in fmu_paths.values()):
         try:
             read_fmu(path, READABLE_FMI_VERSIONS)
@@ -411,7 +401,7 @@ def warm_imports(cases: list[dict]) -> None:
     if needs_control:
         import control  # noqa: F401
 
-        from cosim.cosimulation import blocks, controllers  # noqa: F401  (imports scipy.linalg)
+        from cosim.cosimulation import blocks, controllers  # deferred: imports scipy.linalg  # noqa: F401
     if needs_scipy:
         import scipy.optimize  # noqa: F401
 
@@ -427,8 +417,6 @@ def _parent_pid(argv: list[str]) -> int | None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from cosim.processes import die_with_parent
-
     # first: a worker must not outlive its supervisor (or Dask worker), even one killed with -9
     die_with_parent(_parent_pid(sys.argv[1:] if argv is None else argv))
     proto_in = sys.stdin.buffer
@@ -447,8 +435,6 @@ def serve(proto_in, proto_out, init: dict) -> int:
     Messages ``{"op": "cases", "cases": [...]}`` carry several cases (fewer, larger pipe writes);
     each case is still answered on its own, as soon as it is done, so that the supervisor knows
     which case a worker that dies was running."""
-    from cosim.matrix.store import encode
-
     import_plugins(init.get("imports", []))
     fmu_paths = init.get("fmu_paths", {})
     warm_up()

@@ -15,7 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
-from cosim.fmu.access import get_continuous_states, set_continuous_states
+from cosim.fmu.access import FMU, get_continuous_states, set_continuous_states
+from cosim.analytic.parameters import load_parameters
+from cosim.compiler.library import load_library
 
 MODEL = "Bicycle.Bicycles.Whipple"
 RIDER_MODEL = "Bicycle.Bicycles.WhippleRider"
@@ -27,8 +29,8 @@ START = {"x": "x0", "y": "y0", "psi": "psi0", "phi": "phi0", "delta": "delta0", 
 
 def build(model: str = MODEL, output: str | Path | None = None) -> Path:
     """The FMU of ``model`` built (incrementally) into ``output`` (default: the project's ``fmus/``)."""
+    # deferred: loads casadi, which importing this module does not
     from cosim.compiler.build import DEFAULT_OUTPUT, build_model
-    from cosim.compiler.library import load_library
 
     return build_model(model, output or DEFAULT_OUTPUT, load_library()).fmu
 
@@ -36,15 +38,11 @@ def build(model: str = MODEL, output: str | Path | None = None) -> Path:
 def parameters(name_or_path: str = "benchmark", **extra: float) -> dict[str, float]:
     """FMU parameters of a Meijaard parameter set (bundled name or TOML file; the FMU's names are
     Meijaard's symbols), plus ``extra`` (e.g. crown radii ``tR``, ``tF``)."""
-    from cosim.analytic.parameters import load_parameters
-
     return {**load_parameters(name_or_path), **extra}
 
 
 def defaults(fmu: str | Path, names) -> dict[str, float]:
     """Default (start) values of FMU variables."""
-    from cosim.fmu.access import FMU
-
     with FMU(fmu) as f:
         return {n: float(f.variables[n].start) for n in names}
 
@@ -71,8 +69,6 @@ class Bicycle:
     """
 
     def __init__(self, fmu: str | Path, params: dict | None = None):
-        from cosim.fmu.access import FMU
-
         self.fmu = FMU(fmu)
         self.params = dict(params or {})
         self.states = self.fmu.states

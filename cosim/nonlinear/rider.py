@@ -22,6 +22,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from cosim.nonlinear.model import defaults, speed_parameters
 
 #: States that take part in the lateral dynamics at the upright straight-running operating point.
 PATH_STATES = ("y", "psi", "phi", "delta", "beta", "u_phi", "u_delta", "u_beta")
@@ -80,8 +81,8 @@ class PathZeros:
 def path_system(fmu, params: dict, v: float):
     """(A, B, C, D) of the path response at speed v: inputs (T_delta, T_beta), output y, on the
     states :data:`PATH_STATES` (the others do not take part at this operating point)."""
+    # deferred: loads fmpy, which importing this module does not
     from cosim.fmu.linearize import linearize
-    from cosim.nonlinear.model import defaults, speed_parameters
 
     params = {**defaults(fmu, ["rR"]), **params}
     lin = linearize(fmu, speed_parameters(params, v)).system

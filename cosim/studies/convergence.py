@@ -8,6 +8,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from cosim.cosimulation import algorithms
+from cosim.cosimulation.system import system_from_dict
+from cosim.fmu.simulate import simulate
 
 REFERENCE = "Bicycle.Examples.WhippleLinearRiderP"  # bicycle and rider in one model
 BIKE = "Bicycle.Bicycles.WhippleLinear"
@@ -24,16 +26,14 @@ class ConvergenceRow:
 
 def reference_solution(fmu, times: np.ndarray) -> np.ndarray:
     """phi(t) of the single FMU, Co-Simulation at tolerance 1e-12 on the sample times."""
-    from cosim.fmu.simulate import simulate
-
     step = float(times[1] - times[0])
     result = simulate(fmu, float(times[-1]), step, "cs", {"k": K}, relative_tolerance=1e-12, outputs=["phi"])
     return np.interp(times, result["time"], result["phi"])
 
 
 def coupled_solution(bike_fmu, algorithm: str, step: float) -> np.ndarray:
+    # deferred: loads fmpy, which importing this module does not
     from cosim.cosimulation.factory import run_system
-    from cosim.cosimulation.system import system_from_dict
 
     spec = system_from_dict({
         "system": {"stop": STOP, "step": step, "algorithm": algorithm},

@@ -25,6 +25,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from cosim.analytic.delay import critical_delay, crossing_delays, feedback_matrices, spectral_abscissa
+from cosim.cosimulation.system import system_from_dict
+from cosim.errors import CosimError
+from cosim.fmu.target import resolve_fmu
 
 MODEL = "Bicycle.Bicycles.InvertedPendulum"
 MARGIN = 0.02  # |max Re| below this (1/s) is marginal: too slow to classify from a finite co-simulation
@@ -66,6 +70,7 @@ class StabilityBoundary:
 
 def pendulum_pole(V: float) -> float:
     """The unstable pole p = sqrt(m g h / J), eq (2), of the model at speed V [1/s]."""
+    # deferred: loads control, matplotlib, scipy, which importing this module does not
     from cosim.analytic.simple import pendulum_poles
     from cosim.analytic.twins import TWINS, bicycle
 
@@ -84,6 +89,7 @@ def loop(parameters: dict, k2: float):
     (``delta`` [rad] -> ``phi`` [rad]) and the rider's feedback ``K = -k2`` of ``delta = K phi(t - tau)``."""
     import control
 
+    # deferred: loads control, matplotlib, scipy, which importing this module does not
     from cosim.analytic.simple import roll_steer_tf
     from cosim.analytic.twins import TWINS, bicycle
 
@@ -95,8 +101,6 @@ def loop(parameters: dict, k2: float):
 def physical_max_real(parameters: dict, k2: float, tau: float) -> float:
     """Largest real part [1/s] of the roots of the physical loop with the rider's delay ``tau`` [s]
     (exact delay equation, no co-simulation lag)."""
-    from cosim.analytic.delay import feedback_matrices, spectral_abscissa
-
     return spectral_abscissa(*feedback_matrices(*loop(parameters, k2)), tau)
 
 
@@ -117,8 +121,6 @@ def stability_boundary(k2: float = 1.0, V: float = 5.0) -> StabilityBoundary:
     ValueError
         If ``k2`` does not stabilize the bicycle even without delay (``k2 <= b g / V^2``).
     """
-    from cosim.analytic.delay import critical_delay, crossing_delays, feedback_matrices
-
     parameters = {"V": V}
     A, B, C, K = loop(parameters, k2)
     p = pendulum_pole(V)
@@ -153,8 +155,8 @@ def observed_growth(time: np.ndarray, phi: np.ndarray, window: float = 2.0) -> f
 def run_case(fmu, parameters: dict, k2: float, tau: float, step: float = 0.005, stop: float = 20.0,
              phi0: float = 0.02) -> tuple[str, float]:
     """Co-simulate one delay: returns (outcome, growth rate [1/s])."""
+    # deferred: loads fmpy, which importing this module does not
     from cosim.cosimulation.factory import run_system
-    from cosim.cosimulation.system import system_from_dict
 
     spec = system_from_dict({
         "system": {"stop": stop, "step": step, "fall": {"signal": "bike.phi", "limit": 1.0}},
@@ -209,8 +211,6 @@ def largest_stabilizable_p_tau(gains, V: float = 5.0) -> float:
     """The largest p*tau for which some gain of ``gains`` still stabilizes the physical loop
     (exact delay equation, no co-simulation lag): the practical limit of steer-angle feedback,
     to compare with the paper's p*tau < 2. Gains that do not stabilize without delay are skipped."""
-    from cosim.analytic.delay import critical_delay, feedback_matrices, spectral_abscissa
-
     parameters = {"V": V}
     p = pendulum_pole(V)
     best = 0.0
@@ -248,8 +248,6 @@ def main(argv: list[str] | None = None) -> int:
         boundary = stability_boundary(args.k2, args.speed)
     except ValueError as exc:
         parser.error(str(exc))
-    from cosim.errors import CosimError
-    from cosim.fmu.target import resolve_fmu
 
     try:
         fmu = resolve_fmu(args.fmu or MODEL)

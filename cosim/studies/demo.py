@@ -10,6 +10,11 @@ import math
 from pathlib import Path
 
 import numpy as np
+from cosim.errors import SimulationError
+from cosim.fmu.simulate import input_signals, plot, simulate, write_csv
+from cosim.fmu.validate import validate
+from cosim.folder_lock import folder_lock
+from cosim.outputs import check_output, check_output_folder
 
 MODEL = "Bicycle.Bicycles.SelfStabilizing"
 STOP = 30.0  # s: long enough for the slow roll mode to settle
@@ -40,9 +45,8 @@ def run_demo(output: Path) -> None:
     SimulationError
         If a built FMU fails validation.
     """
+    # deferred: loads casadi, which importing this module does not
     from cosim.compiler.build import DEFAULT_OUTPUT
-    from cosim.folder_lock import folder_lock
-    from cosim.outputs import check_output, check_output_folder
 
     output = check_output_folder(Path(output), "demo folder")  # before the minutes of work below
     for name in OUTPUTS:
@@ -54,11 +58,9 @@ def run_demo(output: Path) -> None:
 
 def _demo(output: Path) -> None:
     """:func:`run_demo` in a checked and locked output folder."""
+    # deferred: loads casadi, fmpy, which importing this module does not
     from cosim.compiler.build import DEFAULT_OUTPUT, build
     from cosim.cosimulation.factory import run_system
-    from cosim.errors import SimulationError
-    from cosim.fmu.simulate import input_signals, plot, simulate, write_csv
-    from cosim.fmu.validate import validate
 
     print("1. building every exported model (pymoca -> CasADi -> C -> gcc) ...")
     results = build(output=DEFAULT_OUTPUT, jobs=2)

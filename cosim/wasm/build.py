@@ -51,6 +51,8 @@ from pathlib import Path
 
 from cosim.errors import BuildError, FMUError, MissingExtraError
 from cosim.outputs import atomic_output, check_output_folder, write_text
+from cosim.compiler.catalog import cache_folder
+from cosim.compiler.fmu import MANIFEST
 
 HERE = Path(__file__).resolve().parent
 SHIM = HERE / "wasm_api.c"
@@ -124,8 +126,6 @@ def _zig_environment(scratch: Path) -> dict:
     """The compiler's environment: Zig's global cache (wasi-libc compiled once for these flags,
     half a minute) in cosim's cache folder; its local cache (an object per source) in the build's
     temporary folder, removed with it, so that builds of new sources do not pile up objects."""
-    from cosim.compiler.catalog import cache_folder
-
     return {**os.environ, "ZIG_GLOBAL_CACHE_DIR": str(cache_folder() / "zig"),
             "ZIG_LOCAL_CACHE_DIR": str(scratch / "zig-local")}
 
@@ -135,8 +135,6 @@ def _zig_environment(scratch: Path) -> dict:
 def _read_fmu(fmu: Path) -> tuple[bytes, dict | None, dict[str, bytes]]:
     """The FMU's modelDescription.xml, build manifest (None if it has none) and C sources and
     headers (file name -> bytes, the files of ``sources/``)."""
-    from cosim.compiler.fmu import MANIFEST
-
     try:
         with zipfile.ZipFile(fmu) as archive:
             names = archive.namelist()
@@ -374,6 +372,7 @@ def build_wasm(fmu: str | Path, output: str | Path | None = None, force: bool = 
     OutputError
         If the module cannot be written.
     """
+    # deferred: loads casadi, numpy, which importing this module does not
     from cosim.compiler.build import _build_lock
 
     started = time.perf_counter()
