@@ -381,7 +381,7 @@ def test_component_state_is_named_by_its_top_level_alias(tmp_path):
     delta, der_delta = info.variable("delta"), info.variable("der(delta)")
     assert (delta.role, delta.causality, delta.description, delta.unit) == (
         "state", "output", "Steer angle, positive to the left", "rad")
-    assert der_delta.role == "derivative" and der_delta.derivative_of == delta.vr and der_delta.unit == "rad/s"
+    assert der_delta.role == "derivative" and der_delta.derivative_of == delta.position and der_delta.unit == "rad/s"
     assert info.variable("phi").initial == "approx"
     for name in ("steer.angle", "steer2", "lean.angle", "lean.link", "rate"):
         assert info.variable(name).role == "algebraic" and info.variable(name).causality == "local"
