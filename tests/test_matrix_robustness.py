@@ -198,11 +198,100 @@ def test_spec_beyond_case_limit_is_refused_before_expanding(tmp_path, axes, size
     assert not (tmp_path / "out").exists()
 
 
-def test_max_cases_option_sets_the_limit(tmp_path):
+def _grid(name="grid", speeds=(3.0, 5.0, 7.0), rolls=(0.005, 0.01, 0.02, 0.03), **extra) -> dict:
+    """A study over two axes: the speed and the initial roll angle."""
+    study = _whipple(name, speeds=speeds, **extra)
+    study["components"]["bike"]["parameters"]["phi0"] = "=phi0"
+    study["axes"]["phi0"] = list(rolls)
+    return study
+
+
+def _axes_study(sizes: tuple, explicit: int = 0, name: str = "s") -> dict:
+    """A study whose axes a0, a1, ... take the values 0 .. size-1, each case a distinct initial roll."""
+    axes = {f"a{k}": list(range(n)) for k, n in enumerate(sizes)}
+    phi0 = "=0.01 + " + " + ".join(f"a{k} * {10.0 ** (-3 - 4 * k):g}" for k in range(len(sizes)))
+    cases = [{**{a: 0 for a in axes}, "phi0": 0.05 + 0.001 * j} for j in range(explicit)]
+    variables = {"phi0": phi0} if explicit else {}
+    return {"name": name, "observe": "bike.phi", "connections": [], "variables": variables,
+            "components": {"bike": {"model": "Bicycle.Bicycles.WhippleLinear", "parameter_set": "benchmark",
+                                    "parameters": {"v": 5.0, "phi0": "=phi0" if explicit else phi0}}},
+            "axes": axes, **({"cases": cases} if cases else {})}
+
+
+@pytest.mark.parametrize("studies, n, covers", [
+    ([((3, 4), 0)], 4, True),
+    ([((3, 4), 0)], 7, True),
+    ([((3, 4), 0)], 2, False),
+    ([((6, 6, 6), 0)], 6, True),
+    ([((6, 6, 6), 0)], 50, True),
+    ([((6, 6, 6), 0)], 215, True),
+    ([((3, 4), 2)], 6, True),
+    ([((3, 4), 0), ((2,), 0), ((5, 2), 1)], 12, True),
+    ([((3, 4), 0), ((2,), 0), ((5, 2), 1)], 3, False),
+    ([((40,), 0)], 7, False),
+], ids=["grid-4-of-12", "grid-7-of-12", "grid-2-of-12", "cube-6-of-216", "cube-50-of-216", "cube-215-of-216",
+        "explicit-6-of-14", "three-studies-12-of-25", "three-studies-3-of-25", "line-7-of-40"])
+def test_sample_is_n_distinct_cases_of_the_spec_covering_every_axis_value(studies, n, covers):
+    data = {"matrix": {"name": "sampled", **FAST},
+            "study": [_axes_study(sizes, explicit, f"s{k}") for k, (sizes, explicit) in enumerate(studies)]}
+    spec = spec_from_dict(data, sample=True, max_cases=n)
+    every = {c.key: c for c in spec_from_dict(data).cases()}
+    sample = spec.cases(n)
+    assert len(sample) == min(n, len(every)) and len({c.key for c in sample}) == len(sample)
+    assert all(c.key in every and every[c.key].index == c.index for c in sample)  # cases of the spec, in place
+    assert [c.key for c in spec_from_dict(data, sample=True, max_cases=n).cases(n)] == [c.key for c in sample]
+    assert spec.sample_covers_axes(n) is covers
+    if covers:
+        for study in spec.studies:
+            grid = [c for c in sample if c.study == study.name and c.index < study.count - len(study.explicit)]
+            for axis, values in study.axes.items():
+                assert {c.values[axis] for c in grid} == set(values), (study.name, axis)
+        assert {c.study for c in sample} == {s.name for s in spec.studies}
+
+
+@pytest.mark.parametrize("n", [400, 3], ids=["every-value-400-of-160000", "3-of-160000"])
+def test_sample_of_a_spec_beyond_the_case_limit_expands_only_the_sample(n):
+    sizes = (400, 400)
+    assert sizes[0] * sizes[1] > MAX_CASES
+    spec = spec_from_dict({"matrix": {"name": "huge", **FAST}, "study": [_axes_study(sizes)]}, max_cases=n,
+                          sample=True)
+    cases = spec.cases(n)
+    assert len(cases) == n == len({c.key for c in cases}) and spec.count == sizes[0] * sizes[1]
+    for axis, size in zip(("a0", "a1"), sizes):
+        assert len({c.values[axis] for c in cases}) == min(n, size), axis
+
+
+@pytest.mark.parametrize("n, runs", [(5, 5), (12, 12), (40, 12)], ids=["sample-5-of-12", "all-12-of-12", "all-above"])
+def test_max_cases_runs_at_most_n_cases(tmp_path, n, runs):
+    spec = _write_spec(tmp_path / "grid.toml", [_grid()], FAST)
+    out = tmp_path / "out"
+    result = _matrix(str(spec), "-o", str(out), "--max-cases", str(n))
+    assert result.returncode == 0, result.stderr
+    records = read_records(out / "results.jsonl")[0]
+    assert len(records) == runs == len({r["key"] for r in records})
+    points = [(r["values"]["v"], r["values"]["phi0"]) for r in records]
+    assert len(set(points)) == runs
+    assert {v for v, _ in points} == {3.0, 5.0, 7.0} and {p for _, p in points} == {0.005, 0.01, 0.02, 0.03}
+    notes = [line for line in result.stderr.splitlines() if "cases (--max-cases" in line]
+    summary = json.loads((out / "summary.json").read_text())
+    report = (out / "report.md").read_text()
+    if runs < 12:
+        assert notes == [f"cosim matrix: running {runs} of 12 cases (--max-cases {n}): a stratified sample (Latin "
+                         "hypercube) across the axes, the same every run; every value of every axis appears"], notes
+        assert summary["sample"]["cases"] == runs and summary["sample"]["of"] == 12
+        assert f"A sample: running {runs} of 12 cases (--max-cases {n}): a stratified sample" in report
+    else:
+        assert notes == [] and summary["sample"] is None and "A sample" not in report
+
+
+def test_max_cases_samples_every_study(tmp_path):
     spec = _write_spec(tmp_path / "small.toml", [_whipple(), _whipple("other", speeds=(4.0, 6.0))], FAST)
     result = _matrix(str(spec), "-o", str(tmp_path / "out"), "--max-cases", "4")
-    assert result.returncode == 2
-    assert "3 (bench) + 2 (other) = 5 cases, more than the limit of 4" in result.stderr, result.stderr
+    assert result.returncode == 0, result.stderr
+    assert "running 4 of 5 cases (--max-cases 4)" in result.stderr, result.stderr
+    assert "of each of the 2 studies" in result.stderr and "too few for every value" in result.stderr
+    records = read_records(tmp_path / "out" / "results.jsonl")[0]
+    assert len(records) == 4 and {r["study"] for r in records} == {"bench", "other"}
     assert len(load_spec(spec, max_cases=5).cases()) == 5
 
 
@@ -763,12 +852,18 @@ def test_bad_spec_file_is_one_message_on_the_command_line(tmp_path, name):
     (("--workers", "0"), "--workers: must be at least 1, got 0"),
     (("--workers", "-2"), "--workers: must be at least 1, got -2"),
     (("--workers", "two"), "--workers: expected a whole number"),
-    (("--max-cases", "0"), "--max-cases: must be at least 1"),
-], ids=["workers-0", "workers-negative", "workers-text", "max-cases-0"])
+    (("--max-cases", "0"), "--max-cases: must be at least 1, got 0"),
+    (("--max-cases", "-3"), "--max-cases: must be at least 1, got -3"),
+    (("--max-cases", "many"), "--max-cases: expected a whole number >= 1, got 'many'"),
+    (("--max-cases", "2.5"), "--max-cases: expected a whole number >= 1, got '2.5'"),
+], ids=["workers-0", "workers-negative", "workers-text", "max-cases-0", "max-cases-negative", "max-cases-text",
+        "max-cases-fraction"])
 def test_bad_option_values_are_refused(tmp_path, args, message):
     spec = _write_spec(tmp_path / "small.toml", [_whipple()], FAST)
     result = _matrix(str(spec), "-o", str(tmp_path / "out"), *args)
     assert result.returncode == 2 and message in result.stderr, result.stderr
+    errors = [line for line in result.stderr.splitlines() if line.startswith("cosim matrix: error:")]
+    assert len(errors) == 1 and message in errors[0], result.stderr  # (argparse's usage stands above it)
     assert not (tmp_path / "out").exists()
 
 

@@ -75,8 +75,10 @@ Spec format (TOML)::
 
 Names (of the matrix and of studies) are letters, digits and ``_ . + -``: they name files. Every
 key is checked when the spec is loaded (:mod:`cosim.matrix.spec`); expressions have bounded cost
-(:mod:`cosim.matrix.expr`); a spec with more than ``--max-cases`` (default 100000) cases is
-refused before its axes are expanded.
+(:mod:`cosim.matrix.expr`). ``--max-cases N`` runs at most N cases: a spec with more runs a
+stratified sample of N (a Latin hypercube over each study's axes, the same every run, every value
+of every axis in it when N allows; stderr and the report say so) without expanding the others;
+without it a spec with more than 100000 cases is refused before its axes are expanded.
 
 Output (``-o DIR``, default ``matrix-NAME``): ``results.jsonl`` (one finished case per line,
 appended atomically), ``report.md``, ``report.html``, ``STUDY.png`` (heat map of observed

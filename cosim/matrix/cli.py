@@ -60,8 +60,10 @@ def _arguments(p: argparse.ArgumentParser) -> None:
                        help="discard the results already in DIR and run every case")
     p.add_argument("--keep-failed", action="store_true",
                    help="with --resume: keep failed cases as they are instead of running them again")
-    p.add_argument("--max-cases", type=positive_int, default=MAX_CASES, metavar="N",
-                   help=f"refuse specs with more than N cases, checked before they are expanded (default: {MAX_CASES})")
+    p.add_argument("--max-cases", type=positive_int, default=None, metavar="N",
+                   help="run at most N cases: a spec with more runs a stratified sample of N, the same every run, "
+                        "in which every value of every axis appears when N allows (stderr and the report say so); "
+                        f"without it a spec of more than {MAX_CASES} cases is refused before its axes are expanded")
     p.add_argument("--fmu-dir", default=None, metavar="DIR",
                    help="where models are built (default: $COSIM_FMU_DIR, else ./fmus)")
     library_option(p)
@@ -91,7 +93,9 @@ def run(args) -> int:
         print(json.dumps(json.loads((result.directory / "summary.json").read_text()), indent=2))
     else:
         again = f", {result.retried} failed run again" if result.retried else ""
-        print(f"{result.spec.name}: {c['cases']} cases ({result.ran} run, {result.resumed} resumed{again}) in "
+        sampled = f" (a sample of the spec's {result.total})" if result.sample else ""
+        print(f"{result.spec.name}: {c['cases']} cases{sampled} ({result.ran} run, {result.resumed} resumed{again}) "
+              f"in "
               f"{result.seconds:.1f} s: {c['agree']} agree, {c['disagree']} disagree, {c['marginal']} marginal, "
               f"{c['failed']} failed")
         for ch in result.checks:

@@ -168,6 +168,8 @@ def _summary(result) -> dict:
     c = result.counts
     return {"name": result.spec.name, "passed": result.passed, **c, "ran": result.ran, "resumed": result.resumed,
             "seconds": round(result.seconds, 2),
+            "sample": ({"cases": len(result.cases), "of": result.total, "how": result.sample}
+                       if getattr(result, "sample", "") else None),
             "checks": [{"study": ch.study, "kind": ch.kind, "title": ch.title, "passed": ch.passed,
                         "details": ch.details} for ch in result.checks]}
 
@@ -199,6 +201,8 @@ def write_report(result) -> dict:
              f"{f', {retried} failed ones run again' if retried else ''}) in "
              f"{result.seconds:.1f} s. Agreement: {c['agree']} agree, {c['disagree']} disagree, "
              f"{c['marginal']} marginal (excluded), {c['failed']} failed.")
+    if getattr(result, "sample", ""):
+        intro += f" A sample: {result.sample}; the checks see only these cases."
     method = (f"Prediction: closed-loop eigenvalues of the analytic linear models (exact delays as Pade "
               f"approximations; the master's sample-and-hold and Jacobi lags modelled), 'marginal' when "
               f"|max Re| < margin (default {s['margin']:g} 1/s). Observation: the largest growth rate of the "

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import os
+import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -39,6 +40,8 @@ class MatrixResult:
     seconds: float = 0.0
     timing: dict = field(default_factory=dict)   # startup (workers ready) and run (dispatch) seconds
     report: dict = field(default_factory=dict)
+    total: int = 0               # cases of the spec (more than ``cases`` when they are a sample)
+    sample: str = ""             # how a sample was chosen ("" when every case runs)
 
     @property
     def counts(self) -> dict:
@@ -145,9 +148,19 @@ def _write_json(path: Path, data: dict) -> None:
     write_text(path, json.dumps(data, indent=2) + "\n")
 
 
+def sample_note(spec: MatrixSpec, n: int) -> str:
+    """How a sample of ``n`` cases of ``spec`` is chosen, in words (one line)."""
+    studies = f" of each of the {len(spec.studies)} studies" if len(spec.studies) > 1 else ""
+    if spec.sample_covers_axes(n):
+        shown = "every value of every axis appears"
+    else:
+        shown = "too few for every value of every axis: each axis's values spread evenly"
+    return (f"a stratified sample (Latin hypercube) across the axes{studies}, the same every run; {shown}")
+
+
 def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = None, *, workers: int | None = None,
                scheduler: str | None = None, resume: bool = False, force: bool = False, keep_failed: bool = False,
-               max_cases: int = MAX_CASES, fmu_dir: str | Path | None = None, progress: bool = True,
+               max_cases: int | None = None, fmu_dir: str | Path | None = None, progress: bool = True,
                report: bool = True, stream=None) -> MatrixResult:
     """Run every case of a spec not yet in ``directory/results.jsonl`` (with ``resume``), then check and report.
 
@@ -162,7 +175,10 @@ def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = Non
     force : discard the results of an earlier run in ``directory`` (without ``resume`` or
         ``force``, a folder with results is refused)
     keep_failed : with ``resume``, keep failed cases as they are instead of running them again
-    max_cases : refuse specs with more cases (checked before they are expanded)
+    max_cases : run at most this many cases: a spec with more runs a stratified sample of them
+        (:meth:`MatrixSpec.cases`; one line on stderr says how many and how they were chosen), its
+        other cases never expanded. ``None``: every case, a spec of more than
+        :data:`~cosim.matrix.spec.MAX_CASES` refused before its axes are expanded
     fmu_dir : where models are built (default: the project's ``fmus/``)
 
     Raises
@@ -176,12 +192,17 @@ def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = Non
     started = time.perf_counter()
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise SpecError(f"workers must be a whole number >= 1, got {workers!r}")
-    if isinstance(max_cases, bool) or not isinstance(max_cases, int) or max_cases < 1:
+    if max_cases is not None and (isinstance(max_cases, bool) or not isinstance(max_cases, int) or max_cases < 1):
         raise SpecError(f"max_cases must be a whole number >= 1, got {max_cases!r}")
     if keep_failed and not resume:
         raise SpecError("--keep-failed applies only with --resume")
-    spec = spec if isinstance(spec, MatrixSpec) else load_spec(spec, max_cases)
-    spec.check_count(max_cases)
+    sample = max_cases is not None
+    if not isinstance(spec, MatrixSpec):
+        spec = load_spec(spec, max_cases or MAX_CASES, sample=sample)
+    if not sample:
+        spec.check_count(MAX_CASES)
+    total = spec.count
+    note = sample_note(spec, max_cases) if sample and total > max_cases else ""
     directory = prepare_directory(Path(directory or f"matrix-{spec.name}"), resume, force)
     if fmu_dir is not None:
         check_output_folder(fmu_dir, "FMU folder")
@@ -189,13 +210,15 @@ def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = Non
     client = connect(scheduler) if scheduler else None  # an unreachable scheduler: one message, now
     try:
         _import_plugins(spec)
-        cases = spec.cases()
+        cases = spec.cases(max_cases)
+        if note:
+            note = f"running {len(cases)} of {total} cases (--max-cases {max_cases}): {note}"
         check_names(cases, str(spec.path or spec.name))  # before anything is built
         # one run writes a folder at a time: a second one is refused here, naming the first
         with folder_lock(directory):
             prepare_directory(directory, resume, force)  # again: a run that ended meanwhile left results
             result = _run_locked(spec, cases, directory, client, scheduler, workers, resume, keep_failed,
-                                 fmu_dir, progress, stream, started)
+                                 fmu_dir, progress, stream, started, note)
             if report:
                 result.report = _write_report(result)
     finally:
@@ -205,16 +228,19 @@ def run_matrix(spec: MatrixSpec | str | Path, directory: str | Path | None = Non
 
 
 def _run_locked(spec, cases, directory, client, scheduler, workers, resume, keep_failed, fmu_dir, progress,
-                stream, started) -> MatrixResult:
+                stream, started, note="") -> MatrixResult:
     """:func:`run_matrix` holding the output folder's lock: build, dispatch, store, check."""
     # deferred: loads numpy, which importing this module does not
     from cosim.matrix import checks as checks_mod
 
     fmu_paths = build_fmus(cases, fmu_dir, workers)
+    if note:  # after the last check of the input: a refusal stays one line
+        print(f"cosim matrix: {note}", file=sys.stderr, flush=True)
     with ResultStore(directory, resume, retry_failed=resume and not keep_failed) as store:
         _write_json(directory / "matrix.json", {
             "spec": str(spec.path) if spec.path else spec.name, "name": spec.name, "digest": spec.digest,
-            "cases": len(cases), "fmus": fmu_paths, "scheduler": scheduler,
+            "cases": len(cases), "spec_cases": spec.count, "sample": note or None, "fmus": fmu_paths,
+            "scheduler": scheduler,
             "workers": None if scheduler else workers})
         done = {k for k in store.keys()} & {c.key for c in cases}
         todo = [c for c in cases if c.key not in done]
@@ -224,7 +250,7 @@ def _run_locked(spec, cases, directory, client, scheduler, workers, resume, keep
     records = [stored[c.key] for c in cases if c.key in stored]
     retried = len(store.retried & {c.key for c in cases})
     result = MatrixResult(spec=spec, directory=directory, cases=cases, records=records, ran=len(todo),
-                          resumed=len(done), retried=retried, timing=timing)
+                          resumed=len(done), retried=retried, timing=timing, total=spec.count, sample=note)
     result.checks = checks_mod.evaluate(spec, cases, records, fmu_paths)
     result.seconds = time.perf_counter() - started
     return result

@@ -32,7 +32,9 @@ Every key is documented in the docstring of :mod:`cosim.matrix`. Every key is ch
 type and range when the spec is loaded, before any work: a problem is one :class:`SpecError`
 naming the file, the study and the key. The number of cases is bounded (:data:`MAX_CASES`, the
 ``--max-cases`` option): an axis or a product of axes beyond it is refused *before* it is
-expanded, with the axis sizes in the message.
+expanded, with the axis sizes in the message -- unless the caller runs a sample
+(``sample=True``): then only each axis is bounded, and :meth:`MatrixSpec.cases` with a ``limit``
+makes a stratified sample of the cases (:func:`stratified_indices`) without expanding the rest.
 """
 from __future__ import annotations
 
@@ -153,6 +155,36 @@ class Study:
             return {n: v[0] for n, v in self.axes.items()}
         return dict(self.explicit[0])
 
+    def point(self, k: int) -> dict:
+        """Coordinates of the case at position ``k`` (as in :meth:`points`), without expanding the others."""
+        grid = self.count - len(self.explicit)
+        if k >= grid:
+            return dict(self.explicit[k - grid])
+        coordinates = {}
+        for name in reversed(list(self.axes)):  # the last axis fastest
+            k, r = divmod(k, len(self.axes[name]))
+            coordinates[name] = self.axes[name][r]
+        return {name: coordinates[name] for name in self.axes}
+
+    def sample(self, m: int) -> list[int]:
+        """Positions of ``m`` distinct cases spread over the study (all of them when ``m`` >= :attr:`count`).
+
+        The grid of the axes gets a stratified sample (:func:`stratified_indices`: every value of
+        every axis when the grid's share is at least the longest axis), the explicit cases an evenly
+        spaced share; the same ``m`` give the same positions in every run.
+        """
+        total = self.count
+        if m >= total:
+            return list(range(total))
+        explicit = len(self.explicit)
+        grid_size = total - explicit
+        widest = max((len(v) for v in self.axes.values()), default=0)
+        grid = _split(m, grid_size, explicit, widest)
+        chosen = stratified_indices([len(v) for v in self.axes.values()], grid, self.name) if grid else []
+        share = m - grid
+        chosen += [grid_size + ((2 * j + 1) * explicit) // (2 * share) for j in range(share)]
+        return chosen
+
     def points(self) -> list[dict]:
         """Coordinates of every case: the axes' product, then the explicit cases."""
         found = []
@@ -222,8 +254,11 @@ class Study:
                     values=dict(values), variables={k: v for k, v in scope.items() if _plain(v)},
                     system=system, initial=initial, observe=self.observe, tune=tune, settings=settings)
 
-    def cases(self) -> list[Case]:
-        return [self.make_case(values, i) for i, values in enumerate(self.points())]
+    def cases(self, positions: list[int] | None = None) -> list[Case]:
+        """Every case, or those at ``positions`` (of :meth:`sample`), each keeping its position as index."""
+        if positions is None:
+            return [self.make_case(values, i) for i, values in enumerate(self.points())]
+        return [self.make_case(self.point(i), i) for i in positions]
 
 
 @dataclass
@@ -245,12 +280,30 @@ class MatrixSpec:
         """Refuse more than ``max_cases`` cases (the message names the studies' sizes)."""
         check_count(self.studies, max_cases, str(self.path or self.name))
 
-    def cases(self) -> list[Case]:
-        """Every case, each system checked against the system-file schema (before any work)."""
+    def sample(self, n: int) -> dict[str, list[int]]:
+        """Positions of the cases of each study in a sample of ``n`` cases of the spec (every case
+        when ``n`` >= :attr:`count`); deterministic, see :func:`allocate` and :meth:`Study.sample`."""
+        shares = allocate([s.count for s in self.studies], [_need(s) for s in self.studies], n)
+        return {s.name: s.sample(m) for s, m in zip(self.studies, shares)}
+
+    def sample_covers_axes(self, n: int) -> bool:
+        """Whether a sample of ``n`` cases shows every value of every axis of every study."""
+        for study, positions in zip(self.studies, self.sample(n).values()):
+            grid = study.count - len(study.explicit)
+            points = [study.point(k) for k in positions if k < grid]
+            for name, values in study.axes.items():
+                if len({repr(p[name]) for p in points}) < len({repr(v) for v in values}):
+                    return False
+        return True
+
+    def cases(self, limit: int | None = None) -> list[Case]:
+        """Every case, or a stratified sample of ``limit`` cases when the spec has more
+        (:meth:`sample`), each system checked against the system-file schema (before any work)."""
+        plan = self.sample(limit) if limit is not None and self.count > limit else {}
         found, seen = [], {}
         for study in self.studies:
             checked = set()
-            for case in study.cases():
+            for case in study.cases(plan.get(study.name) if plan else None):
                 if case.key in seen:
                     raise SpecError(f"{self.path or self.name}: study '{study.name}': case {case.label} "
                                     f"duplicates {seen[case.key]}")
@@ -313,6 +366,101 @@ def _resolve_path(name: str, where: str, always: bool = False) -> str:
             p = Path(where).parent / p
         return str(p)
     return name
+
+
+# --------------------------------------------------------------------------- samples
+
+def _rank(seed: str, *parts) -> int:
+    """A fixed pseudo-random number of ``seed`` and ``parts``: the same in every run and Python version
+    (unlike :func:`hash` and :mod:`random`)."""
+    text = ":".join(map(str, (seed, *parts)))
+    return int.from_bytes(hashlib.sha256(text.encode()).digest()[:8], "big")
+
+
+def stratified_indices(sizes: list[int], m: int, seed: str) -> list[int]:
+    """``m`` distinct positions in the grid of axes of ``sizes`` (last axis fastest), sorted.
+
+    A Latin hypercube: each axis is cut into ``m`` strata, its values taken from their middles
+    (so every value of an axis appears when ``m`` >= its size, else ``m`` values spread evenly
+    over it), and the strata of each axis after the first are shuffled by a fixed permutation of
+    ``seed``. Points drawn twice are replaced by points chosen by ``seed`` too: the same
+    arguments give the same positions in every run. All positions when ``m`` >= the grid's size.
+    """
+    total = math.prod(sizes)
+    if m >= total:
+        return list(range(total))
+    columns = []
+    for a, n in enumerate(sizes):
+        strata = [((2 * j + 1) * n) // (2 * m) for j in range(m)]
+        if a:
+            strata = [strata[j] for j in sorted(range(m), key=lambda j: _rank(seed, a, j))]
+        columns.append(strata)
+    chosen: set[int] = set()
+    for j in range(m):
+        k = 0
+        for a, n in enumerate(sizes):
+            k = k * n + columns[a][j]
+        chosen.add(k)
+    if len(chosen) < m and 2 * m >= total:  # a dense sample: choose among the rest, which is small
+        rest = sorted((k for k in range(total) if k not in chosen), key=lambda k: _rank(seed, "rest", k))
+        chosen.update(rest[:m - len(chosen)])
+    draw = 0
+    while len(chosen) < m:  # a sparse sample: a random point is new with probability > 1/2
+        k = 0
+        for a, n in enumerate(sizes):
+            k = k * n + _rank(seed, "fill", draw, a) % n
+        chosen.add(k)
+        draw += 1
+    return sorted(chosen)
+
+
+def allocate(counts: list[int], needs: list[int], n: int) -> list[int]:
+    """How many of ``n`` cases each study of ``counts`` cases gets (all when ``n`` >= their sum).
+
+    First each study's need (the cases that show every value of its axes, ``needs``) -- shared in
+    proportion to the needs when ``n`` is below their sum, at least one per study while ``n``
+    allows --, then the rest in proportion to the cases left (largest remainders; ties to the
+    first study).
+    """
+    if n >= sum(counts):
+        return list(counts)
+    needs = [min(c, max(1, d)) for c, d in zip(counts, needs)]
+    if n <= sum(needs):
+        floor = [1 if k < n else 0 for k in range(len(needs))]
+        return [f + s for f, s in zip(floor, _proportional([d - f for d, f in zip(needs, floor)], n - sum(floor)))]
+    extra = _proportional([c - d for c, d in zip(counts, needs)], n - sum(needs))
+    return [d + e for d, e in zip(needs, extra)]
+
+
+def _proportional(weights: list[int], n: int) -> list[int]:
+    """``n`` split in proportion to ``weights`` (largest remainders), none above its weight (``n`` <= their sum)."""
+    total = sum(weights)
+    if not total or n <= 0:
+        return [0] * len(weights)
+    shares = [n * w // total for w in weights]
+    order = sorted(range(len(weights)), key=lambda k: (-((n * weights[k]) % total), k))
+    for k in order[:n - sum(shares)]:
+        shares[k] += 1
+    return shares
+
+
+def _need(study: Study) -> int:
+    """Cases of a sample that show every value of every axis of ``study`` (and one explicit case)."""
+    return max((len(v) for v in study.axes.values()), default=0) + (1 if study.explicit else 0)
+
+
+def _split(m: int, grid: int, explicit: int, widest: int) -> int:
+    """How many of a study's ``m`` sampled cases come from its grid of ``grid`` points (the rest
+    from its ``explicit`` cases): in proportion, but first enough for every value of the
+    ``widest`` axis, and then at least one explicit case."""
+    if not explicit:
+        return m
+    if not grid:
+        return 0
+    share = max(round(m * grid / (grid + explicit)), min(m, widest))
+    if m > widest:
+        share = min(share, m - 1)
+    return max(min(share, grid), m - explicit)
 
 
 # --------------------------------------------------------------------------- checking the schema
@@ -428,12 +576,13 @@ def check_count(studies: list[Study], max_cases: int, where: str) -> None:
             sizes = " x ".join(f"{a} ({len(v)})" for a, v in study.axes.items())
             extra = f" + {len(study.explicit)} explicit" if study.explicit else ""
             raise SpecError(f"{where}: study '{study.name}': axes {sizes}{extra} = {n} cases, more than the "
-                            f"limit of {max_cases} (raise it with --max-cases N)")
+                            f"limit of {max_cases} (--max-cases N runs a sample of N of them, or all when N is at "
+                            "least their number)")
         total += n
     if total > max_cases:
         parts = " + ".join(f"{s.count} ({s.name})" for s in studies)
         raise SpecError(f"{where}: {parts} = {total} cases, more than the limit of {max_cases} "
-                        "(raise it with --max-cases N)")
+                        "(--max-cases N runs a sample of N of them, or all when N is at least their number)")
 
 
 def _settings(table: dict, base: dict, where: str) -> dict:
@@ -606,13 +755,17 @@ def _plots(raw, known: set[str], where: str) -> list:
 
 # --------------------------------------------------------------------------- loading
 
-def load_spec(path_or_name: str | Path, max_cases: int = MAX_CASES) -> MatrixSpec:
+def load_spec(path_or_name: str | Path, max_cases: int = MAX_CASES, *, sample: bool = False) -> MatrixSpec:
     """Read a spec file, or a bundled spec by name (``cosim/matrix/specs/NAME.toml``).
+
+    ``sample``: the caller runs a sample of ``max_cases`` cases (:meth:`MatrixSpec.cases`), so
+    only each axis is bounded (by ``max_cases`` or :data:`MAX_CASES`, the larger), not their product.
 
     Raises
     ------
     SpecError
-        If the file cannot be read or is not a valid spec, or it has more than ``max_cases`` cases.
+        If the file cannot be read or is not a valid spec, or it has more than ``max_cases`` cases
+        (without ``sample``).
     """
     path = Path(path_or_name)
     if not os.path.exists(path):  # (False for a name too long to be a file)
@@ -629,22 +782,27 @@ def load_spec(path_or_name: str | Path, max_cases: int = MAX_CASES) -> MatrixSpe
         raise SpecError(f"{path}: {exc}") from None
     except RecursionError:  # tomllib parses nested arrays and tables recursively
         raise SpecError(f"{path}: not valid TOML: nested too deeply") from None
-    return spec_from_dict(data, path, max_cases)
+    return spec_from_dict(data, path, max_cases, sample=sample)
 
 
 def bundled_specs() -> list[str]:
     return sorted(p.stem for p in SPECS_DIR.glob("*.toml"))
 
 
-def spec_from_dict(data: dict, path: Path | None = None, max_cases: int = MAX_CASES) -> MatrixSpec:
+def spec_from_dict(data: dict, path: Path | None = None, max_cases: int = MAX_CASES, *,
+                   sample: bool = False) -> MatrixSpec:
     """A checked spec from a parsed TOML document (see the module docstring).
+
+    ``sample``: as in :func:`load_spec` (each axis bounded, not the number of cases).
 
     Raises
     ------
     SpecError
         If a key is unknown or of the wrong type or range, an expression is invalid or too costly,
-        or the spec has more than ``max_cases`` cases.
+        or the spec has more than ``max_cases`` cases (an axis more values, with ``sample``).
     """
+    # a sample never makes more than one axis whole: bound the axes, not their product
+    axis_limit = max(max_cases, MAX_CASES) if sample else max_cases
     where = str(path) if path else "spec"
     _table(data, where, "a TOML document")
     table = _table(data.get("matrix", {}), f"{where}: [matrix]")
@@ -707,13 +865,13 @@ def spec_from_dict(data: dict, path: Path | None = None, max_cases: int = MAX_CA
             if not n.isidentifier():
                 raise SpecError(f"{swhere}: axis name '{n}' must be an identifier (use it as '={n}' in values)")
         for n, v in raw_axes.items():
-            _axis_size(n, v, swhere, max_cases)
-        product = math.prod(_axis_size(n, v, swhere, max_cases) for n, v in raw_axes.items()) if raw_axes else 0
-        if product > max_cases:
+            _axis_size(n, v, swhere, axis_limit)
+        product = math.prod(_axis_size(n, v, swhere, axis_limit) for n, v in raw_axes.items()) if raw_axes else 0
+        if product > max_cases and not sample:
             sizes = " x ".join(f"{n} ({_axis_size(n, v, swhere, max_cases)})" for n, v in raw_axes.items())
             raise SpecError(f"{swhere}: axes {sizes} = {product} cases, more than the limit of {max_cases} "
-                            "(raise it with --max-cases N)")
-        axes = {n: _axis_values(n, v, swhere, max_cases) for n, v in raw_axes.items()}
+                            "(--max-cases N runs a sample of N of them, or all when N is at least their number)")
+        axes = {n: _axis_values(n, v, swhere, axis_limit) for n, v in raw_axes.items()}
         explicit = _explicit_cases(raw.get("cases", []), axes, variables, swhere)
         if not axes and not explicit:
             raise SpecError(f"{swhere}: neither [study.axes] nor [[study.cases]]")
@@ -721,7 +879,8 @@ def spec_from_dict(data: dict, path: Path | None = None, max_cases: int = MAX_CA
                       description=raw.get("description", ""), observe=observe, raw=raw,
                       settings=_settings(raw, settings, swhere), axes=axes, explicit=explicit,
                       checks=[], plots=[], where=where)
-        check_count([*studies, study], max_cases, where)
+        if not sample:
+            check_count([*studies, study], max_cases, where)
         first = study.make_case(study.first_point(), 0)
         coordinates = set(first.variables) | set(variables) | set(axes) | {n for c in explicit for n in c}
         known = coordinates | set(expr.CONSTANTS) | {"max_re", "growth_rate"} | {t.replace(".", "_") for t in tune}
