@@ -22,12 +22,22 @@ Targets (docs/benchmarks.md; 2 workers, 600 runs), each printed as measured / ta
   fmu-only     steady >= 150,000 runs/min
   fmu-only     wall rate >= 50 % of the steady rate (start-up must stay around <= 0.24 s)
   rider+delay  steady >= 30,000 runs/min
+
+``--scaling`` measures instead, side by side in one run, the steady rate of one spec (fmu-only,
+--scaling-runs runs) against the workers: the local pool with 1 and 2 workers and a Dask
+LocalCluster with more workers than cores (--dask-workers, default 4); the supervisor's CPU time
+per case; the Dask client's and scheduler's CPU time per task (message) and per case, separated by
+running the same cases at 1 and at 32 cases per task; and, on paper, the runs per minute at 1 to
+100 nodes that these costs allow (Amdahl: the scheduler's serial cost per case bounds the rate,
+whatever the number of nodes). docs/matrix-scaling.md shows one run and states the assumptions.
 """
 from __future__ import annotations
 
 import argparse
 import importlib.util
 import json
+import logging
+import math
 import os
 import statistics
 import subprocess
@@ -206,13 +216,170 @@ def machine_scaling(n: int = 15_000_000) -> float:
     return 2 * times[1] / times[2]
 
 
+# --------------------------------------------------------------------------- --scaling
+
+#: Cases per Dask task of the two runs that separate the scheduler's cost per task from its cost per case.
+CHUNKS = (1, 32)
+#: Seconds a case may take (as a spec's default timeout): no case here comes near it.
+CASE_TIMEOUT = 120.0
+#: Nodes of the projection.
+NODES = (1, 2, 4, 10, 25, 50, 100)
+
+
+def _recorder(store):
+    """What `cosim matrix` does with each record the workers send (:func:`cosim.matrix.runner._dispatch`):
+    append it to results.jsonl -- part of the scheduler's work per case."""
+    def on_record(record: dict) -> None:
+        if "line" in record:
+            store.append_line(record["key"], record["line"])
+        else:
+            store.append(record)
+    return on_record
+
+
+def _local_rate(payload: list, init: dict, workers: int, folder: Path, repeat: int) -> dict:
+    """Best of ``repeat`` runs on the local pool: steady rate [runs/min] and the supervisor's CPU per case [s]."""
+    from cosim.matrix.pool import run_local
+    from cosim.matrix.store import ResultStore
+
+    best = None
+    for k in range(repeat):
+        out = folder / f"local-{workers}-{k}"
+        with ResultStore(out, False) as store:
+            cpu = time.process_time()
+            timing = run_local(payload, init, workers, _recorder(store), CASE_TIMEOUT, out)
+            cpu = time.process_time() - cpu
+        m = {"rate": len(payload) / timing["run"] * 60, "cpu_case": cpu / len(payload), "tasks": None}
+        best = m if best is None or m["rate"] > best["rate"] else best
+    return best
+
+
+def _dask_rates(payload: list, init: dict, workers: int, folder: Path, repeat: int) -> dict:
+    """Best of ``repeat`` runs on a Dask LocalCluster of ``workers`` single-threaded worker processes,
+    at each of :data:`CHUNKS` cases per task: steady rate [runs/min], the CPU of this process (client
+    and scheduler: a LocalCluster's scheduler runs in it) per case [s] and the number of tasks."""
+    from distributed import Client, LocalCluster  # deferred: the optional extra `cluster`
+
+    from cosim.matrix.pool import run_dask
+    from cosim.matrix.store import ResultStore
+
+    found = {}
+    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                      silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
+        # every Dask worker starts its own worker process on its first task: not part of the rates
+        run_dask(payload[:8 * workers], init, client, lambda record: None, CASE_TIMEOUT, chunk_size=1)
+        for chunk in CHUNKS:
+            best = None
+            for k in range(repeat):
+                with ResultStore(folder / f"dask-{workers}-{chunk}-{k}", False) as store:
+                    cpu, t0 = time.process_time(), time.perf_counter()
+                    run_dask(payload, init, client, _recorder(store), CASE_TIMEOUT, chunk_size=chunk)
+                    wall, cpu = time.perf_counter() - t0, time.process_time() - cpu
+                m = {"rate": len(payload) / wall * 60, "cpu_case": cpu / len(payload),
+                     "tasks": math.ceil(len(payload) / chunk), "cpu": cpu}
+                best = m if best is None or m["rate"] > best["rate"] else best
+            found[chunk] = best
+    return found
+
+
+def scheduler_costs(dask: dict, cases: int) -> tuple[float, float]:
+    """The scheduler's CPU per task and per case [s] from the runs at :data:`CHUNKS` cases per task:
+    ``cpu = cases * per_case + tasks * per_task`` for both (each clipped at 0: noise)."""
+    fine, coarse = dask[CHUNKS[0]], dask[CHUNKS[1]]
+    per_task = max(0.0, (fine["cpu"] - coarse["cpu"]) / (fine["tasks"] - coarse["tasks"]))
+    per_case = max(0.0, (coarse["cpu"] - coarse["tasks"] * per_task) / cases)
+    return per_task, per_case
+
+
+def chunk_size(cases: int, workers: int) -> int:
+    """Cases per Dask task of :func:`cosim.matrix.pool.run_dask` (its rule, repeated here to project it)."""
+    return max(1, min(32, math.ceil(cases / (4 * workers))))
+
+
+def projection(t_case: float, per_task: float, per_case: float, node_cores: int, cases: int) -> list[dict]:
+    """Runs per minute at each of :data:`NODES` nodes of ``node_cores`` workers, from the measured
+    worker time per case ``t_case`` [s] and the scheduler's serial costs [s]: Amdahl (the
+    scheduler's work not overlapped with the workers': ``60 / (s + t_case / P)``) and the bound
+    with full overlap (``60 * min(P / t_case, 1 / s)``), ``s = per_case + per_task / chunk``."""
+    rows = []
+    for nodes in NODES:
+        workers = nodes * node_cores
+        chunk = chunk_size(cases, workers)
+        serial = per_case + per_task / chunk
+        rows.append({"nodes": nodes, "workers": workers, "chunk": chunk, "serial": serial,
+                     "ideal": workers / t_case * 60, "amdahl": 60 / (serial + t_case / workers),
+                     "bound": 60 * min(workers / t_case, 1 / serial if serial else math.inf)})
+    return rows
+
+
+def scaling(runs: int, repeat: int, dask_workers: int, node_cores: int, project_cases: int) -> int:
+    """Measure and print the ``--scaling`` tables (see the module docstring)."""
+    from cosim.matrix.runner import build_fmus
+    from cosim.matrix.spec import spec_from_dict
+
+    cases = spec_from_dict(workload("fmu-only", runs)).cases()
+    init = {"imports": [], "fmu_paths": build_fmus(cases, None)}
+    payload = [c.to_dict() for c in cases]
+    print(f"CPUs: {os.cpu_count()}, load average (1 min) before: {os.getloadavg()[0]:.2f}; workload fmu-only, "
+          f"{runs} ten-second runs, best of {repeat}")
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="cosim-scaling-") as tmp:
+        for workers in (1, 2):
+            rows.append((f"local pool, {workers} worker{'s' if workers > 1 else ''}", workers,
+                         _local_rate(payload, init, workers, Path(tmp), repeat)))
+        try:
+            dask = _dask_rates(payload, init, dask_workers, Path(tmp), repeat)
+        except ImportError:
+            dask = None
+            print("Dask rows skipped: dask.distributed (the extra `cluster`) is not installed")
+    if dask:
+        for chunk in CHUNKS:
+            rows.append((f"Dask LocalCluster, {dask_workers} workers, {chunk} case{'s' if chunk > 1 else ''}/task",
+                         dask_workers, dask[chunk]))
+    base = rows[0][2]["rate"]
+    print(f"{'execution':<46} {'workers':>7} {'runs/min':>10} {'vs 1 worker':>11} {'tasks':>6} "
+          f"{'scheduler CPU/case':>18}")
+    for label, workers, m in rows:
+        print(f"{label:<46} {workers:>7} {m['rate']:>10.0f} {m['rate'] / base:>10.2f}x "
+              f"{m['tasks'] if m['tasks'] else '-':>6} {m['cpu_case'] * 1e6:>15.1f} us")
+    print(f"load average now: {os.getloadavg()[0]:.2f} (the local pool's CPU/case includes starting its workers)")
+    if not dask:
+        return 0
+    per_task, per_case = scheduler_costs(dask, runs)
+    t_case = 60 / base
+    print(f"scheduler (Dask client + scheduler, one process): {per_task * 1e6:.0f} us CPU per task (message), "
+          f"{per_case * 1e6:.1f} us per case; one worker: {t_case * 1e3:.3f} ms per case")
+    print(f"projection on paper: nodes of {node_cores} workers as fast as one here, a spec of {project_cases} "
+          f"cases, run_dask's cases per task; Amdahl = 60 / (s + t/P), bound = 60 min(P/t, 1/s)")
+    print(f"{'nodes':>5} {'workers P':>9} {'cases/task':>10} {'s [us/case]':>11} {'ideal [runs/min]':>17} "
+          f"{'Amdahl [runs/min]':>17} {'efficiency':>10} {'bound [runs/min]':>16}")
+    for r in projection(t_case, per_task, per_case, node_cores, project_cases):
+        print(f"{r['nodes']:>5} {r['workers']:>9} {r['chunk']:>10} {r['serial'] * 1e6:>11.1f} {r['ideal']:>17,.0f} "
+              f"{r['amdahl']:>17,.0f} {r['amdahl'] / r['ideal']:>9.0%} {r['bound']:>16,.0f}")
+    serial = per_case + per_task / 32
+    if serial:
+        print(f"the scheduler saturates at P = t / s = {t_case / serial:.0f} workers ({t_case / serial / node_cores:.1f} "
+              f"nodes): beyond, at most {60 / serial:,.0f} runs/min")
+    return 0
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=600, help="runs per workload and worker count")
     parser.add_argument("--repeat", type=int, default=2, help="repetitions per measurement (best is kept)")
     parser.add_argument("--baseline", default="HEAD", help="git ref of the per-case comparison, or 'none' (default: HEAD)")
     parser.add_argument("--rounds", type=int, default=3, help="alternating rounds of the per-case comparison")
+    parser.add_argument("--scaling", action="store_true",
+                        help="only the rate against the workers, the scheduler's costs and the projection to 100 nodes")
+    parser.add_argument("--scaling-runs", type=int, default=2000, help="runs of the --scaling spec")
+    parser.add_argument("--dask-workers", type=int, default=4, help="workers of the Dask LocalCluster (--scaling)")
+    parser.add_argument("--node-cores", type=int, default=os.cpu_count() or 1,
+                        help="workers per node of the --scaling projection (default: this machine's CPUs)")
+    parser.add_argument("--project-cases", type=int, default=100_000,
+                        help="cases of the spec of the --scaling projection (sets the cases per task)")
     args = parser.parse_args(argv)
+    if args.scaling:
+        return scaling(args.scaling_runs, args.repeat, args.dask_workers, args.node_cores, args.project_cases)
     from cosim.matrix.runner import build_fmus
     from cosim.matrix.spec import spec_from_dict
 
