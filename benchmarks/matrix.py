@@ -264,8 +264,9 @@ def _dask_rates(payload: list, init: dict, workers: int, folder: Path, repeat: i
     from cosim.matrix.store import ResultStore
 
     found = {}
+    # the workers' scratch space in the temporary folder: the run leaves nothing behind
     with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                      silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
+                      silence_logs=logging.ERROR, local_directory=str(folder)) as cluster, Client(cluster) as client:
         # every Dask worker starts its own worker process on its first task: not part of the rates
         run_dask(payload[:8 * workers], init, client, lambda record: None, CASE_TIMEOUT, chunk_size=1)
         for chunk in CHUNKS:
@@ -358,8 +359,8 @@ def scaling(runs: int, repeat: int, dask_workers: int, node_cores: int, project_
               f"{r['amdahl']:>17,.0f} {r['amdahl'] / r['ideal']:>9.0%} {r['bound']:>16,.0f}")
     serial = per_case + per_task / 32
     if serial:
-        print(f"the scheduler saturates at P = t / s = {t_case / serial:.0f} workers ({t_case / serial / node_cores:.1f} "
-              f"nodes): beyond, at most {60 / serial:,.0f} runs/min")
+        print(f"the scheduler saturates at P = t / s = {t_case / serial:.0f} workers "
+              f"({t_case / serial / node_cores:.1f} nodes): beyond, at most {60 / serial:,.0f} runs/min")
     return 0
 
 
