@@ -241,6 +241,8 @@ class FMUComponent(Component):
         self.parameters = dict(parameters or {})
         self.tolerance = tolerance
         self._depends = self._output_dependencies()
+        for name, array in elements.items():  # an element depends on what its array depends on
+            self._depends.update(dict.fromkeys(array, self._depends.get(name, set(self.inputs))))
         real_in, real_out = signals["input"][0], signals["output"][0]
         self._in_vr = (c_uint * len(real_in))(*[self.fmu.vr[n] for n in real_in])
         self._out_vr = (c_uint * len(real_out))(*[self.fmu.vr[n] for n in real_out])
