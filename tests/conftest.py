@@ -19,11 +19,20 @@ from pathlib import Path
 # pymoca's parse cache and matplotlib's font cache. Nothing is left in /tmp or ~. Set before cosim is
 # imported; subprocesses inherit the environment. To keep the tmp_path folders of a failed run, give
 # pytest --basetemp=DIR.
-SESSION_TMP = Path(tempfile.mkdtemp(prefix="cosim-tests-"))
-atexit.register(shutil.rmtree, SESSION_TMP, True)
-for _variable, _folder in (("TMPDIR", "tmp"), ("XDG_CACHE_HOME", "cache"), ("MPLCONFIGDIR", "matplotlib")):
-    (SESSION_TMP / _folder).mkdir()
-    os.environ[_variable] = str(SESSION_TMP / _folder)
+#
+# Under pytest-xdist the workers share the folder of the process that started them (it is in their
+# inherited environment): the FMUs, the compiled runtime and Zig's C library are built once per run,
+# not once per worker (concurrent builds of one FMU wait for each other, see cosim.compiler.build).
+# The starting process alone removes it.
+if os.environ.get("PYTEST_XDIST_WORKER") and os.environ.get("COSIM_TEST_SESSION_TMP"):
+    SESSION_TMP = Path(os.environ["COSIM_TEST_SESSION_TMP"])
+else:
+    SESSION_TMP = Path(tempfile.mkdtemp(prefix="cosim-tests-"))
+    atexit.register(shutil.rmtree, SESSION_TMP, True)
+    for _variable, _folder in (("TMPDIR", "tmp"), ("XDG_CACHE_HOME", "cache"), ("MPLCONFIGDIR", "matplotlib")):
+        (SESSION_TMP / _folder).mkdir()
+        os.environ[_variable] = str(SESSION_TMP / _folder)
+    os.environ["COSIM_TEST_SESSION_TMP"] = str(SESSION_TMP)
 tempfile.tempdir = None  # tempfile caches its folder: make it read TMPDIR again
 
 # FMUs built on demand (model names given to the CLI, figures, systems) go to a temporary folder,

@@ -31,6 +31,7 @@ oracle's (Newton steps) to 1e-12 rad at random roll and steer angles.
 """
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
@@ -66,9 +67,10 @@ def built(tmp_path_factory):
     """FMUs: the component model, the oracle and the variants (name -> path)."""
     folder = tmp_path_factory.mktemp("component-bicycle")
     out = folder / "fmus"
+    shared = Path(os.environ["COSIM_FMU_DIR"])  # incremental: shared with the other tests of the session
     fmus = {
-        "component": build_model("Bicycle.Bicycles.Whipple", out, load_library()).fmu,
-        "oracle": build_model("BicycleOracle.Whipple", out, load_library(str(ORACLE_LIBRARY))).fmu,
+        "component": build_model("Bicycle.Bicycles.Whipple", shared, load_library()).fmu,
+        "oracle": build_model("BicycleOracle.Whipple", shared, load_library(str(ORACLE_LIBRARY))).fmu,
     }
     variants = variant_library(folder / "variants", {
         name: f"model {name} \"Test variant of the component Whipple bicycle\"\n"
