@@ -80,6 +80,7 @@ def test_c_fit_equals_numpy_fit(name, small, native):
         assert (fit is None) == (name in refused)
 
 
+@pytest.mark.slow
 def test_c_fit_equals_numpy_fit_on_random_sums_of_modes(native):
     """300 random sums of one to five damped oscillations, both pencils."""
     rng = np.random.default_rng(0)
