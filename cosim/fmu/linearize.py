@@ -623,9 +623,9 @@ def linearize_sweep(fmu_path: str | Path, parameter: str, values, parameters: di
     isolate, timeout
         As for :func:`linearize`.
     continuation : bool
-        Initialize once and then change only the parameter, in initialization mode: the FMU
-        solves its initial equations from the previous value's solution (an FMI 2 FMU built here
-        without events; others are initialized from scratch at every value, as with False).
+        Initialize once and then change only the parameter (and the guesses), in initialization
+        mode (an FMI 2 FMU built here without events; others are initialized from scratch at
+        every value, as with False).
     guesses : dict, optional
         With continuation: state name -> the parameter its initial equations start from (its
         guess), set to the state's value at the previous value (e.g. ``{"theta": "theta_guess"}``).
