@@ -2,7 +2,11 @@
 FMU instance re-initialized per speed through the raw FMI functions, the lateral reduction for all
 speeds in one vectorized pass) against the single-speed API loop (:func:`linearize` and
 :func:`steady_motion` per speed, a new instance each), per speed and as a ratio, for the nonlinear
-``Whipple`` and ``WhippleRider`` and the ``WhippleLinear`` model; then the command whose time docs/benchmarks.md sets a goal for,
+``Whipple`` and ``WhippleRider`` and the ``WhippleLinear`` model; the sweep by continuation (the
+default: the instance stays in initialization mode and only the speed parameter changes, the
+initial pitch solved from the previous speed's) against initialization from scratch at every speed
+(``continuation=False``), per speed, as a ratio and with the largest difference of their A
+matrices (0: the same numbers); then the command whose time docs/benchmarks.md sets a goal for,
 ``cosim linearize Bicycle.Bicycles.Whipple --speeds 0:10:0.01 --json`` (1001 speeds, FMU already
 built): wall time of the process and the compute part (the sweep and its eigenvalues in-process).
 
@@ -53,11 +57,23 @@ def single_loop(fmu: Path, parameter: str, speeds) -> None:
             steady_motion(lin).eigenvalues
 
 
-def sweep(fmu: Path, speeds) -> None:
-    s = linearize_speeds(fmu, speeds)
+def sweep(fmu: Path, speeds, continuation: bool = True):
+    s = linearize_speeds(fmu, speeds, continuation=continuation)
     s.eigenvalues
     if s.steady is not None:
         s.lateral_eigenvalues
+    return s
+
+
+def alternating(f, g, rounds: int = ROUNDS) -> tuple[float, float]:
+    """Median times of f and g [s], run alternately (the same load for both)."""
+    times = ([], [])
+    for _ in range(rounds):
+        for k, h in enumerate((f, g)):
+            t0 = time.perf_counter()
+            h()
+            times[k].append(time.perf_counter() - t0)
+    return statistics.median(times[0]), statistics.median(times[1])
 
 
 def main(folder: Path) -> None:
@@ -71,6 +87,18 @@ def main(folder: Path) -> None:
         loop = median_time(lambda: single_loop(fmus[model], parameter, LOOP_SPEEDS)) / len(LOOP_SPEEDS)
         fast = median_time(lambda: sweep(fmus[model], SWEEP_SPEEDS)) / len(SWEEP_SPEEDS)
         print(f"{model:<32} {loop * 1e3:>17.3f} {fast * 1e3:>9.4f} {loop / fast:>7.1f}")
+    print(f"\nthe sweep by continuation vs from scratch at every speed [ms per speed], median of {ROUNDS} "
+          f"alternating runs ({len(SWEEP_SPEEDS)} speeds; load average {os.getloadavg()[0]:.2f}, "
+          f"{os.cpu_count()} CPUs)")
+    print(f"{'model':<32} {'from scratch':>13} {'continuation':>13} {'ratio':>7} {'max |dA|':>9}")
+    for model in MODELS:
+        scratch, continued = alternating(lambda: sweep(fmus[model], SWEEP_SPEEDS, False),
+                                         lambda: sweep(fmus[model], SWEEP_SPEEDS, True))
+        a, b = sweep(fmus[model], SWEEP_SPEEDS, False), sweep(fmus[model], SWEEP_SPEEDS, True)
+        difference = max(float(np.abs(x.A - y.A).max()) for x, y in zip(a.systems, b.systems))
+        n = len(SWEEP_SPEEDS)
+        print(f"{model:<32} {scratch / n * 1e3:>13.4f} {continued / n * 1e3:>13.4f} {scratch / continued:>7.2f} "
+              f"{difference:>9.1e}")
     whipple = "Bicycle.Bicycles.Whipple"
     compute = median_time(lambda: sweep(fmus[whipple], SWEEP_SPEEDS))
     command = [sys.executable, "-m", "cosim", "linearize", whipple, "--speeds", "0:10:0.01", "--json"]

@@ -478,6 +478,59 @@ def test_crowned_roller_is_the_native_lateral_linearization(page, tmp_path, type
           f"of the nonlinear module); weave {s['weave']}, capsize {s['capsize']} m/s")
 
 
+CONTINUED = [
+    # bicycle, parameter typed (a new parameter set after the bicycle's own), its value
+    pytest.param("crowned-roller", "tR", "0.6", id="crowned-roller-tR-0.6"),
+    pytest.param("crowned-roller", "rF", "0.45", id="crowned-roller-rF-0.45"),
+    pytest.param("benchmark", "c", "0.1", id="benchmark-trail-0.1"),
+]
+CONTINUATION_TOL = 1e-12  # relative to max(1, |value|): continuation vs new initializations
+
+
+def _shown(page) -> dict:
+    """What a redraw computed and shows: the sweep's eigenvalues, the speeds and the texts."""
+    return page.evaluate("""() => { const a = window.cosimApp;
+        return {evs: a.sweep.evs, eigenvalues: a.eigenvalues, weave: a.weave, capsize: a.capsize,
+                selfStable: a.selfStable, leastUnstable: a.leastUnstable, evaluations: a.evaluations,
+                text: ['weave', 'capsize', 'self-stable', 'eigenvalues', 'speed-value']
+                  .map((id) => document.getElementById(id).textContent)}; }""")
+
+
+@pytest.mark.parametrize("name, parameter, text", CONTINUED)
+def test_continuation_gives_the_numbers_of_new_initializations(page, name, parameter, text):
+    """By continuation (the default: the module stays in initialization mode while only the speed
+    changes; a new parameter set starts its pitch from the previous one's) a redraw gives the
+    sweep, the weave and capsize speeds and the texts that a new initialization at every speed
+    (cosimApp.continuation = false) gives, to 1e-12; switched on again, the same."""
+    _choose(page, name)
+    assert page.evaluate("window.cosimApp.continuation") is True
+    _type_parameter(page, parameter, text)  # the new parameter set, continued from the bicycle's own
+    runs = [_shown(page)]
+    for on in (False, True):
+        page.evaluate("(on) => { window.cosimApp.continuation = on; }", on)
+        page.dispatch_event(f"#param-{parameter}", "input")  # the same parameters, redrawn
+        runs.append(_shown(page))
+    assert page.evaluate("window.cosimApp.error") is None and _state(page)["parameters"][parameter] == float(text)
+    new = runs[1]
+    assert new["evaluations"] > 200
+    worst = 0.0
+    for run in (runs[0], runs[2]):
+        assert run["text"] == new["text"] and run["evaluations"] == new["evaluations"]
+        a = np.array([*run["evs"], run["eigenvalues"]], float)
+        b = np.array([*new["evs"], new["eigenvalues"]], float)
+        worst = max(worst, float((np.abs(a - b) / np.maximum(1.0, np.abs(b))).max()))
+        for key in ("weave", "capsize"):
+            assert (run[key] is None) == (new[key] is None), key
+            if run[key] is not None:
+                worst = max(worst, abs(run[key] - new[key]) / max(1.0, abs(new[key])))
+        assert (run["selfStable"] is None) == (new["selfStable"] is None)
+        if run["selfStable"] is not None:
+            assert np.allclose(run["selfStable"], new["selfStable"], rtol=CONTINUATION_TOL, atol=CONTINUATION_TOL)
+    assert worst <= CONTINUATION_TOL, worst
+    print(f"\n{name}, {parameter} = {text}: continuation vs new initializations: max relative difference "
+          f"{worst:.1e} ({new['evaluations']} linearizations)")
+
+
 EDITS = [
     # bicycle, parameter without a slider (but mB), typed value
     pytest.param("benchmark", "IBxx", "12.5", id="benchmark-IBxx"),

@@ -12,6 +12,10 @@ What is checked, with the tolerances used:
 * `cosim linearize ... --speeds ... --json`: the JSON shape (speeds, common fields, per point
   speed, speed parameter, eigenvalues, steady_motion), its eigenvalues equal those of
   `--speed V --json` to 1e-12; `--matrices` adds A, B, C, D; the text table has one line per speed;
+* the continuation (the instance stays in initialization mode, only the speed changes, the
+  pitch solved from the previous speed's) gives what initialization from scratch at every speed
+  gives: A, B, C, D, x0, xdot0 and the lateral eigenvalues to <= 1e-12 (as above), also off upright
+  running where the pitch is not zero, and it is used for the FMUs built here;
 * the one speed parser (also `cosim compare`'s) on valid and
   invalid input;
 * bad input (empty range, STEP <= 0, NaN, negative speeds for the nonlinear bicycles, --speed with
@@ -116,6 +120,35 @@ def test_sweep_with_parameters_and_refused_reduction(built):
         assert _close(sweep.systems[k].A, single.system.A) <= TOL
         assert "not upright straight running" in str(sweep.steady[k]) and "phi = 0.1" in str(sweep.steady[k])
     assert np.all(np.isnan(sweep.lateral_eigenvalues))
+
+
+CONTINUED = [
+    # model, parameters, whether the pitch theta is 0 at the start (upright straight running)
+    pytest.param(WHIPPLE, {"tR": 0.3}, True, id="Whipple-crowned-roller"),
+    pytest.param(WHIPPLE, {"phi0": 0.1, "delta0": 0.2, "tR": 0.3}, False, id="Whipple-leaning-pitch"),
+    pytest.param(RIDER, {}, True, id="WhippleRider"),
+    pytest.param(LINEAR, {"c": 0.1}, True, id="WhippleLinear"),
+]
+
+
+@pytest.mark.parametrize("model, parameters, upright", CONTINUED)
+def test_continuation_equals_initialization_from_scratch(built, model, parameters, upright):
+    from cosim.fmu.access import FMU
+    from cosim.fmu.linearize import _continuable
+
+    with FMU(built[model]) as fmu:
+        assert _continuable(fmu)  # else both sweeps below would be from scratch
+    speeds = [0.0, 0.5, 3.0, 4.3, 4.3, 9.5, 1.0]
+    on = linearize_speeds(built[model], speeds, parameters)
+    off = linearize_speeds(built[model], speeds, parameters, continuation=False)
+    for k, v in enumerate(speeds):
+        for name in ("A", "B", "C", "D"):
+            assert _close(getattr(on.systems[k], name), getattr(off.systems[k], name)) <= TOL, (name, v)
+    assert _close(on.x0, off.x0) <= TOL and _close(on.xdot0, off.xdot0) <= TOL
+    if model != LINEAR:
+        pitch = on.systems[0].states.index("theta")
+        assert (np.all(off.x0[:, pitch] == 0.0)) == upright  # off upright running the pitch is solved anew
+        assert _close(np.nan_to_num(on.lateral_eigenvalues), np.nan_to_num(off.lateral_eigenvalues)) <= TOL
 
 
 @pytest.mark.parametrize("speeds, match", [pytest.param([], "no speeds", id="empty"),

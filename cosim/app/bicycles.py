@@ -83,6 +83,12 @@ SPEED = {
     LINEAR: {"parameter": "v", "sign": 1.0, "divisor": None},
     NONLINEAR: {"parameter": "u_R0", "sign": -1.0, "divisor": "rR"},
 }
+#: The pitch a module solves from its initial equations (Newton's method from the guess
+#: parameter): the page passes the pitch solved for one parameter set as the guess of the next
+#: (continuation; the pitch of upright straight running depends on the geometry, not the speed).
+PITCH = {
+    NONLINEAR: {"state": "theta", "guess": "theta_guess"},
+}
 
 
 @dataclass(frozen=True)
@@ -154,7 +160,7 @@ def bicycle_data(bicycle: Bicycle, description: dict | None = None) -> dict:
         ``name``, ``label``, ``explanation``, ``module``, ``parameterSet``, ``parameters`` (name ->
         value, SI), ``waived`` (the triangle-inequality checks the set's file waives), ``speed``
         (:data:`SPEED`), ``states`` and ``derivatives`` (``derivatives`` only with a description),
-        ``speeds`` and ``sliders`` (names).
+        ``speeds`` and ``sliders`` (names), ``pitch`` (:data:`PITCH`, None for a module without).
 
     Raises
     ------
@@ -178,14 +184,18 @@ def bicycle_data(bicycle: Bicycle, description: dict | None = None) -> dict:
     entry = {"name": bicycle.name, "label": bicycle.label, "explanation": bicycle.explanation,
              "module": bicycle.module, "parameterSet": bicycle.parameter_set, "parameters": values,
              "waived": list(loaded.waiver.checks) if loaded.waiver else [], "speed": dict(speed),
-             "states": list(states), "speeds": dict(bicycle.speeds), "sliders": list(bicycle.sliders)}
+             "states": list(states), "speeds": dict(bicycle.speeds), "sliders": list(bicycle.sliders),
+             "pitch": dict(PITCH[bicycle.module]) if bicycle.module in PITCH else None}
     if description is not None:
         variables = {v["name"]: v for v in description["variables"]}
-        unknown = [k for k in [*values, speed["parameter"]] if variables.get(k, {}).get("causality") != "parameter"]
+        guess = [entry["pitch"]["guess"]] if entry["pitch"] else []
+        unknown = [k for k in [*values, speed["parameter"], *guess]
+                   if variables.get(k, {}).get("causality") != "parameter"]
         if unknown:
             raise ValueError(f"bicycle {bicycle.name}: {', '.join(unknown)} not parameters of {bicycle.module}")
         derivative = _states_of(description)
-        missing = [s for s in states if s not in derivative]
+        pitch = [entry["pitch"]["state"]] if entry["pitch"] else []
+        missing = [s for s in [*states, *pitch] if s not in derivative]
         if missing:
             raise ValueError(f"bicycle {bicycle.name}: {bicycle.module} has no state(s) {', '.join(missing)}")
         entry["derivatives"] = [derivative[s] for s in states]

@@ -31,6 +31,7 @@ from cosim.statespace import StateSpace
 IGNORABLE = ("x", "y", "psi", "thetaR", "thetaF")  # nothing depends on them but the path
 PATH = ("psi", "y")  # yaw and lateral position: reported with the lateral dynamics
 PITCH = "theta"  # fixed by roll and steer through the holonomic constraint
+PITCH_GUESS = "theta_guess"  # the parameter the initial pitch's Newton iteration starts from
 FORWARD_SPEED = "u_R"  # rear wheel rate: the conserved speed, u_R = -v/rR
 LATERAL_COORDINATES = ("phi", "delta")
 LATERAL_SPEEDS = ("u_phi", "u_delta")
@@ -433,9 +434,10 @@ class SpeedSweep:
 
 def linearize_speeds(fmu_path: str | Path, speeds, parameters: dict | None = None, inputs: dict | None = None,
                      lock_hinge: bool = False, isolate: bool | None = None,
-                     timeout: float | None = DEFAULT_TIMEOUT) -> SpeedSweep:
+                     timeout: float | None = DEFAULT_TIMEOUT, continuation: bool = True) -> SpeedSweep:
     """Linearize an FMU at each forward speed of ``speeds``: one Model Exchange instance,
-    re-initialized per speed, exact directional derivatives (:func:`cosim.fmu.linearize.linearize_sweep`); the lateral reduction
+    initialized per speed (by continuation: only the speed parameter changes, the initial pitch
+    is solved from the previous speed's), exact directional derivatives (:func:`cosim.fmu.linearize.linearize_sweep`); the lateral reduction
     (:func:`steady_motion`) of the nonlinear bicycles for all speeds in one vectorized pass.
 
     Parameters
@@ -456,6 +458,12 @@ def linearize_speeds(fmu_path: str | Path, speeds, parameters: dict | None = Non
     isolate, timeout
         As for :func:`cosim.fmu.linearize.linearize` (the FMU's binary is called by
         :func:`cosim.fmu.linearize.linearize_sweep`).
+    continuation : bool
+        As for :func:`cosim.fmu.linearize.linearize_sweep`: the FMU stays in initialization mode,
+        only the speed parameter changes and the initial pitch's guess (:data:`PITCH_GUESS`, if
+        the model has it) is the pitch solved at the previous speed (upright straight running:
+        the pitch depends on the geometry, not on the speed, so that is the solution); False
+        initializes from scratch at every speed. The same numbers either way.
 
     Returns
     -------
@@ -485,7 +493,9 @@ def linearize_speeds(fmu_path: str | Path, speeds, parameters: dict | None = Non
         raise ParameterError("no speeds to linearize at")
     known = {**starts(declared), **parameters}
     values = np.array([fs.values(float(v), known)[fs.parameter] for v in speeds])
-    swept = linearize_sweep(fmu_path, fs.parameter, values, parameters, inputs, isolate, timeout)
+    guessed = PITCH_GUESS in declared and declared[PITCH_GUESS].causality == "parameter"
+    swept = linearize_sweep(fmu_path, fs.parameter, values, parameters, inputs, isolate, timeout, continuation,
+                            {PITCH: PITCH_GUESS} if guessed else None)
     first = swept.systems[0]
     states, input_names, output_names = first.states, first.inputs, first.outputs
     C, D, x0, xdot0, N = stacked(swept.systems, "C"), stacked(swept.systems, "D"), swept.x0, swept.xdot0, len(speeds)

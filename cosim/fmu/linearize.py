@@ -411,12 +411,24 @@ class _FastPoint:
     point. Each point is initialized from scratch exactly as :func:`linearize` does, so the
     results are the same numbers. FMI 3 takes the same path with the FMI 3 functions (the
     ``nValues``/``nSeed``/``nSensitivity`` arguments, the initial event iteration) and, where the
-    FMU provides adjoint derivatives, checks the Jacobian against them at every point."""
+    FMU provides adjoint derivatives, checks the Jacobian against them at every point.
 
-    def __init__(self, fmu: FMU, fixed: dict, varying: str, st: _Structure):
+    With ``continuation`` (only where :func:`_continuable` allows it, else ignored) the instance
+    is initialized once: it stays in initialization mode and each further point sets only the
+    varying parameter and, for each state of ``guesses`` (state name -> the parameter its initial
+    equations start from, e.g. a bicycle's pitch and ``theta_guess``), the guess to the state's
+    value solved at the previous point. The states, their derivatives and the directional
+    derivatives are read in initialization mode, where they are those of the initialized point:
+    the same numbers as from scratch when the solution does not depend on the varying parameter
+    (then the previous solution is the solution) or is the one nearest the previous point's."""
+
+    def __init__(self, fmu: FMU, fixed: dict, varying: str, st: _Structure, continuation: bool = False,
+                 guesses: dict | None = None):
         self.fmu, self.me, self.varying = fmu, fmu.instantiate("me"), varying
         self.status = 0
         self.fmi3 = fmu.is_fmi3
+        self.continuation = continuation and _continuable(fmu)
+        self.initialized = False  # in initialization mode with the fixed values (continuation)
         f = self.me._functions
         self.c = self.me.component
         fmi = "fmi3" if self.fmi3 else "fmi2"
@@ -438,6 +450,11 @@ class _FastPoint:
         self.set_vr = (c_uint * len(names))(*[fmu.vr[n] for n in names])
         self.set_values = (c_double * len(names))(*reals.values(), 0.0)
         self.n_set = len(names)
+        # the varying parameter, then the guesses (continuation)
+        guesses = (guesses or {}) if self.continuation else {}
+        self.guessed = [st.states.index(state) for state in guesses]
+        self.varying_vr = (c_uint * (1 + len(guesses)))(fmu.vr[varying], *[fmu.vr[g] for g in guesses.values()])
+        self.varying_value = (c_double * (1 + len(guesses)))()
         self.nx = len(st.states)
         self.x = (c_double * max(self.nx, 1))()
         self.dx = (c_double * max(self.nx, 1))()
@@ -470,16 +487,25 @@ class _FastPoint:
         if self.fmi3:
             return self._evaluate_fmi3(value, J, x0, xdot0)
         c = self.c
-        self.check(self._reset(c), "fmi2Reset", value)
-        if self.other:
-            self.fmu.set(self.me, self.other)
-        self.set_values[self.n_set - 1] = value
-        self.check(self._set_real(c, self.set_vr, self.n_set, self.set_values), "fmi2SetReal", value)
-        self.check(self._setup(c, 0, 0.0, 0.0, 0, 0.0), "fmi2SetupExperiment", value)
-        self.check(self._enter(c), "initialization", value)
-        self.check(self._exit(c), "initialization", value)
-        self._initial_event_iteration(value)
-        self.check(self._ct(c), "fmi2EnterContinuousTimeMode", value)
+        continued, self.initialized = self.initialized, False  # until this point has succeeded
+        if continued:
+            self.varying_value[0] = value
+            for k, i in enumerate(self.guessed):
+                self.varying_value[1 + k] = self.x[i]  # the previous point's solution
+            self.check(self._set_real(c, self.varying_vr, 1 + len(self.guessed), self.varying_value), "fmi2SetReal",
+                       value)
+        else:
+            self.check(self._reset(c), "fmi2Reset", value)
+            if self.other:
+                self.fmu.set(self.me, self.other)
+            self.set_values[self.n_set - 1] = value
+            self.check(self._set_real(c, self.set_vr, self.n_set, self.set_values), "fmi2SetReal", value)
+            self.check(self._setup(c, 0, 0.0, 0.0, 0, 0.0), "fmi2SetupExperiment", value)
+            self.check(self._enter(c), "initialization", value)
+        if not self.continuation:
+            self.check(self._exit(c), "initialization", value)
+            self._initial_event_iteration(value)
+            self.check(self._ct(c), "fmi2EnterContinuousTimeMode", value)
         if self.nx:
             self.check(self._get_x(c, self.x, self.nx), "fmi2GetContinuousStates", value)
             self.check(self._get_dx(c, self.dx, self.nx), "fmi2GetDerivatives", value)
@@ -489,6 +515,7 @@ class _FastPoint:
             self.check(self._dd(c, self.u_vr, self.nu, self.k_vr, self.nk, self.seed_ptrs[k], self.column_ptr),
                        "fmi2GetDirectionalDerivative", value)
             J[:, k] = self.column[:self.nu]
+        self.initialized = self.continuation
 
     def _initial_event_iteration(self, value: float) -> None:
         """Leave the Event Mode after initialization as the standard requires (FMPy's wrappers:
@@ -533,6 +560,17 @@ class _FastPoint:
         _Point.close(self)
 
 
+def _continuable(fmu: FMU) -> bool:
+    """Whether :class:`_FastPoint` may continue from one point to the next in initialization
+    mode: an FMI 2 FMU built here (whose runtime computes the initial equations, the states and
+    their derivatives when they are read in initialization mode, and allows setting parameters
+    there) without events (no initial event iteration that could change the point after the
+    exit of initialization mode) or discrete-time variables."""
+    md = fmu.description
+    return (not fmu.is_fmi3 and built_here(fmu.path) and not md.numberOfEventIndicators
+            and all(v.variability != "discrete" for v in md.modelVariables))
+
+
 @dataclass
 class Sweep:
     """Linearizations of one FMU at N values of one parameter (:func:`linearize_sweep`).
@@ -565,9 +603,10 @@ def stacked(systems: list[StateSpace], name: str) -> np.ndarray:
 
 def linearize_sweep(fmu_path: str | Path, parameter: str, values, parameters: dict | None = None,
                     inputs: dict | None = None, isolate: bool | None = None,
-                    timeout: float | None = DEFAULT_TIMEOUT) -> Sweep:
-    """Linearize an FMU at each value of one parameter: one Model Exchange instance, re-initialized
-    per value, exact directional derivatives.
+                    timeout: float | None = DEFAULT_TIMEOUT, continuation: bool = True,
+                    guesses: dict | None = None) -> Sweep:
+    """Linearize an FMU at each value of one parameter: one Model Exchange instance, initialized
+    per value (by continuation, or from scratch), exact directional derivatives.
 
     Parameters
     ----------
@@ -583,6 +622,13 @@ def linearize_sweep(fmu_path: str | Path, parameter: str, values, parameters: di
         Operating-point input values [SI] (default: their start values).
     isolate, timeout
         As for :func:`linearize`.
+    continuation : bool
+        Initialize once and then change only the parameter (and the guesses), in initialization
+        mode (an FMI 2 FMU built here without events; others are initialized from scratch at
+        every value, as with False).
+    guesses : dict, optional
+        With continuation: state name -> the parameter its initial equations start from (its
+        guess), set to the state's value at the previous value (e.g. ``{"theta": "theta_guess"}``).
 
     Returns
     -------
@@ -600,7 +646,8 @@ def linearize_sweep(fmu_path: str | Path, parameter: str, values, parameters: di
     if isolate is None:
         isolate = can_isolate() and not built_here(fmu_path)
     if isolate:
-        return run_isolated(lambda worker: linearize_sweep(fmu_path, parameter, values, parameters, inputs, False),
+        return run_isolated(lambda worker: linearize_sweep(fmu_path, parameter, values, parameters, inputs, False,
+                                                           continuation=continuation, guesses=guesses),
                             what=str(fmu_path), timeout=timeout)
     parameters = dict(parameters or {})
     values = np.asarray(values, float)
@@ -616,7 +663,7 @@ def linearize_sweep(fmu_path: str | Path, parameter: str, values, parameters: di
         nx, nu, N = len(states), len(input_names), len(values)
         J = np.zeros((N, len(st.unknowns), nx + nu))
         x0, xdot0 = np.zeros((N, nx)), np.zeros((N, nx))
-        point = _FastPoint(fmu, {**parameters, **(inputs or {})}, parameter, st)
+        point = _FastPoint(fmu, {**parameters, **(inputs or {})}, parameter, st, continuation, guesses)
         try:
             for k in range(N):
                 point.evaluate(float(values[k]), J[k], x0[k], xdot0[k])

@@ -2,11 +2,20 @@
 // ml-matrix and fmu.js): eigenvalues vs speed of the bicycles of cosim/app/bicycles.py from the
 // WebAssembly FMUs.
 //
-// A(v) is not computed here: for each speed the chosen bicycle's module instance is reset, given
-// the parameters and the speed (WhippleLinear: v; the nonlinear Whipple: u_R0 = -v/rR, upright
-// straight running), initialized, and A is the directional derivatives of the lateral states'
-// derivatives with respect to the lateral states (COSIM_DATA.bicycles[k].states/derivatives;
-// fmi2GetDirectionalDerivative, exact: CasADi's forward mode). The eigenvalues of A are
+// A(v) is not computed here: the chosen bicycle's module instance is given the parameters and the
+// speed (WhippleLinear: v; the nonlinear Whipple: u_R0 = -v/rR, upright straight running) and
+// initialized, and A is the directional derivatives of the lateral states' derivatives with
+// respect to the lateral states (COSIM_DATA.bicycles[k].states/derivatives;
+// fmi2GetDirectionalDerivative, exact: CasADi's forward mode). By continuation (the default;
+// cosimApp.continuation = false turns it off) the instance is reset only when the parameters
+// change: it stays in initialization mode and each further speed sets only the speed parameter
+// and the guess of the pitch (bicycle.pitch names the state and its guess parameter; the
+// nonlinear Whipple solves its pitch by Newton's method from the guess), the pitch solved at the
+// previous speed, which is the solution (upright straight running: the pitch depends on the
+// geometry, not on the speed); a new geometry starts the iteration from the previous geometry's
+// pitch. Without continuation every speed is a new initialization from the module's start values
+// (reset, parameters, enter and exit initialization mode). Both give the same numbers: the same
+// point, the same directional derivatives. The eigenvalues of A are
 // ml-matrix's EigenvalueDecomposition (JAMA's Hessenberg-QR). Weave and capsize speeds are the
 // sign changes of the largest real part of the oscillatory / real eigenvalues over the sweep,
 // refined by bisection with the same routine, with the definitions of cosim.analytic.whipple
@@ -24,7 +33,9 @@
 // eigenvalues [[re, im] x 4] at the speed, weave, capsize (m/s or null), selfStable ([from, to]
 // m/s of the first self-stable run of the sweep, or null), leastUnstable ({speed, re}: the
 // smallest largest real part over the sweep), sweep {speeds, evs, weave, capsize}, lastRedrawMs
-// [ms] and evaluations (linearizations) of the last redraw, redraws}.
+// [ms: the computation of the last redraw, from its input event's handler to the canvases drawn,
+// the browser's paint not included] and evaluations (linearizations) of the last redraw, redraws,
+// continuation (true: see above; set it to false to initialize the module anew at every speed)}.
 (function () {
   "use strict";
   const DATA = window.COSIM_DATA;
@@ -38,7 +49,7 @@
   const state = { ready: false, error: null, parameterError: null, bicycle: null, set: null, module: null,
                   parameters: {}, speed: DATA.bicycles[0].speeds.default, speedRange: null, eigenvalues: [],
                   weave: null, capsize: null, selfStable: null, leastUnstable: null, sweep: null,
-                  lastRedrawMs: null, evaluations: 0, redraws: 0 };
+                  lastRedrawMs: null, evaluations: 0, redraws: 0, continuation: true };
   window.cosimApp = state;
 
   const $ = (id) => document.getElementById(id);
@@ -55,11 +66,18 @@
       this.instance = fmu.instantiate({ name: bicycle.name });
       this.names = Object.keys(bicycle.parameters);
       this.speed = bicycle.speed;
-      for (const n of [...this.names, this.speed.parameter]) {
+      this.pitch = bicycle.pitch || null;  // {state, guess} of a module that solves its pitch, else null
+      const parameters = [...this.names, this.speed.parameter, ...(this.pitch ? [this.pitch.guess] : [])];
+      for (const n of parameters) {
         const v = fmu.variables.get(n);
         if (!v || v.causality !== "parameter") throw new Error(`${fmu.modelName} has no parameter ${n}`);
       }
+      if (this.pitch && !fmu.variables.get(this.pitch.state))
+        throw new Error(`${fmu.modelName} has no variable ${this.pitch.state}`);
       this.write = this.instance.writer([...this.names, this.speed.parameter]);
+      // the speed, and the pitch's guess with it
+      this.writeSpeed = this.instance.writer([this.speed.parameter, ...(this.pitch ? [this.pitch.guess] : [])]);
+      this.writeGuess = this.pitch ? this.instance.writer([this.pitch.guess]) : null;
       // the derivatives of the lateral states, found by the `derivative` attribute of NAME.json
       const vars = fmu.description.variables;
       const derivativeOf = new Map(vars.filter((v) => v.derivative).map((v) => [vars[v.derivative - 1].name, v.name]));
@@ -68,6 +86,11 @@
         return derivativeOf.get(s);
       });
       this.jacobian = this.instance.directional(derivatives, bicycle.states);
+      // what a new parameter set is checked by (the evaluation the exit of initialization mode
+      // would do), with the solved pitch last
+      this.read = this.instance.reader([...derivatives, ...(this.pitch ? [this.pitch.state] : [])]);
+      this.initialized = null;  // the parameter values the instance is in initialization mode with
+      this.solvedPitch = null;  // [rad] the pitch of the last parameter set, the next one's guess
       this.evaluations = 0;
     }
 
@@ -77,11 +100,43 @@
       return s.sign * v / (s.divisor === null ? 1 : p[s.divisor]);
     }
 
-    // A(v) of the parameters p (name -> value): a new initialization of the instance.
+    // A(v) of the parameters p (name -> value): by continuation (state.continuation) from the
+    // instance's initialization at the same parameters if it has one, else a new initialization.
     stateMatrix(p, v) {
+      const values = this.names.map((n) => p[n]);
+      if (!state.continuation) {
+        this.initialized = null;
+        return this.initializedMatrix(values, v, p);
+      }
+      try {
+        const same = this.initialized !== null && values.every((x, i) => x === this.initialized[i]);
+        if (same) {
+          this.writeSpeed(this.pitch ? [this.speedValue(p, v), this.solvedPitch] : [this.speedValue(p, v)]);
+        } else {
+          this.initialized = null;
+          const inst = this.instance;
+          inst.reset();
+          this.write([...values, this.speedValue(p, v)]);
+          if (this.solvedPitch !== null) this.writeGuess([this.solvedPitch]);
+          inst.setupExperiment({ startTime: 0 });
+          inst.enterInitializationMode();
+          const read = this.read();  // solves and evaluates now: a refusal is this parameter set's
+          if (this.pitch) this.solvedPitch = read[read.length - 1];
+          this.initialized = values;
+        }
+        this.evaluations++;
+        return this.jacobian.jacobian();
+      } catch (e) {
+        this.initialized = null;  // the next call starts anew (reset)
+        throw e;
+      }
+    }
+
+    // A(v) from a new initialization of the instance at the module's start values.
+    initializedMatrix(values, v, p) {
       const inst = this.instance;
       inst.reset();
-      this.write([...this.names.map((n) => p[n]), this.speedValue(p, v)]);
+      this.write([...values, this.speedValue(p, v)]);
       inst.setupExperiment({ startTime: 0 });
       inst.enterInitializationMode();
       inst.exitInitializationMode();
