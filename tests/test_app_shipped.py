@@ -10,22 +10,15 @@ from __future__ import annotations
 import base64
 import json
 import os
-import re
 import shutil
 import sys
 from pathlib import Path
 
 import pytest
 
-from conftest import ROOT, unavailable
+from conftest import ROOT, bundle_data, unavailable
 from cosim.app import export, ship, shipped
 from cosim.app.export import MODULES, export_app
-
-
-def _bundle_data(site: Path) -> dict:
-    """``window.COSIM_DATA`` of an exported bundle.js."""
-    text = (site / "bundle.js").read_text(encoding="utf-8")
-    return json.loads(re.search(r"^window\.COSIM_DATA = (.*);$", text, re.M).group(1))
 
 
 def _forbid(monkeypatch, *targets):
@@ -65,7 +58,7 @@ def test_fresh_export_compiles_and_parses_nothing(tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "ziglang", None)  # find_spec("ziglang") is None: not installed
     _forbid(monkeypatch, (cosim.compiler.build, "build"), (export, "build_wasm"), (export, "page_diagrams"),
             (cosim.compiler.library.Library, "__init__"))
-    data = _bundle_data(export_app(tmp_path / "site").folder)
+    data = bundle_data(export_app(tmp_path / "site").folder)
     manifest = json.loads((shipped.SHIPPED / shipped.MANIFEST).read_text(encoding="utf-8"))
     assert list(data["modules"]) == list(MODULES)
     for model, name in manifest["modules"].items():
