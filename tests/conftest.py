@@ -85,6 +85,15 @@ def app_site(tmp_path_factory) -> Path:
     return folder
 
 
+def bundle_data(site: Path) -> dict:
+    """``window.COSIM_DATA`` of the bundle.js that `cosim app --export` wrote into ``site``."""
+    import json
+    import re
+
+    text = (site / "bundle.js").read_text(encoding="utf-8")
+    return json.loads(re.search(r"^window\.COSIM_DATA = (.*);$", text, re.M).group(1))
+
+
 def variant_library(folder: Path, models: dict[str, str], package: str = "TestVariants"):
     """The project's library plus a package ``package`` in ``folder`` holding ``models`` (class name ->
     Modelica text of the class, e.g. ``model V extends Bicycle.Bicycles.Whipple(redeclare ...); end V;``),

@@ -31,7 +31,7 @@ import numpy as np
 import pytest
 
 from cosim.cli import EXIT_INTERRUPTED
-from conftest import bound_by_permissions, cli_in_process
+from conftest import bound_by_permissions, bundle_data, cli_in_process
 from test_wasm import browser, offline_page  # noqa: F401 (browser: the shared fixture)
 
 # the quick run (-m 'not slow') leaves this module out: it drives Chromium over the exported site or animation
@@ -656,15 +656,13 @@ def test_weave_and_capsize_speeds_shown(page, tmp_path, name):
 
 def test_bicycle_data_refuses_what_does_not_fit(app_site, monkeypatch):
     """bicycles.page_data names an unknown parameter, a value outside its slider and a missing
-    state (a bug of bicycles.py), with the modules' descriptions."""
+    state (a bug of bicycles.py), with the modules' descriptions (those of the exported page)."""
     import dataclasses
-    import json
 
     from cosim.app import bicycles
 
-    folder = Path(os.environ["COSIM_FMU_DIR"]) / "wasm"
-    descriptions = {m: json.loads((folder / f"{m.replace('.', '_')}.json").read_text()) for m in
-                    (bicycles.LINEAR, bicycles.NONLINEAR)}
+    modules = bundle_data(app_site)["modules"]
+    descriptions = {m: modules[m]["description"] for m in (bicycles.LINEAR, bicycles.NONLINEAR)}
     data = bicycles.page_data(descriptions[bicycles.LINEAR], descriptions)
     assert [b["name"] for b in data["bicycles"]] == ["benchmark", "astrom2005", "astrom2005-riderless",
                                                      "crowned-roller", "rear-steered"]

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import os
 from pathlib import Path
 
@@ -25,7 +24,7 @@ import numpy as np
 import pytest
 
 from cosim.app import demos as demo_files
-from conftest import cli_in_process
+from conftest import bundle_data, cli_in_process
 from test_wasm import browser, offline_page  # noqa: F401 (browser: the shared fixture)
 
 # the quick run (-m 'not slow') leaves this module out: it drives Chromium over the exported site or animation
@@ -396,12 +395,9 @@ def test_bad_demo_file_is_refused_with_its_name_and_key(tmp_path, text, message)
     assert "\n" not in str(info.value)
 
 
-def _descriptions() -> dict:
-    """NAME.json of the page's modules, from the FMU folder's wasm/ (built by the ``app_site`` fixture)."""
-    from cosim.app.export import MODULES
-
-    folder = Path(os.environ["COSIM_FMU_DIR"]) / "wasm"
-    return {m: json.loads((folder / f"{m.replace('.', '_')}.json").read_text()) for m in MODULES}
+def _descriptions(site: Path) -> dict:
+    """NAME.json of the page's modules, from the bundle exported into ``site``."""
+    return {m: module["description"] for m, module in bundle_data(site)["modules"].items()}
 
 
 NAMES_BAD = [
@@ -428,7 +424,7 @@ def test_demo_with_unknown_names_is_refused(app_site, tmp_path, text, message):
     folder.mkdir()
     (folder / "bad-names.toml").write_text(text, encoding="utf-8")
     with pytest.raises(demo_files.DemoError) as info:
-        demo_files.load_demos(folder, _descriptions())
+        demo_files.load_demos(folder, _descriptions(app_site))
     assert str(info.value).startswith(str(folder / "bad-names.toml") + ": ") and message in str(info.value), info.value
 
 

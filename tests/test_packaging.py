@@ -66,6 +66,17 @@ def test_wheel_contains_every_c_source_the_package_compiles(wheel):
     assert sources <= shipped, sorted(sources - shipped)
 
 
+def test_wheel_contains_the_apps_shipped_modules(wheel):
+    """The WebAssembly modules and diagrams `cosim app` uses without a compiler
+    (cosim/app/modules/, :mod:`cosim.app.shipped`): every one of them, byte for byte."""
+    shipped = {p.name: p.read_bytes() for p in (ROOT / "cosim" / "app" / "modules").iterdir()}
+    assert {"manifest.json", "diagrams.json", "Bicycle_Bicycles_Whipple.wasm"} <= set(shipped)
+    with zipfile.ZipFile(wheel) as archive:
+        packed = {n.removeprefix("cosim/app/modules/"): archive.read(n) for n in archive.namelist()
+                  if n.startswith("cosim/app/modules/")}
+    assert packed == shipped
+
+
 def test_installed_wheel_finds_its_models_and_builds_into_the_working_directory(wheel, tmp_path):
     """Install the wheel's package alone (dependencies come from this interpreter) and use it
     from an unrelated folder: `cosim list` and `cosim build` work, the FMU lands in ./fmus."""
@@ -94,3 +105,10 @@ def test_installed_wheel_finds_its_models_and_builds_into_the_working_directory(
     assert built.returncode == 0, built.stderr
     assert (work / "fmus" / "Bicycle_Bicycles_SelfStabilizing.fmu").is_file()
     assert not list(target.rglob("*.fmu")), "an FMU was built into the installed package"
+    # The app from the modules the wheel ships: no FMU built, no Zig cache made (nothing compiled).
+    cache = tmp_path / "cache"
+    env.update(XDG_CACHE_HOME=str(cache), COSIM_FMU_DIR=str(tmp_path / "app-fmus"))
+    exported = cosim("app", "--export", "site")
+    assert exported.returncode == 0, exported.stderr
+    assert (work / "site" / "bundle.js").is_file()
+    assert not (tmp_path / "app-fmus").exists() and not (cache / "cosim" / "zig").exists()

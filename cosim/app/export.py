@@ -17,8 +17,12 @@ Chromium refuses ``fetch`` and ES modules of ``file://`` pages, so the site is t
     ``cosim/wasm/fmu.js``, with their ``export`` keywords removed and their names gathered in a
     global).
 
-The modules are built by `cosim build --wasm` machinery (:func:`cosim.wasm.build.build_wasm`) from
-the FMUs in the FMU folder (``$COSIM_FMU_DIR``, else ``./fmus``), both incremental. The parameter
+The modules and diagrams are those the package ships (:mod:`cosim.app.shipped`, made by
+``python -m cosim.app.ship``) while they are current for the installed library and compiler:
+nothing is compiled, no library parsed. Otherwise (an edited library, a user's library that
+hides the shipped one) the modules are built by `cosim build --wasm` machinery
+(:func:`cosim.wasm.build.build_wasm`) from the FMUs in the FMU folder (``$COSIM_FMU_DIR``, else
+``./fmus``), both incremental, and the diagrams drawn from the parsed library. The parameter
 values are never written by hand into the page: they are read from the TOML files at export time.
 """
 from __future__ import annotations
@@ -36,6 +40,7 @@ from cosim.folder_lock import folder_lock
 from cosim.outputs import check_output_folder, write_text
 from cosim.analytic.parameters import load_parameters
 from cosim.app.demos import DEMOS, load_demos
+from cosim.app import shipped as shipped_files
 from cosim.wasm.build import build_wasm, LOADER, zig_command
 
 HERE = Path(__file__).resolve().parent
@@ -194,7 +199,8 @@ def export_app(folder: str | os.PathLike, demos: str | os.PathLike | None = None
         If ``folder`` is a file or cannot be written, or another command is writing it
         (:class:`cosim.folder_lock.FolderBusy`), checked before any build.
     BuildError, MissingExtraError
-        If the FMU or its WebAssembly module cannot be built (e.g. no ``ziglang`` wheel).
+        If the shipped modules are not current and an FMU or its WebAssembly module cannot be
+        built (e.g. no ``ziglang`` wheel).
     DemoError
         If a demo file is bad (its name and the key; the structure is checked before any build).
     ModelicaError
@@ -202,25 +208,52 @@ def export_app(folder: str | os.PathLike, demos: str | os.PathLike | None = None
     """
     folder = check_output_folder(folder, "app folder")
     load_demos(demos or DEMOS)  # a bad demo file: its message before any build
-    zig_command()  # no ziglang: one message before any work
+    shipped = shipped_files.load(MODULES)
+    if shipped is None:
+        zig_command()  # no ziglang: one message before any work
     with folder_lock(folder, "app folder"):  # one command writes the folder at a time
-        return _export(folder, demos)
+        return _export(folder, demos, shipped)
 
 
-def _export(folder: Path, demos: str | os.PathLike | None) -> ExportResult:
-    """:func:`export_app` into a checked and locked folder."""
+def build_modules(fmu_folder: Path) -> dict:
+    """Build the FMU of each model of :data:`MODULES` in ``fmu_folder``, then its WebAssembly
+    module beside it (``fmu_folder/wasm/``), both incremental.
+
+    Returns
+    -------
+    dict
+        Model name -> :class:`cosim.wasm.build.WasmResult` (the paths of NAME.wasm and NAME.json).
+    """
     # deferred: loads casadi, numpy, which importing this module does not
     from cosim.compiler.build import build
 
-    modules = {}
-    for result in build(list(MODULES), output=_fmu_folder()):
-        wasm = build_wasm(result.fmu)
-        modules[result.model] = {"description": json.loads(wasm.description.read_text(encoding="utf-8")),
-                                 "wasm": base64.b64encode(wasm.wasm.read_bytes()).decode("ascii")}
+    return {result.model: build_wasm(result.fmu) for result in build(list(MODULES), output=fmu_folder)}
+
+
+def _page_modules(built: dict) -> dict:
+    """``COSIM_DATA.modules`` from :func:`build_modules`: model name -> ``{"description": NAME.json
+    as a dict, "wasm": NAME.wasm in base64}``."""
+    return {model: {"description": json.loads(wasm.description.read_text(encoding="utf-8")),
+                    "wasm": base64.b64encode(wasm.wasm.read_bytes()).decode("ascii")}
+            for model, wasm in built.items()}
+
+
+def diagram_models(bicycles: list) -> list[str]:
+    """The models whose diagrams the page carries: those of the bicycles of
+    ``COSIM_DATA.bicycles`` (:func:`cosim.app.bicycles.page_data`), each once, in their order."""
+    return list(dict.fromkeys(b["module"] for b in bicycles))
+
+
+def _export(folder: Path, demos: str | os.PathLike | None, shipped) -> ExportResult:
+    """:func:`export_app` into a checked and locked folder, with the shipped modules and
+    diagrams (:class:`cosim.app.shipped.Shipped`) or, if None, building them."""
+    modules = shipped.modules if shipped is not None else _page_modules(build_modules(_fmu_folder()))
     descriptions = {name: m["description"] for name, m in modules.items()}
     data = {**page_data(modules[MODEL]["description"], descriptions), **ride_data(descriptions, demos),
             "modules": modules}
-    data["diagrams"] = page_diagrams(b["module"] for b in data["bicycles"])
+    models = diagram_models(data["bicycles"])
+    data["diagrams"] = (shipped.diagrams if shipped is not None and list(shipped.diagrams) == models
+                        else page_diagrams(models))
     scripts = _scripts()
     bundle = "\n".join([
         "// bundle.js of `cosim app --export`: generated, do not edit. Sources, in this order: "
