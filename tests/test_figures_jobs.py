@@ -7,6 +7,8 @@
   gives the states, derivatives and Jacobian FMPy's methods give on a second instance, within
   ``DIRECT_RTOL`` (relative: the same FMI calls, so bit for bit), at start points inside and at
   one the FMU cannot assemble (both raise);
+* :func:`cosim.bicycle.stability.state_space` on its kept instance gives what a fresh
+  :func:`cosim.fmu.linearize.linearize` gives, within ``DIRECT_RTOL``;
 * the variable-name check of ``cosim validate`` parses only the quoted names with FMPy's grammar:
   every name :data:`cosim.fmu.validate.PLAIN_STRUCTURED_NAME` lets through is one FMPy accepts,
   and the findings are FMPy's own, in its order.
@@ -32,7 +34,8 @@ pytestmark = pytest.mark.slow
 #: Largest relative difference of a JSON number between jobs=1 and jobs=2 (each part is computed
 #: by the same code in one process either way: bit for bit in practice).
 JOBS_RTOL = 1e-12
-#: Largest relative difference between DirectCalls and FMPy's methods (the same FMI calls).
+#: Largest relative difference between DirectCalls and FMPy's methods, and between a kept and a
+#: fresh instance's linearization (the same FMI calls).
 DIRECT_RTOL = 0.0
 
 
@@ -118,6 +121,25 @@ def test_direct_calls_equal_fmpy(fmus, start, assembles):
             assert isinstance(bike.calls, DirectCalls)
     finally:
         reference.freeInstance()
+
+
+@pytest.mark.parametrize("name", ["benchmark", "astrom2005-riderless"], ids=["benchmark", "riderless"])
+def test_kept_instance_equals_linearization(fmus, name):
+    """stability.state_space on its kept instance (one per parameter set) against a fresh
+    linearize() per speed, also after another parameter set was used in between."""
+    from cosim.bicycle import stability as WP
+
+    fmu = fmus[WP.MODEL]
+    params = WP.parameters_for_model(name)
+    other = {**params, "IFyy": 0.01}
+    for v in (0.0, 2.5, 4.0, 12.0):
+        for p in (params, other):
+            A, B = WP.state_space(fmu, p, v)
+            system = WP.linearization(fmu, p, v).system
+            A_ref, B_ref = WP._bicycle_blocks(fmu, system.states, system.inputs, [system.A], [system.B])[0]
+            np.testing.assert_allclose(A, A_ref, rtol=DIRECT_RTOL, atol=0.0)
+            np.testing.assert_allclose(B, B_ref, rtol=DIRECT_RTOL, atol=0.0)
+    assert len(WP._LINEARIZERS) <= WP.KEPT_INSTANCES
 
 
 # --------------------------------------------------------------------------- variable names
