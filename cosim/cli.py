@@ -641,7 +641,7 @@ def _cmd_export_ssp(args) -> int:
 def _cmd_figures(args) -> int:
     from cosim.figures import make_figures
 
-    for path in make_figures(args.names, args.output):
+    for path in make_figures(args.names, args.output, jobs=args.jobs):
         print(f"wrote {path}")
     return EXIT_OK
 
@@ -888,6 +888,9 @@ def parser() -> argparse.ArgumentParser:
                          formatter_class=raw, epilog=f"{FMU_FOLDER}\n\n{EXIT_CODES}")
     fig.add_argument("names", nargs="*", help="figure names, e.g. fig5 fig8 (default: all)")
     fig.add_argument("-o", "--output", default="figures", help="output folder (default: figures/)")
+    fig.add_argument("-j", "--jobs", type=positive_int, default=None, metavar="N",
+                     help="worker processes (default: the number of CPUs; 1: all in this process); "
+                          "the figures are the same for any N")
     library_option(fig)
     fig.set_defaults(func=_cmd_figures)
 

@@ -22,14 +22,16 @@ Sign conventions are Meijaard's: roll positive leaning right, steer positive to 
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 
 from cosim.analytic.parameters import parameters_for_model
+from cosim.errors import SimulationError
 from cosim.bicycle.linearize import linearize_speeds
-from cosim.fmu.linearize import linearize
+from cosim.fmu.linearize import ParameterLinearizer, linearize
 from cosim.compiler.library import load_library
 
 __all__ = [
@@ -83,7 +85,10 @@ def linearization(fmu: str | Path, params: Mapping[str, float], v: float):
 def state_space(fmu: str | Path, params: Mapping[str, float], v: float) -> tuple[np.ndarray, np.ndarray]:
     """``A`` (4x4) and ``B`` (4x2) of ``[phi, delta, phi_dot, delta_dot]`` from an FMU linearization.
 
-    ``B``'s columns are the inputs ``T_phi`` and ``T_delta`` [N m].
+    ``B``'s columns are the inputs ``T_phi`` and ``T_delta`` [N m]. A root finder asks for one
+    speed after another with the same parameters: an FMU built here is then linearized on one
+    instance per parameter set (:class:`cosim.fmu.linearize.ParameterLinearizer`, the same numbers
+    as :func:`linearization`), the last :data:`KEPT_INSTANCES` sets kept.
 
     Raises
     ------
@@ -91,8 +96,44 @@ def state_space(fmu: str | Path, params: Mapping[str, float], v: float) -> tuple
         If the FMU lacks one of the states or inputs, or the remaining states (``psi``, ``y``)
         feed back into them (which would make the 4x4 block's eigenvalues not the bicycle's).
     """
-    system = linearization(fmu, params, v).system
-    return _bicycle_blocks(fmu, system.states, system.inputs, [system.A], [system.B])[0]
+    params = {k: float(x) for k, x in params.items()}
+    linearizer = _linearizer(fmu, params)
+    if linearizer is None:
+        system = linearization(fmu, params, v).system
+        return _bicycle_blocks(fmu, system.states, system.inputs, [system.A], [system.B])[0]
+    try:
+        A, B = linearizer.state_space(float(v))
+    except SimulationError:  # a fresh instance for the next call
+        _LINEARIZERS.pop(next(k for k, x in _LINEARIZERS.items() if x is linearizer)).close()
+        raise
+    st = linearizer.structure
+    return _bicycle_blocks(fmu, st.states, st.inputs, [A], [B])[0]
+
+
+#: Parameter sets whose FMU instance :func:`state_space` keeps (a figure's root finders go
+#: through one set after another).
+KEPT_INSTANCES = 2
+_LINEARIZERS: dict[tuple, ParameterLinearizer] = {}  # (FMU file version, parameters) -> instance
+
+
+def _linearizer(fmu, params: dict) -> ParameterLinearizer | None:
+    """The kept instance for ``fmu`` and ``params`` (made now if new); None for an FMU that
+    :func:`linearization` runs otherwise (not built here, no directional derivatives) or with
+    ``v`` among ``params``."""
+    path = Path(fmu)
+    try:
+        status = path.stat()
+    except OSError:
+        return None  # linearization() names the problem
+    key = (str(path.resolve()), status.st_size, status.st_mtime_ns, os.getpid(), tuple(params.items()))
+    found = _LINEARIZERS.get(key)
+    if found is None:
+        if SPEED in params or not ParameterLinearizer.usable(path):
+            return None
+        while len(_LINEARIZERS) >= KEPT_INSTANCES:
+            _LINEARIZERS.pop(next(iter(_LINEARIZERS))).close()
+        found = _LINEARIZERS[key] = ParameterLinearizer(path, SPEED, params)
+    return found
 
 
 def state_spaces(fmu: str | Path, params: Mapping[str, float], speeds) -> list[tuple[np.ndarray, np.ndarray]]:

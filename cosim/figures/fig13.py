@@ -36,6 +36,7 @@ NAME = "fig13"
 PARAMS = "astrom2005-riderless"
 INERTIAS = np.geomspace(1e-3, 0.184, 16)
 XTOL = 1e-6  # m/s, root-finding tolerance (far below what the plot resolves)
+WHEELS = ("RF", "F")  # the wheels given the inertia: both, the front one only
 
 
 def _with_inertia(params: dict, inertia: float, wheels: str) -> dict:
@@ -75,12 +76,24 @@ def compute(fmu=None):
 
     fmu = fmu or WP.whipple_fmu()
     params = WP.parameters_for_model(PARAMS)
-    return {wheels: critical_speeds(fmu, params, wheels) for wheels in ("RF", "F")}
+    return {wheels: critical_speeds(fmu, params, wheels) for wheels in WHEELS}
 
 
-def make(output: Path) -> list[Path]:
+def parts() -> list[tuple]:
+    """Both wheels and the front wheel only as ``(critical_speeds, args)``: independent of each
+    other, computed in parallel by :func:`cosim.figures.make_figures`."""
+    # deferred: loads fmpy, which importing this module does not
+    from cosim.bicycle import stability as WP
+
+    fmu, params = WP.whipple_fmu(), WP.parameters_for_model(PARAMS)
+    return [(critical_speeds, (fmu, params, wheels)) for wheels in WHEELS]
+
+
+def make(output: Path, computed: list | None = None) -> list[Path]:
+    """Draw the figure; ``computed``: the results of :func:`parts` (in that order), computed
+    here if not given."""
     plt = pyplot()
-    results = compute()
+    results = dict(zip(WHEELS, computed if computed is not None else [f(*args) for f, args in parts()]))
     fig, ax = plt.subplots(figsize=(7.0, 5.0))
     for wheels, color, label in (("RF", "k", "both wheels"), ("F", "0.6", "front wheel only")):
         weave, capsize = results[wheels]

@@ -252,10 +252,18 @@ def _summary(data: dict) -> dict:
     }
 
 
-def make(output: Path) -> list[Path]:
-    plt = pyplot()
+def parts() -> list[tuple]:
+    """The two variants (knife edge, crowned wheels) as ``(compute, args)``: independent of each
+    other, computed in parallel by :func:`cosim.figures.make_figures`."""
     fmu = nonlinear_model.build(MODEL)
-    variants = [compute(fmu, 0.0), compute(fmu, CROWN)]
+    return [(compute, (fmu, 0.0)), (compute, (fmu, CROWN))]
+
+
+def make(output: Path, computed: list[dict] | None = None) -> list[Path]:
+    """Draw the figure and write its summary; ``computed``: the results of :func:`parts` (in
+    that order), computed here if not given."""
+    plt = pyplot()
+    variants = computed if computed is not None else [function(*args) for function, args in parts()]
     fig, axes = plt.subplots(2, 2, figsize=(13.0, 8.5), sharex=True)
     for col, data in enumerate(variants):
         _draw(axes[:, col], data)

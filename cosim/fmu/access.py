@@ -26,7 +26,7 @@ import warnings
 import zipfile
 from contextlib import contextmanager
 import zlib
-from ctypes import c_double
+from ctypes import byref, c_double, c_uint
 from pathlib import Path
 from typing import NamedTuple
 
@@ -474,6 +474,148 @@ _SETTERS = {
           "UInt16": "setUInt16", "UInt8": "setUInt8", "Enumeration": "setInt64", "Boolean": "setBoolean",
           "String": "setString"},
 }
+class DirectCalls:
+    """The FMI 2.0 Model Exchange functions of one instance called directly through ctypes, for
+    loops that evaluate a model many times (an equilibrium search initializes it some 10^5 times).
+
+    FMPy's methods convert Python lists to new ctypes arrays, build an event-info structure and
+    go through a logging wrapper on every call (about 40 us of Python per initialization of a
+    small model, six times the model's own work). Here the arrays are made once, the functions
+    are FMPy's own typed ctypes functions of the instance, and a status worse than Warning
+    raises :class:`fmpy.fmi1.FMICallException` as FMPy does: what the FMU computes is the same,
+    call for call. FMPy's call logger (``fmiCallLogger``) does not see these calls.
+
+    Parameters
+    ----------
+    fmu : FMU
+        The FMU of ``instance`` (FMI 2.0).
+    instance : fmpy.fmi2.FMU2Model
+        A Model Exchange instance of :meth:`FMU.instantiate`.
+    """
+
+    def __init__(self, fmu: "FMU", instance):
+        from fmpy.fmi1 import FMICallException
+        from fmpy.fmi2 import fmi2EventInfo
+
+        if fmu.is_fmi3:
+            raise FMUError(f"{fmu.path}: direct calls are made to FMI 2.0 Model Exchange instances only")
+        self.fmu, self.instance = fmu, instance
+        self._exception = FMICallException
+        self._component = instance.component
+        self._f = instance._functions  # name -> ctypes function, typed by FMPy
+        self.nx = len(fmu.description.derivatives)
+        self._event = fmi2EventInfo()
+        self._x = (c_double * self.nx)()
+        self._dx = (c_double * self.nx)()
+        self._setters: dict[tuple, tuple] = {}
+        self._jacobian_refs = None
+
+    def _call(self, name: str, *args) -> None:
+        status = self._f[name](self._component, *args)
+        if status > 1:  # fmi2Warning: FMPy raises for Discard, Error, Fatal
+            raise self._exception(function=name, status=status)
+
+    def real_setter(self, names) -> tuple:
+        """A prepared ``fmi2SetReal`` of the Real variables ``names`` (in this order): the tuple
+        ``(value references, values)`` of ctypes arrays for :meth:`set_reals`; fill the values
+        (``values[k] = ...``) before each call. Made once per tuple of names.
+
+        Raises
+        ------
+        KeyError
+            For a name that is not a variable.
+        FMUError
+            For a variable that is not Real.
+        """
+        names = tuple(names)
+        prepared = self._setters.get(names)
+        if prepared is None:
+            for name in names:
+                if self.fmu.variables[name].type != "Real":
+                    raise FMUError(f"{self.fmu.path}: variable '{name}' has type "
+                                   f"{self.fmu.variables[name].type}, not Real")
+            prepared = ((c_uint * len(names))(*(self.fmu.vr[n] for n in names)), (c_double * len(names))())
+            self._setters[names] = prepared
+        return prepared
+
+    def set_reals(self, prepared: tuple) -> None:
+        """``fmi2SetReal`` of a :meth:`real_setter` with its current values (one call)."""
+        refs, values = prepared
+        self._call("fmi2SetReal", refs, len(refs), values)
+
+    def reset(self) -> None:
+        self._call("fmi2Reset")
+
+    def initialize(self, start_time: float = 0.0) -> None:
+        """What :meth:`FMU.initialize_me` does (FMI 2): ``fmi2SetupExperiment`` (no tolerance, no
+        stop time), ``fmi2Enter/ExitInitializationMode``, ``fmi2NewDiscreteStates`` until no
+        further update is needed, ``fmi2EnterContinuousTimeMode``.
+
+        Raises
+        ------
+        fmpy.fmi1.FMICallException
+            A call the FMU refused.
+        FMUError
+            The FMU asks to terminate, or the event iteration does not end.
+        """
+        self._call("fmi2SetupExperiment", 0, 0.0, float(start_time), 0, 0.0)
+        self._call("fmi2EnterInitializationMode")
+        self._call("fmi2ExitInitializationMode")
+        event = self._event
+        for _ in range(MAX_EVENT_ITERATIONS):
+            event.newDiscreteStatesNeeded = event.terminateSimulation = 0  # as FMPy's fresh structure
+            self._call("fmi2NewDiscreteStates", byref(event))
+            if event.terminateSimulation:
+                raise FMUError(f"{self.fmu.path}: the FMU asks to terminate during its initial event iteration")
+            if not event.newDiscreteStatesNeeded:
+                break
+        else:
+            raise FMUError(f"{self.fmu.path}: the event iteration did not end after {MAX_EVENT_ITERATIONS} "
+                           "fmi2NewDiscreteStates calls")
+        self._call("fmi2EnterContinuousTimeMode")
+
+    def get_states(self) -> np.ndarray:
+        """The continuous states (a new array)."""
+        if self.nx:
+            self._call("fmi2GetContinuousStates", self._x, self.nx)
+        return np.array(self._x[:])
+
+    def set_states(self, x) -> None:
+        x = np.asarray(x, float)
+        if x.size != self.nx:
+            raise ValueError(f"{self.nx} continuous states expected, got {x.size}")
+        self._x[:] = x.tolist()
+        if self.nx:
+            self._call("fmi2SetContinuousStates", self._x, self.nx)
+
+    def derivatives(self) -> np.ndarray:
+        """The time derivatives of the continuous states (a new array)."""
+        if self.nx:
+            self._call("fmi2GetDerivatives", self._dx, self.nx)
+        return np.array(self._dx[:])
+
+    def state_jacobian(self) -> np.ndarray:
+        """d(state derivatives)/d(states) at the current point, column by column from
+        ``fmi2GetDirectionalDerivative`` with unit seeds (as FMPy's ``getDirectionalDerivative``
+        with the seed ``e_k``)."""
+        n = self.nx
+        if self._jacobian_refs is None:
+            md, vr = self.fmu.description, self.fmu.vr
+            unknown = (c_uint * n)(*(vr[d.variable.name] for d in md.derivatives))
+            known = (c_uint * n)(*(vr[d.variable.derivative.name] for d in md.derivatives))
+            self._jacobian_refs = (unknown, known, (c_double * n)(), (c_double * n)())
+        unknown, known, seed, column = self._jacobian_refs
+        J = np.zeros((n, n))
+        for k in range(n):
+            seed[k] = 1.0
+            try:
+                self._call("fmi2GetDirectionalDerivative", unknown, n, known, n, seed, column)
+            finally:
+                seed[k] = 0.0
+            J[:, k] = column[:]
+        return J
+
+
 class EventUpdate(NamedTuple):
     """What an event iteration (:meth:`FMU.event_iteration`) ended with."""
 

@@ -601,6 +601,63 @@ def stacked(systems: list[StateSpace], name: str) -> np.ndarray:
     return np.array([getattr(s, name) for s in systems])
 
 
+class ParameterLinearizer:
+    """:func:`linearize` at values of one parameter given one at a time (a root finder's), on one
+    Model Exchange instance re-initialized per value: :func:`linearize_sweep` for values not known
+    in advance. Only for an FMU built here with directional derivatives (:meth:`usable`): it runs
+    in this process, as :func:`linearize` runs such FMUs.
+
+    Parameters
+    ----------
+    fmu_path : path
+        The FMU.
+    parameter : str
+        The parameter set per call (a Real, set before the initialization).
+    parameters : dict, optional
+        Other parameter values (SI units).
+    """
+
+    def __init__(self, fmu_path: str | Path, parameter: str, parameters: dict | None = None):
+        self.fmu = FMU(fmu_path, versions=ALL_FMI_VERSIONS)
+        self.structure = _Structure.of(self.fmu)
+        self.point = _FastPoint(self.fmu, dict(parameters or {}), parameter, self.structure)
+        nx = len(self.structure.states)
+        self.J = np.zeros((len(self.structure.unknowns), nx + len(self.structure.inputs)))
+        self.x0, self.xdot0 = np.zeros(nx), np.zeros(nx)
+
+    @staticmethod
+    def usable(fmu_path: str | Path) -> bool:
+        """Whether :func:`linearize` would run the FMU in this process with directional
+        derivatives (built here, Model Exchange with them)."""
+        if not built_here(fmu_path):
+            return False
+        me = read_fmu(fmu_path, ALL_FMI_VERSIONS).modelExchange
+        return me is not None and bool(me.providesDirectionalDerivative)
+
+    def state_space(self, value: float) -> tuple[np.ndarray, np.ndarray]:
+        """``A`` and ``B`` (states and inputs in the order of :func:`linearize`) at ``value``.
+
+        Raises
+        ------
+        SimulationError
+            The FMU refuses the initialization or a call at ``value``, or an entry is not finite.
+        """
+        self.point.evaluate(float(value), self.J, self.x0, self.xdot0)
+        nx = len(self.structure.states)
+        A, B = self.J[:nx, :nx].copy(), self.J[:nx, nx:].copy()
+        for name, matrix, columns in (("A", A, self.structure.states), ("B", B, self.structure.inputs)):
+            bad = np.argwhere(~np.isfinite(matrix))
+            if len(bad):
+                i, j = bad[0]
+                raise SimulationError(f"{self.fmu.path}: linearization failed: {name}[{i}, {j}] (d "
+                                      f"{self.structure.states[i]} / d {columns[j]}) is {matrix[i, j]} at "
+                                      f"{self.point.varying} = {value:.15g}")
+        return A, B
+
+    def close(self) -> None:
+        self.point.close()
+
+
 def linearize_sweep(fmu_path: str | Path, parameter: str, values, parameters: dict | None = None,
                     inputs: dict | None = None, isolate: bool | None = None,
                     timeout: float | None = DEFAULT_TIMEOUT, continuation: bool = True,

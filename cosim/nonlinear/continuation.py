@@ -131,6 +131,7 @@ class SteadyTurns:
         self.rR = float(bike.params["rR"])
         ix = bike.index
         self.rows = [ix["u_phi"], ix["u_delta"]]
+        self._dg = None  # indices of dG/dz in the reduced Jacobian (see linearization)
 
     # z = (phi, delta, s) with s = -u_R rR / SPEED_SCALE
     def _start(self, z):
@@ -139,7 +140,7 @@ class SteadyTurns:
     def residual(self, z) -> np.ndarray:
         """``G(z) = (du_phi/dt, du_delta/dt)`` [rad/s^2]; raises ``FMICallException`` where the
         FMU cannot make the pitch consistent."""
-        self.bike.initialize(self._start(z))
+        self.bike.reinitialize(self._start(z))
         return self.bike.derivatives()[self.rows]
 
     def _residual_or_nan(self, z) -> np.ndarray:
@@ -153,9 +154,12 @@ class SteadyTurns:
         x = self.bike.initialize(self._start(z))
         G = self.bike.derivatives(x)[self.rows]
         R, names = reduced_jacobian(self.bike.jacobian(x), self.bike.states)
-        r = [names.index("u_phi"), names.index("u_delta")]
-        cols = [names.index("phi"), names.index("delta"), names.index("u_R")]
-        DG = R[np.ix_(r, cols)] * np.array([1.0, 1.0, -SPEED_SCALE / self.rR])
+        if self._dg is None:  # rows (u_phi, u_delta) and columns (phi, delta, u_R) of R in dG/dz
+            self._dg = (np.array([[names.index("u_phi")], [names.index("u_delta")]]),
+                        np.array([names.index("phi"), names.index("delta"), names.index("u_R")]),
+                        np.array([1.0, 1.0, -SPEED_SCALE / self.rR]))
+        r, cols, scale = self._dg
+        DG = R[r, cols] * scale
         return G, DG, R, names
 
     def equilibrium(self, z, tangent=None) -> Equilibrium:
@@ -281,25 +285,32 @@ class SteadyTurns:
         list of ndarray
             Continuation points ``(phi, delta, v / SPEED_SCALE)``, distinct to 1e-6.
         """
-        phis, deltas = np.asarray(phis, float), np.asarray(deltas, float)
         found = []
         for v in speeds:
-            s = v / SPEED_SCALE
-            G = np.array([[self._residual_or_nan(np.array([a, d, s])) for d in deltas] for a in phis])
-            for i in range(len(phis) - 1):
-                for j in range(len(deltas) - 1):
-                    cell = G[i:i + 2, j:j + 2]
-                    if np.isnan(cell).any():
-                        continue
-                    if all(cell[..., k].min() < 0.0 < cell[..., k].max() for k in range(2)):
-                        mid = np.array([0.5 * (phis[i] + phis[i + 1]), 0.5 * (deltas[j] + deltas[j + 1]), s])
-                        z = self._polish_fixed_speed(mid)
-                        # phi = 0 with delta = 0 or pi (straight running) solves G = 0 at every
-                        # speed: those branches are not turns (see upright()).
-                        if (z is not None and window.contains(z) and z[0] > 1e-8
-                                and not any(np.linalg.norm(z - f) < 1e-6 for f in found)):
-                            found.append(z)
+            for z in self.turn_candidates(v, phis, deltas):
+                # phi = 0 with delta = 0 or pi (straight running) solves G = 0 at every
+                # speed: those branches are not turns (see upright()).
+                if (z is not None and window.contains(z) and z[0] > 1e-8
+                        and not any(np.linalg.norm(z - f) < 1e-6 for f in found)):
+                    found.append(z)
         return found
+
+    def turn_candidates(self, v: float, phis, deltas) -> list:
+        """The polished start points of one speed of :meth:`find_turns_at_speeds` (None where
+        Newton failed), cell by cell (rows of ``phis``, then ``deltas``), before the window and
+        the distinctness are checked: the speeds are independent of each other."""
+        phis, deltas = np.asarray(phis, float), np.asarray(deltas, float)
+        s = v / SPEED_SCALE
+        G = np.array([[self._residual_or_nan(np.array([a, d, s])) for d in deltas] for a in phis])
+        # a cell is a candidate where both components of G change sign over its four corners
+        # (none of them NaN: the FMU could not assemble the bicycle there)
+        corners = np.stack([G[:-1, :-1], G[1:, :-1], G[:-1, 1:], G[1:, 1:]])
+        with np.errstate(invalid="ignore"):
+            change = ((corners.min(axis=0) < 0.0) & (corners.max(axis=0) > 0.0)).all(axis=-1)
+        change &= ~np.isnan(corners).any(axis=(0, 3))
+        mids = [np.array([0.5 * (phis[i] + phis[i + 1]), 0.5 * (deltas[j] + deltas[j + 1]), s])
+                for i, j in zip(*np.nonzero(change))]
+        return [self._polish_fixed_speed(mid) for mid in mids]
 
     def _polish_fixed_speed(self, z, max_iter: int = 30):
         z = z.copy()
@@ -319,7 +330,7 @@ class SteadyTurns:
     def speed(self, z) -> float:
         """The FMU's forward speed ``v`` of the rear contact point [m/s] at ``z``; it differs from
         ``-u_R rR`` for a crowned rear wheel leaning (the contact point moves round the crown)."""
-        self.bike.initialize(self._start(z))
+        self.bike.reinitialize(self._start(z))
         return float(self.bike.get(["v"])[0])
 
     def fold_function(self, z, h: float = 1e-7) -> tuple[np.ndarray, float, np.ndarray]:

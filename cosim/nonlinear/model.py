@@ -10,12 +10,13 @@ States (FMU order): ``x, y, psi, phi, theta, delta, thetaR, thetaF, [beta,] u_ph
 """
 from __future__ import annotations
 
-from ctypes import c_double
+import functools
 from pathlib import Path
 
 import numpy as np
 
-from cosim.fmu.access import FMU, get_continuous_states, set_continuous_states
+from cosim.errors import FMUError
+from cosim.fmu.access import FMU, DirectCalls
 from cosim.analytic.parameters import load_parameters
 from cosim.compiler.library import load_library
 
@@ -76,6 +77,9 @@ class Bicycle:
         self.nx = len(self.states)
         self.inputs = self.fmu.names("input")
         self.me = self.fmu.instantiate("me")
+        # the instance is re-initialized some 10^5 times by an equilibrium search: direct calls
+        self.calls = DirectCalls(self.fmu, self.me)
+        self._starts: dict[tuple, tuple] = {}  # names of a start dict -> (setter, its slots)
         self._initialized = False
         self.initialize({})
 
@@ -92,21 +96,47 @@ class Bicycle:
     def __exit__(self, *exc):
         self.close()
 
+    def _start_setter(self, names: tuple) -> tuple:
+        """The prepared ``fmi2SetReal`` of the parameters followed by the start values ``names``
+        (one call, in the order of ``{**params, **start}``), the parameter values filled in once,
+        and the slots of ``names`` in it."""
+        found = self._starts.get(names)
+        if found is None:
+            order = list({**self.params, **dict.fromkeys(names)})
+            setter = self.calls.real_setter(order)
+            for k, name in enumerate(order):
+                if name in self.params:
+                    setter[1][k] = float(self.params[name])
+            found = self._starts[names] = (setter, [order.index(n) for n in names])
+        return found
+
     def initialize(self, start: dict) -> np.ndarray:
         """Re-initialize with the parameters and ``start`` (FMU parameter names, e.g. ``phi0``);
         returns the initial state vector (pitch from the generated Newton steps)."""
-        if self._initialized:
-            self.me.reset()
-        self.fmu.set(self.me, {**self.params, **start})
-        self.fmu.initialize_me(self.me, start_time=0.0)
-        self._initialized = True
+        self.reinitialize(start)
         return self.get_states()
 
+    def reinitialize(self, start: dict) -> None:
+        """:meth:`initialize` without reading the states back."""
+        if self._initialized:
+            self.calls.reset()
+        try:
+            setter, slots = self._start_setter(tuple(start))
+        except FMUError:  # a variable that is not Real: the setter of every type
+            self.fmu.set(self.me, {**self.params, **start})
+        else:
+            values = setter[1]
+            for slot, value in zip(slots, start.values()):
+                values[slot] = float(value)
+            self.calls.set_reals(setter)
+        self.calls.initialize(0.0)
+        self._initialized = True
+
     def get_states(self) -> np.ndarray:
-        return get_continuous_states(self.me, self.nx)
+        return self.calls.get_states()
 
     def set_states(self, x) -> None:
-        set_continuous_states(self.me, x)
+        self.calls.set_states(x)
 
     def set_inputs(self, values: dict) -> None:
         self.fmu.set(self.me, values)
@@ -114,9 +144,7 @@ class Bicycle:
     def derivatives(self, x=None) -> np.ndarray:
         if x is not None:
             self.set_states(x)
-        dx = (c_double * self.nx)()
-        self.me.getDerivatives(dx, self.nx)
-        return np.array(dx[:])
+        return self.calls.derivatives()
 
     def get(self, names, x=None) -> np.ndarray:
         if x is not None:
@@ -127,15 +155,7 @@ class Bicycle:
         """d(xdot)/dx at ``x`` from the FMU's directional derivatives."""
         if x is not None:
             self.set_states(x)
-        md = self.fmu
-        unknown = [md.vr[n] for n in md.derivatives]
-        known = [md.vr[n] for n in self.states]
-        J = np.zeros((self.nx, self.nx))
-        for k in range(self.nx):
-            seed = [0.0] * self.nx
-            seed[k] = 1.0
-            J[:, k] = self.me.getDirectionalDerivative(unknown, known, seed)
-        return J
+        return self.calls.state_jacobian()
 
     def state(self, **values: float) -> np.ndarray:
         """Initial state from values by state name (pitch made consistent)."""
@@ -148,13 +168,19 @@ def reduced_jacobian(J: np.ndarray, states: list[str]) -> tuple[np.ndarray, list
     d delta`` (its rates ``J[theta, u_phi]``, ``J[theta, u_delta]`` are exactly these
     coefficients), and the ignorable coordinates x, y, psi and the wheel angles are dropped
     (nothing depends on them). ``J`` is the full Jacobian at a point with ``u_phi = u_delta = 0``."""
+    keep, rows, th, pitch = _reduction(tuple(states))
+    R = J[rows[:, None], rows]
+    for col, rate in pitch:
+        R[:, col] += J[rows, th] * J[th, rate]
+    return R, list(keep)
+
+
+@functools.lru_cache(maxsize=8)
+def _reduction(states: tuple) -> tuple:
+    """What :func:`reduced_jacobian` keeps of ``states``: the names, their rows, the row of the
+    pitch and, per column of roll and steer, the state whose rate gives the pitch's part."""
     ix = {n: k for k, n in enumerate(states)}
-    keep = [n for n in states if n not in ("x", "y", "psi", "theta", "thetaR", "thetaF")]
-    rows = [ix[n] for n in keep]
-    R = J[np.ix_(rows, rows)].copy()
-    th = ix["theta"]
-    dtheta = {"phi": J[th, ix["u_phi"]], "delta": J[th, ix["u_delta"]]}
-    for col, name in enumerate(keep):
-        if name in dtheta:
-            R[:, col] += J[rows, th] * dtheta[name]
-    return R, keep
+    keep = tuple(n for n in states if n not in ("x", "y", "psi", "theta", "thetaR", "thetaF"))
+    pitch = tuple((col, ix[rate]) for col, name in enumerate(keep)
+                  for coordinate, rate in (("phi", "u_phi"), ("delta", "u_delta")) if name == coordinate)
+    return keep, np.array([ix[n] for n in keep]), ix["theta"], pitch
