@@ -26,8 +26,7 @@ import tempfile
 import time
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from build import baseline_tree  # noqa: E402 (benchmarks/build.py: the same git archive)
+from trees import baseline_tree
 
 ROOT = Path(__file__).resolve().parents[1]
 ROUNDS = 3

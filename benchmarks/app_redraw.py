@@ -25,10 +25,10 @@ import os
 import statistics
 import subprocess
 import sys
-import tarfile
 import tempfile
-from io import BytesIO
 from pathlib import Path
+
+from trees import baseline_tree
 
 DRAGS = 20  # per path
 GOAL_MS = 20.0  # [ms] the median redraw with continuation
@@ -57,12 +57,7 @@ def export(folder: Path, root: Path = ROOT, fmus: Path | None = None) -> Path:
 
 def baseline_site(ref: str, scratch: Path) -> Path:
     """The app of the committed tree ``ref`` (its ``cosim/`` and ``modelica/``), exported."""
-    archive = subprocess.run(["git", "-C", str(ROOT), "archive", ref, "cosim", "modelica"],
-                             capture_output=True, check=True).stdout
-    tree = scratch / "tree"
-    with tarfile.open(fileobj=BytesIO(archive)) as tar:
-        tar.extractall(tree, filter="data")
-    return export(scratch / "site", tree, scratch / "fmus")
+    return export(scratch / "site", baseline_tree(ref, scratch / "tree"), scratch / "fmus")
 
 
 def open_page(browser, site: Path):

@@ -27,12 +27,12 @@ import os
 import statistics
 import subprocess
 import sys
-import tarfile
 import tempfile
 import textwrap
 import time
-from io import BytesIO
 from pathlib import Path
+
+from trees import baseline_tree
 
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -182,15 +182,6 @@ def measure(root: Path, task: dict, scratch: Path) -> dict:
     if result.returncode != 0:
         raise RuntimeError(f"measurement {task} in {root} failed:\n{result.stderr[-3000:]}")
     return json.loads(result.stdout.strip().splitlines()[-1])
-
-
-def baseline_tree(ref: str, folder: Path) -> Path:
-    """The committed ``cosim/`` and ``modelica/`` of ``ref``, unpacked into ``folder``."""
-    archive = subprocess.run(["git", "-C", str(ROOT), "archive", ref, "cosim", "modelica"],
-                             capture_output=True, check=True).stdout
-    with tarfile.open(fileobj=BytesIO(archive)) as tar:
-        tar.extractall(folder, filter="data")
-    return folder
 
 
 def medians(runs: list[dict]) -> dict:

@@ -26,6 +26,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from trees import baseline_tree
+
 ROOT = Path(__file__).resolve().parents[1]
 SYSTEMS = ["lqr-autopilot", "riderless-push", "lane-change"]
 TARGETS = {"libcosim": 30.0, "Ecos": 2.0}
@@ -67,16 +69,8 @@ def build_tree(ref: str, folder: Path, models: list[str]) -> dict[str, Path]:
     """The FMUs of ``models`` built by the committed ``cosim/`` and ``modelica/`` of ``ref`` (``None``:
     this tree), in a fresh process."""
     import subprocess
-    import tarfile
-    from io import BytesIO
 
-    root = ROOT
-    if ref is not None:
-        root = folder / "tree"
-        archive = subprocess.run(["git", "-C", str(ROOT), "archive", ref, "cosim", "modelica"],
-                                 capture_output=True, check=True).stdout
-        with tarfile.open(fileobj=BytesIO(archive)) as tar:
-            tar.extractall(root, filter="data")
+    root = ROOT if ref is None else baseline_tree(ref, folder / "tree")
     out = folder / "fmus"
     code = (f"import sys; sys.path.insert(0, {str(root)!r}); from cosim.compiler.build import build_model; "
             f"from cosim.compiler.library import Library; "

@@ -25,25 +25,16 @@ import resource
 import statistics
 import subprocess
 import sys
-import tarfile
 import tempfile
 import time
-from io import BytesIO
 from pathlib import Path
+
+from trees import baseline_tree
 
 ROOT = Path(__file__).resolve().parents[1]
 ROUNDS = 3
 # The targets of docs/benchmarks.md (wall seconds on this project's 2-core machines, FMUs built)
 FIGURES_TARGET, DEMO_TARGET = 8.0, 15.0
-
-
-def baseline_tree(ref: str, folder: Path) -> Path:
-    """The committed ``cosim/`` and ``modelica/`` of ``ref``, unpacked into ``folder``."""
-    archive = subprocess.run(["git", "-C", str(ROOT), "archive", ref, "cosim", "modelica"],
-                             capture_output=True, check=True).stdout
-    with tarfile.open(fileobj=BytesIO(archive)) as tar:
-        tar.extractall(folder, filter="data")
-    return folder
 
 
 def _children_cpu() -> float:

@@ -23,24 +23,16 @@ import re
 import statistics
 import subprocess
 import sys
-import tarfile
 import tempfile
 import time
-from io import BytesIO
 from pathlib import Path
+
+from trees import baseline_tree
 
 ROOT = Path(__file__).resolve().parents[1]
 BASELINE = "ae32022"
 TIERS = {"quick": ["-m", "not slow"], "full": []}
 GOALS = {"quick": 180.0, "full": 480.0}  # [s] on a 2-core machine (docs/benchmarks.md)
-
-
-def baseline_tree(ref: str, folder: Path) -> Path:
-    """The whole committed tree of ``ref`` (package, library, tests, pyproject), unpacked into ``folder``."""
-    archive = subprocess.run(["git", "-C", str(ROOT), "archive", ref], capture_output=True, check=True).stdout
-    with tarfile.open(fileobj=BytesIO(archive)) as tar:
-        tar.extractall(folder, filter="data")
-    return folder
 
 
 def run_tier(tree: Path, tier: str) -> tuple[float, str]:
@@ -70,7 +62,7 @@ def main(argv: list[str] | None = None) -> int:
     with tempfile.TemporaryDirectory(prefix="cosim-bench-suite-") as scratch:
         trees = {"this tree": ROOT}
         if args.baseline != "none":
-            trees[f"baseline {args.baseline}"] = baseline_tree(args.baseline, Path(scratch) / "baseline")
+            trees[f"baseline {args.baseline}"] = baseline_tree(args.baseline, Path(scratch) / "baseline", ())
         print(f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f} at the start")
         results: dict[tuple[str, str], list[float]] = {}
         for _ in range(args.rounds):
