@@ -3,8 +3,8 @@ compiled to WebAssembly, ~290 linearizations per redraw: 200 speeds and the bise
 weave and capsize speeds), with the continuation of ``static/app.js`` (the module stays in
 initialization mode while only the speed changes; its initial pitch is solved from the previous
 solution) against the path without it (``cosimApp.continuation = false``: a new initialization at
-every speed), and with ``--baseline REF`` against the app of the committed tree REF (e.g. ``main``:
-today's page and modules, exported from ``git archive REF``), side by side in one headless Chromium.
+every speed), and against the app of the committed tree ``--baseline REF`` (default ``ae32022``,
+before the continuation: its page and modules, exported from ``git archive REF``), side by side in one headless Chromium.
 
 DRAGS drags of the rear crown radius slider t_R with the mouse per path, the paths alternating;
 per drag the redraw of its last input event (``cosimApp.lastRedrawMs``: from the event's handler
@@ -170,13 +170,15 @@ def main(site: Path, baseline: Path | None) -> None:
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--site", type=Path, help="an exported app (`cosim app --export DIR`); default: export one")
-    parser.add_argument("--baseline", help="also the app of this git ref (e.g. main), exported from its tree")
+    parser.add_argument("--baseline", default="ae32022",
+                        help="also the app of this git ref (default ae32022: before the continuation), "
+                             "exported from its tree; 'none' for none")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         scratch = Path(tmp)
         site = args.site.resolve() if args.site is not None else export(scratch / "site")
         before = None
-        if args.baseline is not None:
+        if args.baseline != "none":
             (scratch / "baseline").mkdir()
             before = baseline_site(args.baseline, scratch / "baseline")
         main(site, before)

@@ -27,7 +27,7 @@ from cosim.fmu.validate_checks import CHECKS, DERIVATIVE_RTOL, DERIVATIVE_WRONG
 pytestmark = pytest.mark.slow
 
 ALL_CHECKS = ["fmpy", "archive", "binary"] + [c.name for c in CHECKS]
-HANG_TIMEOUT = 3.0  # s: how long validate waits for the FMU that hangs in DoStep
+HANG_TIMEOUT = 2.0  # s: how long validate waits for the FMU that hangs in DoStep
 
 
 def build_reference(version: str, folder: Path, edits: dict | None = None, fmu_name: str | None = None) -> Path:
