@@ -32,6 +32,7 @@ gave it (an argument or an environment variable), before its slow imports.
 """
 from __future__ import annotations
 
+import contextlib
 import os
 import select
 import signal
@@ -191,3 +192,19 @@ def die_with_parent(parent_pid: int | None = None, *, pdeathsig: bool = True, po
         _watching.add((os.getpid(), parent))
     threading.Thread(target=_watch, args=(parent, direct, max(0.05, float(poll)), signum, watchdog_end or end),
                      name=f"die-with-{parent}", daemon=True).start()
+
+
+def stop_pool(pool) -> None:
+    """Cancel what has not started in ``pool`` (a ``concurrent.futures.ProcessPoolExecutor``) and
+    stop its running workers: SIGTERM (they clean up), then SIGKILL after 5 s (a loaded machine).
+    After it no worker runs, so none holds a lock or writes a file any longer."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())  # no public API before Python 3.14
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        with contextlib.suppress(Exception):
+            process.terminate()
+    for process in processes:
+        process.join(timeout=5)
+        if process.is_alive():
+            process.kill()
+            process.join()

@@ -34,7 +34,7 @@ from cosim.errors import BuildError, CosimError, ModelicaError, OutputError, Par
 from cosim.folder_lock import held_lock_files, lock_file, unlock_file
 from cosim.outputs import (check_output_folder, make_temporary_folder, name_max, os_error_message,
                            temporary_folder)
-from cosim.processes import die_with_parent
+from cosim.processes import die_with_parent, stop_pool
 from cosim.compiler import fmu as fmu_files
 from cosim.compiler import schedule
 from cosim.compiler.library import compiler_digest  # noqa: F401 (cosim.compiler.build.compiler_digest)
@@ -401,20 +401,6 @@ def _remove_stale_locks(task) -> None:
         _remove_stale_lock(fmu_path(model_name, Path(output), version))
 
 
-def _stop_pool(pool: ProcessPoolExecutor) -> None:
-    """Cancel what has not started and stop the running workers (they clean up on SIGTERM)."""
-    processes = list((getattr(pool, "_processes", None) or {}).values())  # no public API before Python 3.14
-    pool.shutdown(wait=False, cancel_futures=True)
-    for process in processes:
-        with contextlib.suppress(Exception):
-            process.terminate()
-    for process in processes:
-        process.join(timeout=5)
-        if process.is_alive():  # its cleanup did not finish in time (a loaded machine)
-            process.kill()
-            process.join()  # SIGKILL cannot be blocked: after this no worker holds a lock
-
-
 def _run_parallel(tasks: list[tuple], jobs: int) -> list:
     scratch_root = str(make_temporary_folder("build"))  # TMPDIR/cosim-build-PID-*
     try:
@@ -438,7 +424,7 @@ def _run_pool(tasks: list[tuple], jobs: int, scratch_root: str) -> list:
                                           "memory?) while this model was built or waiting; nothing was "
                                           "written for it"))
     except BaseException:
-        _stop_pool(pool)
+        stop_pool(pool)
         # A worker killed before its cleanup ran (e.g. SIGKILL after the grace period of a
         # loaded machine) leaves its lock file: the workers are gone now, so remove the stale ones.
         for task in tasks:

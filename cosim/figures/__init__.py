@@ -12,7 +12,6 @@ so the files do not depend on the number of workers.
 """
 from __future__ import annotations
 
-import contextlib
 import importlib
 import multiprocessing
 import os
@@ -28,7 +27,7 @@ from cosim.errors import ParameterError
 from cosim.fmu import access
 from cosim.folder_lock import folder_lock
 from cosim.outputs import atomic_output, check_output_folder
-from cosim.processes import die_with_parent
+from cosim.processes import die_with_parent, stop_pool
 
 #: Figures in the order the workers start them, the longest computations first; figures not
 #: listed follow in the registry's order.
@@ -120,7 +119,7 @@ def _make_in_pool(modules: dict, output: Path, jobs: int) -> list[Path]:
             results = [future.result() for future in mine]  # the first error is raised here
             written[name] = modules[name].make(output, computed=results) if name in parted else results[0]
     except BaseException:
-        _stop_pool(pool)
+        stop_pool(pool)
         raise
     pool.shutdown(wait=True)
     return [path for name in modules for path in written[name]]
@@ -138,20 +137,6 @@ def _remove_own_extractions() -> None:
     own = access._PROCESS_FOLDER
     if own is not None and own[0] == os.getpid():
         access._remove_extracted(*own)
-
-
-def _stop_pool(pool: ProcessPoolExecutor) -> None:
-    """Cancel what has not started and stop the running workers (they clean up on SIGTERM)."""
-    processes = list((getattr(pool, "_processes", None) or {}).values())  # no public API before Python 3.14
-    pool.shutdown(wait=False, cancel_futures=True)
-    for process in processes:
-        with contextlib.suppress(Exception):
-            process.terminate()
-    for process in processes:
-        process.join(timeout=5)
-        if process.is_alive():
-            process.kill()
-            process.join()
 
 
 def save(fig, path: Path) -> Path:
