@@ -97,14 +97,15 @@ def state_space(fmu: str | Path, params: Mapping[str, float], v: float) -> tuple
         feed back into them (which would make the 4x4 block's eigenvalues not the bicycle's).
     """
     params = {k: float(x) for k, x in params.items()}
-    linearizer = _linearizer(fmu, params)
-    if linearizer is None:
+    key = _linearizer(fmu, params)
+    if key is None:
         system = linearization(fmu, params, v).system
         return _bicycle_blocks(fmu, system.states, system.inputs, [system.A], [system.B])[0]
+    linearizer = _LINEARIZERS[key]
     try:
         A, B = linearizer.state_space(float(v))
     except SimulationError:  # a fresh instance for the next call
-        _LINEARIZERS.pop(next(k for k, x in _LINEARIZERS.items() if x is linearizer)).close()
+        _LINEARIZERS.pop(key).close()
         raise
     st = linearizer.structure
     return _bicycle_blocks(fmu, st.states, st.inputs, [A], [B])[0]
@@ -116,24 +117,23 @@ KEPT_INSTANCES = 2
 _LINEARIZERS: dict[tuple, ParameterLinearizer] = {}  # (FMU file version, parameters) -> instance
 
 
-def _linearizer(fmu, params: dict) -> ParameterLinearizer | None:
-    """The kept instance for ``fmu`` and ``params`` (made now if new); None for an FMU that
-    :func:`linearization` runs otherwise (not built here, no directional derivatives) or with
-    ``v`` among ``params``."""
+def _linearizer(fmu, params: dict) -> tuple | None:
+    """The key in :data:`_LINEARIZERS` of the kept instance for ``fmu`` and ``params`` (made now
+    if new); None for an FMU that :func:`linearization` runs otherwise (not built here, no
+    directional derivatives) or with ``v`` among ``params``."""
     path = Path(fmu)
     try:
         status = path.stat()
     except OSError:
         return None  # linearization() names the problem
     key = (str(path.resolve()), status.st_size, status.st_mtime_ns, os.getpid(), tuple(params.items()))
-    found = _LINEARIZERS.get(key)
-    if found is None:
+    if key not in _LINEARIZERS:
         if SPEED in params or not ParameterLinearizer.usable(path):
             return None
         while len(_LINEARIZERS) >= KEPT_INSTANCES:
             _LINEARIZERS.pop(next(iter(_LINEARIZERS))).close()
-        found = _LINEARIZERS[key] = ParameterLinearizer(path, SPEED, params)
-    return found
+        _LINEARIZERS[key] = ParameterLinearizer(path, SPEED, params)
+    return key
 
 
 def state_spaces(fmu: str | Path, params: Mapping[str, float], speeds) -> list[tuple[np.ndarray, np.ndarray]]:

@@ -215,16 +215,21 @@ def _linearize(fmu_path, parameters, inputs, method, doing=lambda text: None) ->
 def _finite_matrices(fmu_path, lin: Linearization) -> Linearization:
     """``lin`` if A, B, C and D are finite, else the first non-finite entry named."""
     s = lin.system
-    rows = {"A": s.states, "B": s.states, "C": s.outputs, "D": s.outputs}
-    columns = {"A": s.states, "B": s.inputs, "C": s.states, "D": s.inputs}
-    for name in "ABCD":
-        matrix = np.asarray(getattr(s, name), float)
+    _check_finite(fmu_path, "at the operating point", A=(s.A, s.states, s.states), B=(s.B, s.states, s.inputs),
+                  C=(s.C, s.outputs, s.states), D=(s.D, s.outputs, s.inputs))
+    return lin
+
+
+def _check_finite(fmu_path, where: str, **matrices) -> None:
+    """Raise :class:`SimulationError` naming the first non-finite entry of ``matrices`` (name ->
+    ``(matrix, row names, column names)``, checked in this order) and ``where`` it was computed."""
+    for name, (matrix, rows, columns) in matrices.items():
+        matrix = np.asarray(matrix, float)
         bad = np.argwhere(~np.isfinite(matrix))
         if len(bad):
             i, j = bad[0]
-            raise SimulationError(f"{fmu_path}: linearization failed: {name}[{i}, {j}] (d {rows[name][i]} / "
-                                  f"d {columns[name][j]}) is {matrix[i, j]} at the operating point")
-    return lin
+            raise SimulationError(f"{fmu_path}: linearization failed: {name}[{i}, {j}] (d {rows[i]} / "
+                                  f"d {columns[j]}) is {matrix[i, j]} {where}")
 
 
 #: The variable types that are linearized (FMI 2 ``Real``, FMI 3 ``Float64``); inputs and outputs
@@ -645,13 +650,9 @@ class ParameterLinearizer:
         self.point.evaluate(float(value), self.J, self.x0, self.xdot0)
         nx = len(self.structure.states)
         A, B = self.J[:nx, :nx].copy(), self.J[:nx, nx:].copy()
-        for name, matrix, columns in (("A", A, self.structure.states), ("B", B, self.structure.inputs)):
-            bad = np.argwhere(~np.isfinite(matrix))
-            if len(bad):
-                i, j = bad[0]
-                raise SimulationError(f"{self.fmu.path}: linearization failed: {name}[{i}, {j}] (d "
-                                      f"{self.structure.states[i]} / d {columns[j]}) is {matrix[i, j]} at "
-                                      f"{self.point.varying} = {value:.15g}")
+        st = self.structure
+        _check_finite(self.fmu.path, f"at {self.point.varying} = {value:.15g}", A=(A, st.states, st.states),
+                      B=(B, st.states, st.inputs))
         return A, B
 
     def close(self) -> None:
