@@ -70,15 +70,6 @@ def critical_speeds(fmu, params: dict, wheels: str, inertias=INERTIAS) -> tuple[
     return weave, capsize
 
 
-def compute(fmu=None):
-    # deferred: loads fmpy, which importing this module does not
-    from cosim.bicycle import stability as WP
-
-    fmu = fmu or WP.whipple_fmu()
-    params = WP.parameters_for_model(PARAMS)
-    return {wheels: critical_speeds(fmu, params, wheels) for wheels in WHEELS}
-
-
 def parts() -> list[tuple]:
     """Both wheels and the front wheel only as ``(critical_speeds, args)``: independent of each
     other, computed in parallel by :func:`cosim.figures.make_figures`."""
