@@ -18,7 +18,6 @@ import argparse
 import json
 import os
 import re
-import resource
 import statistics
 import subprocess
 import sys
@@ -26,17 +25,11 @@ import tempfile
 import time
 from pathlib import Path
 
-from trees import baseline_tree
+from side_by_side import baseline_tree, children_cpu
 
 ROOT = Path(__file__).resolve().parents[1]
 ROUNDS = 3
 TARGET, SPEEDUP = 5.0, 6.0  # [s] wall on 2 cores; baseline / current
-
-
-def children_cpu() -> float:
-    """CPU time [s] of the ended child processes of this one (and theirs)."""
-    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return usage.ru_utime + usage.ru_stime
 
 
 def export(root: Path, scratch: Path) -> tuple[float, float, bytes]:

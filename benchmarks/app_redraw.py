@@ -28,7 +28,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from trees import baseline_tree
+from side_by_side import baseline_tree
 
 DRAGS = 20  # per path
 GOAL_MS = 20.0  # [ms] the median redraw with continuation

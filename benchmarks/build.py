@@ -32,7 +32,7 @@ import textwrap
 import time
 from pathlib import Path
 
-from trees import baseline_tree
+from side_by_side import baseline_tree, verdict
 
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -242,11 +242,6 @@ def same_results(trees: dict[str, Path], scratch: Path) -> None:
     print(f"results of the FMUs of both trees ({runs} runs: every exported model, CS and ME, 3 s): largest "
           f"relative difference {worst:.3g}, {'bit for bit identical' if identical else 'not identical'} "
           f"({'meets' if worst <= 1e-12 else 'MISSES'} <= 1e-12)")
-
-
-def verdict(what: str, seconds: float, target: float) -> None:
-    print(f"  target: {what} <= {target:g} s on 2 cores: {seconds:.2f} s, "
-          f"{'meets' if seconds <= target else 'MISSES'} ({seconds / target:.2f}x the target)")
 
 
 def generated(trees: dict[str, Path], sizes: list[int], baseline_sizes: list[int], rounds: int,

@@ -21,7 +21,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import resource
 import statistics
 import subprocess
 import sys
@@ -29,7 +28,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from trees import baseline_tree
+from side_by_side import baseline_tree, children_cpu, verdict
 
 ROOT = Path(__file__).resolve().parents[1]
 ROUNDS = 3
@@ -37,19 +36,14 @@ ROUNDS = 3
 FIGURES_TARGET, DEMO_TARGET = 8.0, 15.0
 
 
-def _children_cpu() -> float:
-    c = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return c.ru_utime + c.ru_stime
-
-
 def run(root: Path, argv: list[str], fmus: Path, scratch: Path) -> tuple[float, float]:
     """``python -m cosim ARGV`` with the tree ``root`` first on the path: (wall [s], CPU [s])."""
     env = {k: v for k, v in os.environ.items() if k not in ("COSIM_MODELICA_PATH", "PYTHONPATH")}
     env.update(PYTHONPATH=str(root), COSIM_FMU_DIR=str(fmus))
-    t0, c0 = time.perf_counter(), _children_cpu()
+    t0, c0 = time.perf_counter(), children_cpu()
     result = subprocess.run([sys.executable, "-m", "cosim", *argv], capture_output=True, text=True, env=env,
                             cwd=scratch)
-    wall, cpu = time.perf_counter() - t0, _children_cpu() - c0
+    wall, cpu = time.perf_counter() - t0, children_cpu() - c0
     if result.returncode != 0:
         raise RuntimeError(f"cosim {' '.join(argv)} in {root} failed ({result.returncode}):\n{result.stderr[-3000:]}")
     return wall, cpu
@@ -102,11 +96,6 @@ def compare(a: Path, b: Path) -> tuple[list[str], float]:
     if worst > 0.0:
         problems.append(f"JSON numbers differ, largest relative difference {worst:.3g}")
     return problems, worst
-
-
-def verdict(what: str, seconds: float, target: float) -> None:
-    print(f"  target: {what} <= {target:g} s on 2 cores: {seconds:.2f} s, "
-          f"{'meets' if seconds <= target else 'MISSES'} ({seconds / target:.2f}x the target)")
 
 
 def main() -> None:

@@ -27,7 +27,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from trees import baseline_tree
+from side_by_side import baseline_tree
 
 ROOT = Path(__file__).resolve().parents[1]
 BASELINE = "ae32022"
