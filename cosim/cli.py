@@ -572,16 +572,20 @@ def _linearize_sweep(args) -> int:
 
 
 def _cmd_compare(args) -> int:
-    from cosim.analytic.compare import format_table
-    from cosim.bicycle.compare import compare_model, parse_speeds
-    from cosim.bicycle.parameters import forward_speed
+    from cosim.bicycle.linearize import parse_speeds
     from cosim.fmu.parameters import split_assignment
 
+    # the options are checked before the analytic models (SciPy, python-control) are imported
     if not args.tol > 0:
         raise ParameterError(f"--tol must be > 0, got {args.tol:g}")
+    speeds = parse_speeds(args.speeds) if args.speeds else None
     parameters = dict(split_assignment(a) for a in args.param)  # a repeated name: the last wins
-    comparisons = compare_model(args.model, parse_speeds(args.speeds) if args.speeds else None,
-                                parameters, args.params)
+
+    from cosim.analytic.compare import format_table
+    from cosim.bicycle.compare import compare_model
+    from cosim.bicycle.parameters import forward_speed
+
+    comparisons = compare_model(args.model, speeds, parameters, args.params)
     worst = max(c.error for c in comparisons)
     if args.json:
         print(json.dumps({"model": args.model, "tolerance": args.tol, "largest_error": worst,

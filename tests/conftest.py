@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import atexit
 import ctypes
+import functools
 import importlib.util
 import os
 import pickle
@@ -54,8 +55,16 @@ except ImportError:
     pass
 
 from cosim.compiler.build import build  # noqa: E402
+from cosim.compiler.library import DEFAULT_LIBRARY, Library  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
+
+
+@functools.cache
+def shipped_models(exported_only: bool = False) -> list[str]:
+    """The names of the shipped library's models (those `cosim build` exports), from one parse per
+    process: several test modules parametrize over them at collection."""
+    return [e.name for e in Library(DEFAULT_LIBRARY).models(exported_only=exported_only)]
 
 
 @pytest.fixture(scope="session")

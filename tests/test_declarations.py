@@ -22,13 +22,13 @@ from pathlib import Path
 
 import pytest
 
-from conftest import ROOT, cli_in_process, run_cli
+from conftest import ROOT, cli_in_process, run_cli, shipped_models
 from cosim.compiler.build import build_model
 from cosim.compiler.catalog import model_description
 from cosim.compiler.library import DEFAULT_LIBRARY, Library
 from cosim.fmu.parameters import _read_description, fmu_declarations, model_declarations
 
-EXPORTED = [e.name for e in Library(DEFAULT_LIBRARY).models(exported_only=True)]
+EXPORTED = shipped_models(exported_only=True)
 #: Models with state arrays, which FMI 3 exports as array variables (PadeDelay's x), and states
 #: solved from the initial equations (Whipple's theta: initial = "approx").
 FMI3_MODELS = ["Bicycle.Rider.PadeDelay", "Bicycle.Control.PID"]

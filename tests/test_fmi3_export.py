@@ -21,16 +21,15 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import run_cli
+from conftest import run_cli, shipped_models
 from registered_engines import engine_params
 
 from cosim.compiler.build import fmu_path
-from cosim.compiler.library import DEFAULT_LIBRARY, Library
 
 # the quick run (-m 'not slow') leaves this module out: it builds FMI 3 FMUs and the Reference FMUs
 pytestmark = pytest.mark.slow
 
-EXPORTED = [e.name for e in Library(DEFAULT_LIBRARY).models(exported_only=True)]
+EXPORTED = shipped_models(exported_only=True)
 STOP, STEP = 2.0, 0.01  # s
 CS_EQUAL = 1e-12  # FMI 3 CS against FMI 2 CS: the same core and integrator, only the API differs
 ME_RTOL = 1e-6  # CVode's relative tolerance in both ME runs

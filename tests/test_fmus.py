@@ -11,7 +11,7 @@ import zipfile
 import numpy as np
 import pytest
 
-from cosim.compiler.library import DEFAULT_LIBRARY, Library
+from conftest import shipped_models
 from cosim.analytic.twins import TWINS
 from cosim.fmu.access import FMU, set_continuous_states
 from cosim.fmu.simulate import simulate
@@ -38,7 +38,7 @@ def test_every_exported_model_built(fmus):
     assert exported and set(fmus) == exported
 
 
-EXPORTED = [e.name for e in Library(DEFAULT_LIBRARY).models(exported_only=True)]
+EXPORTED = shipped_models(exported_only=True)
 SHORT_STOP = 2.0  # s
 
 

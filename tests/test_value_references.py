@@ -18,13 +18,12 @@ import zipfile
 from pathlib import Path
 
 import pytest
-from conftest import run_cli
+from conftest import run_cli, shipped_models
 
 from cosim.compiler.build import fmu_path
 from cosim.compiler.description import FIRST_VALUE_REFERENCE
-from cosim.compiler.library import DEFAULT_LIBRARY, Library
 
-EXPORTED = [e.name for e in Library(DEFAULT_LIBRARY).models(exported_only=True)]
+EXPORTED = shipped_models(exported_only=True)
 VERSIONS = ("2", "3")
 FMI3_TYPES = ("Float64", "Int32", "Boolean")
 # the models called through their binaries: a linear one with an input, one with an FMI 3 array

@@ -27,35 +27,48 @@ fmi3_rt="$runtime/cosim_runtime.c $runtime/fmi3_api.c"
 warn="-std=c99 -Wall -Wextra -Wpedantic -Werror"
 lib="-fPIC -shared -fvisibility=hidden"
 
+# The runtime's core and API objects, compiled once per set of flags ($1, e.g. -O2) and linked
+# into the harnesses and the other FMUs below: rt2$2 (core + FMI 2 API), rt3$2 (core + FMI 3 API)
+# and rt23$2 (core and both APIs).  $2: file name suffix.
+objects() {
+    pids=""
+    for f in cosim_runtime fmi2_api fmi3_api; do
+        $CC $warn $1 -fPIC -fvisibility=hidden -I"$fmi" -I"$runtime" -c "$runtime/$f.c" -o "$out/$f$2.o" &
+        pids="$pids $!"
+    done
+    for pid in $pids; do wait "$pid"; done
+    rt2="$out/cosim_runtime$2.o $out/fmi2_api$2.o"
+    rt3="$out/cosim_runtime$2.o $out/fmi3_api$2.o"
+    rt23="$rt2 $out/fmi3_api$2.o"
+}
+
 # The other FMUs of the FMU-state tests (see harness.c and harness3.c): the runtime with another
-# model, built like an FMU binary.  $1: extra compiler flags, $2: file name suffix.
+# model, built like an FMU binary.  $1: extra compiler flags, $2: file name suffix (after objects
+# with the same flags).
 others() {
-    $CC $warn $1 $lib -I"$fmi" -I"$runtime" $fmi2_rt \
-        "$here/test_model_small.c" -o "$out/small$2.so" -lm
-    $CC $warn $1 $lib -I"$fmi" -I"$runtime" $fmi2_rt \
-        "$here/test_model_small.c" "-DTEST_MODEL_GUID=\"$guid\"" -o "$out/small_same_guid$2.so" -lm
-    $CC $warn $1 $lib -I"$fmi" -I"$runtime" $fmi2_rt \
-        "$here/test_model.c" "-DTEST_MODEL_GUID=\"$twin_guid\"" -o "$out/twin$2.so" -lm
-    $CC $warn $1 $lib -I"$fmi" -I"$runtime" $fmi2_rt \
-        "$here/test_model_init.c" -o "$out/init$2.so" -lm
-    $CC $warn $1 $lib -I"$fmi" -I"$runtime" $fmi3_rt \
-        "$here/test_model_small.c" -o "$out/small3$2.so" -lm
-    $CC $warn $1 $lib -I"$fmi" -I"$runtime" $fmi3_rt \
-        "$here/test_model.c" "-DTEST_MODEL_GUID=\"$twin_guid\"" -o "$out/twin3$2.so" -lm
+    $CC $warn $1 $lib -I"$fmi" -I"$runtime" "$here/test_model_small.c" $rt2 -o "$out/small$2.so" -lm
+    $CC $warn $1 $lib -I"$fmi" -I"$runtime" "$here/test_model_small.c" "-DTEST_MODEL_GUID=\"$guid\"" $rt2 \
+        -o "$out/small_same_guid$2.so" -lm
+    $CC $warn $1 $lib -I"$fmi" -I"$runtime" "$here/test_model.c" "-DTEST_MODEL_GUID=\"$twin_guid\"" $rt2 \
+        -o "$out/twin$2.so" -lm
+    $CC $warn $1 $lib -I"$fmi" -I"$runtime" "$here/test_model_init.c" $rt2 -o "$out/init$2.so" -lm
+    $CC $warn $1 $lib -I"$fmi" -I"$runtime" "$here/test_model_small.c" $rt3 -o "$out/small3$2.so" -lm
+    $CC $warn $1 $lib -I"$fmi" -I"$runtime" "$here/test_model.c" "-DTEST_MODEL_GUID=\"$twin_guid\"" $rt3 \
+        -o "$out/twin3$2.so" -lm
 }
 guid='{8c4e810f-3df3-4a00-8276-176fa3c9f000}'      # test_model.c (GUID in harness.c)
 twin_guid='{8c4e810f-3df3-4a00-8276-176fa3c9f001}' # TWIN_GUID in harness.c and harness3.c
 san="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
 
 echo "== harness (-O2)"
+objects "-O2" ""
 others "-O2" ""
-$CC $warn -O2 -I"$fmi" -I"$runtime" "$here/harness.c" "$here/test_model.c" $fmi2_rt \
-    -o "$out/harness" -lm -ldl
+$CC $warn -O2 -I"$fmi" -I"$runtime" "$here/harness.c" "$here/test_model.c" $rt2 -o "$out/harness" -lm -ldl
 "$out/harness" "$out/small.so" "$out/small_same_guid.so" "$out/twin.so" "$out/init.so"
 
 echo "== FMI 3 harness (-O2)"
-$CC $warn -O2 -DTEST_MODEL_ARRAYS -I"$fmi" -I"$runtime" "$here/harness3.c" "$here/test_model.c" \
-    $fmi2_rt "$runtime/fmi3_api.c" -o "$out/harness3" -lm -ldl
+$CC $warn -O2 -DTEST_MODEL_ARRAYS -I"$fmi" -I"$runtime" "$here/harness3.c" "$here/test_model.c" $rt23 \
+    -o "$out/harness3" -lm -ldl
 "$out/harness3" "$out/small3.so" "$out/twin3.so"
 
 echo "== the integrator's step size factor (-O2)"
@@ -70,8 +83,9 @@ $CC $warn -O0 -g $san -I"$runtime" "$here/tape_harness.c" "$runtime/cosim_tape.c
 tail -n 1 "$out/tape_san.log"
 
 echo "== harness (-O0, address and undefined behaviour sanitizers)"
+objects "-O0 -g $san" "_san"
 others "-O0 -g $san" "_san"
-$CC $warn -O0 -g $san -I"$fmi" -I"$runtime" "$here/harness.c" "$here/test_model.c" $fmi2_rt \
+$CC $warn -O0 -g $san -I"$fmi" -I"$runtime" "$here/harness.c" "$here/test_model.c" $rt2 \
     -o "$out/harness_san" -lm -ldl
 "$out/harness_san" "$out/small_san.so" "$out/small_same_guid_san.so" "$out/twin_san.so" "$out/init_san.so" > "$out/san.log" 2>&1 ||
     { cat "$out/san.log"; exit 1; }
@@ -79,7 +93,7 @@ tail -n 1 "$out/san.log"
 
 echo "== FMI 3 harness (-O0, address and undefined behaviour sanitizers)"
 $CC $warn -O0 -g $san -DTEST_MODEL_ARRAYS -I"$fmi" -I"$runtime" "$here/harness3.c" "$here/test_model.c" \
-    $fmi2_rt "$runtime/fmi3_api.c" -o "$out/harness3_san" -lm -ldl
+    $rt23 -o "$out/harness3_san" -lm -ldl
 "$out/harness3_san" "$out/small3_san.so" "$out/twin3_san.so" > "$out/san3.log" 2>&1 ||
     { cat "$out/san3.log"; exit 1; }
 tail -n 1 "$out/san3.log"
