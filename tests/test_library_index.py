@@ -155,6 +155,71 @@ def test_index_is_rebuilt_after_a_mo_edit(tmp_path):
     assert len(list((tmp_path / "cache" / "cosim").glob("library-index-*.json"))) == 1  # replaced, not added
 
 
+USES_SMALL = '''within Other;
+model UsesSmall "a model of another package that extends one of Small"
+  extends Small.Decay;
+end UsesSmall;
+'''
+ALONE = '''within Alone;
+model Counter "names no other package"
+  Real n(start = 0, fixed = true);
+equation
+  der(n) = 1;
+end Counter;
+'''
+
+
+def _package(folder: Path, name: str, models: dict[str, str]) -> None:
+    (folder / name).mkdir(parents=True)
+    (folder / name / "package.mo").write_text(f"within;\npackage {name}\nend {name};\n", encoding="utf-8")
+    for model, text in models.items():
+        (folder / name / f"{model}.mo").write_text(text, encoding="utf-8")
+
+
+def test_another_library_flattens_only_the_packages_it_changes(library, tmp_path, monkeypatch):
+    """A library of two folders reuses the summaries of the packages whose files (and those of the
+    packages they name) are unchanged: only the new packages' models are flattened, and what it
+    lists is what flattening everything lists; editing a package re-summarizes it and the packages
+    that name it, not the others."""
+    from cosim.compiler import catalog as catalog_module
+
+    mine = tmp_path / "mine"
+    _package(mine, "Other", {"UsesSmall": USES_SMALL})
+    _package(mine, "Alone", {"Counter": ALONE})
+    flattened = []
+    real = catalog_module.summarize
+    monkeypatch.setattr(catalog_module, "summarize", lambda name, lib=None: flattened.append(name) or real(name, lib))
+    catalog(warn=lambda message: None)  # the library of the fixture: Small
+    assert "Small.Decay" in flattened
+
+    def listing(paths) -> tuple[str, list]:
+        flattened.clear()
+        monkeypatch.setenv("COSIM_MODELICA_PATH", os.pathsep.join(map(str, paths)))
+        load_library.cache_clear()
+        warnings = []
+        return listed(catalog(warn=warnings.append)), warnings
+
+    both = [mine, library]
+    found, warnings = listing(both)
+    assert sorted(flattened) == ["Alone.Counter", "Other.UsesSmall"]
+    fresh = []
+    assert found == listed(catalog(Library(both), warn=fresh.append)) and warnings == fresh
+    assert '"Other.UsesSmall"' in found and '"Small.Decay"' in found
+    # Small changes: it and Other (which names Small) are flattened again, Alone is not
+    (library / "Small" / "Decay.mo").write_text(DECAY.replace("= 2.5", "= 4.75"), encoding="utf-8")
+    found, _ = listing(both)
+    assert sorted(flattened) == ["Other.UsesSmall", "Small.Decay", "Small.Plain", "Small.Undeclared"]
+    uses = next(s for s in catalog(warn=lambda message: None) if s.name == "Other.UsesSmall")
+    assert {p.name: p.value for p in uses.parameters}["k"] == 4.75
+    # a damaged store of one package is ignored: that package is flattened again, same listing
+    store, _ = catalog_module._package_keys()["Alone"]
+    store.write_text(store.read_text(encoding="utf-8")[:40], encoding="utf-8")
+    index, _ = index_key()
+    index.unlink()
+    again, _ = listing(both)
+    assert flattened == ["Alone.Counter"] and again == found
+
+
 @pytest.mark.parametrize("damage", [
     pytest.param(lambda text: text[: len(text) // 2], id="truncated"),
     pytest.param(lambda text: "", id="empty"),

@@ -7,14 +7,15 @@ import hashlib
 import json
 import math
 import os
+import re
 import sys
 import tempfile
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
-from cosim.compiler.library import (Library, compiler_digest, library_digest, library_paths,
-                                    load_library)
+from cosim.compiler.library import (Library, code_only, compiler_digest, library_digest, library_files,
+                                    library_paths, load_library)
 from cosim.errors import CosimError, ModelicaError
 from cosim.compiler.flatten import fewer_collections, flatten
 
@@ -150,12 +151,16 @@ def catalog(library: Library | None = None, exported_only: bool = False,
     return _assemble(index, exported_only, warn or _warn_on_stderr)
 
 
-def _records(library: Library, exported_only: bool = False) -> dict:
+def _records(library: Library, exported_only: bool = False, stored: dict | None = None) -> dict:
     """What `cosim list` reports of the library, JSON-ready: per model (library order) its
     summary, or the first line of why it cannot be summarized, or the file whose parse error
-    leaves it out; per file that did not parse, the first line of its error."""
+    leaves it out; per file that did not parse, the first line of its error. A model found in
+    ``stored`` (name -> record, see :func:`_package_keys`) is taken from there."""
     models = []
     for entry in library.models(exported_only=exported_only):
+        if stored and entry.name in stored:
+            models.append(stored[entry.name])
+            continue
         record = {"name": entry.name, "exported": entry.exported}
         try:
             record["summary"] = summarize(entry.name, library).to_dict()
@@ -181,7 +186,7 @@ def _assemble(index: dict, exported_only: bool, warn: Callable[[str], None]) -> 
         if "summary" in record:
             summaries.append(ModelSummary.from_dict(record["summary"]))
         elif "broken_file" in record:
-            left_out[record["broken_file"]].append(record["name"])
+            left_out.setdefault(record["broken_file"], []).append(record["name"])
         else:
             warn(f"{record['name']} is not listed: {record['problem']}")
     for file, error in index["errors"]:
@@ -229,21 +234,91 @@ def _read_index(file: Path, key: str) -> dict | None:
             return None
         index = {"models": list(data["models"]), "errors": [(str(f), str(e)) for f, e in data["errors"]],
                  "complete": data["complete"] is True}
-        for record in index["models"]:  # check what _assemble and _index_summary rely on
-            if not (isinstance(record["name"], str) and isinstance(record["exported"], bool)):
-                return None
-            if "summary" in record:
-                ModelSummary.from_dict(record["summary"])
-                if not isinstance(record.get("declarations", {}), dict):
-                    return None
-                for declared in record.get("declarations", {}).values():
-                    if not all(isinstance(d, dict) and isinstance(d["name"], str) for d in declared):
-                        return None
-            elif "broken_file" not in record and not isinstance(record.get("problem"), str):
-                return None
-        return index
+        return index if all(map(_valid_record, index["models"])) else None
     except (OSError, ValueError, KeyError, TypeError, AttributeError):
         return None
+
+
+def _valid_record(record) -> bool:
+    """Whether a stored record holds what _assemble and _index_summary rely on.
+
+    Raises
+    ------
+    KeyError, TypeError, ValueError, AttributeError
+        Where it lacks a key or holds something else than JSON of the expected shape.
+    """
+    if not (isinstance(record["name"], str) and isinstance(record["exported"], bool)):
+        return False
+    if "summary" in record:
+        ModelSummary.from_dict(record["summary"])
+        if not isinstance(record.get("declarations", {}), dict):
+            return False
+        return all(isinstance(d, dict) and isinstance(d["name"], str)
+                   for declared in record.get("declarations", {}).values() for d in declared)
+    return isinstance(record.get("broken_file"), str) or isinstance(record.get("problem"), str)
+
+
+# A model's summary depends on the files of its top-level package and of the top-level packages
+# whose names that package's code mentions (and theirs, and so on), nothing else: the summaries are
+# also kept per top-level package, so that a new or changed package costs the flattening of its
+# own models only (`cosim list --library mine` flattens the user's models, not the shipped ones).
+
+_IDENTIFIER = re.compile(r"'(?:[^'\\]|\\.)*'|[A-Za-z_][A-Za-z0-9_]*")
+
+
+def _package_keys(path=None) -> dict[str, tuple[Path, str]]:
+    """Top-level class of the library at ``path`` -> ``(file of its stored summaries, key)``.
+
+    The key is the digest of the index format, the compiler, the class's folder and files, and
+    the name, folder and files of every top-level class its code names, directly or through
+    another one (a conservative reading: a name in an annotation or a comment-free string of
+    code counts too).
+    """
+    paths = library_paths(path)
+    files: dict[str, list[Path]] = {}
+    places: dict[str, Path] = {}
+    for file, root in library_files(paths).items():
+        parts = file.relative_to(root).parts
+        top = parts[0] if len(parts) > 1 else file.stem
+        files.setdefault(top, []).append(file)
+        places.setdefault(top, root / parts[0])
+    digests, named = {}, {}
+    for top, members in files.items():
+        h, code = hashlib.sha256(), []
+        for file in members:
+            h.update(str(file.relative_to(places[top])).encode() + b"\0")
+            try:
+                data = file.read_bytes()
+            except OSError:  # reported by the parse; an unreadable file still changes the key
+                data = b"\0unreadable"
+            h.update(data + b"\0")
+            code.append(code_only(data.decode("utf-8", "replace")))
+        digests[top] = h.hexdigest()
+        named[top] = set(_IDENTIFIER.findall("\n".join(code))) & files.keys()
+    keys, compiler = {}, compiler_digest()
+    for top in files:
+        reached, todo = set(), [top]
+        while todo:
+            for other in named[todo.pop()] - reached:
+                reached.add(other)
+                todo.append(other)
+        parts = [str(INDEX_FORMAT), compiler, top, str(places[top]), digests[top]]
+        parts += [f"{other}\0{places[other]}\0{digests[other]}" for other in sorted(reached - {top})]
+        name = hashlib.sha256(str(places[top]).encode()).hexdigest()[:16]
+        keys[top] = (cache_folder() / f"library-package-{name}.json",
+                     hashlib.sha256("\0".join(parts).encode()).hexdigest())
+    return keys
+
+
+def _read_package(file: Path, key: str) -> list[dict]:
+    """The records stored in ``file`` if they are valid for ``key``, else none."""
+    try:
+        data = json.loads(file.read_text(encoding="utf-8"))
+        if isinstance(data, dict) and data.get("key") == key and all(map(_valid_record, data["models"])):
+            return list(data["models"])
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        pass
+    return []
 
 
 def _write_index(file: Path, key: str, index: dict) -> None:
@@ -273,10 +348,21 @@ def load_index(path=None) -> dict:
     if index is None or not index["complete"]:
         # what a partial index knows of single models' FMUs (fmu_declarations) is kept
         known = {r["name"]: r["declarations"] for r in (index or {}).get("models", []) if "declarations" in r}
-        index = {**_records(load_library(path)), "complete": True}
+        packages = _package_keys(path)
+        stored = {r["name"]: r for top, (store, pkey) in packages.items() for r in _read_package(store, pkey)
+                  if r["name"].split(".", 1)[0] == top}
+        index = {**_records(load_library(path), stored=stored), "complete": True}
         for record in index["models"]:
+            record.pop("declarations", None)
             if record["name"] in known and "summary" in record:
                 record["declarations"] = known[record["name"]]
+        by_package: dict[str, list] = {top: [] for top in packages}
+        for record in index["models"]:
+            by_package.setdefault(record["name"].split(".", 1)[0], []).append(record)
+        for top, (store, pkey) in packages.items():
+            if any(r["name"] not in stored for r in by_package[top]):
+                _write_index(store, pkey, {"models": [{k: v for k, v in r.items() if k != "declarations"}
+                                                      for r in by_package[top]]})
         _write_index(file, key, index)
     return index
 
