@@ -39,7 +39,8 @@ pytestmark = pytest.mark.slow
 
 EIGENVALUE_TOL = 1e-6  # absolute [1/s]: page vs cosim.analytic
 SPEED_RTOL = 1e-6  # relative: weave and capsize speeds of the page vs cosim.analytic
-V_MAX = 10.0  # [m/s] the page's speed range riding forwards (bicycles.FORWARD)
+V_MAX = 12.0  # [m/s] the page's speed range riding forwards (bicycles.FORWARD)
+DIGITS = 3  # decimals of the speeds the page prints (bicycles.SPEED_DIGITS)
 
 
 @pytest.fixture()
@@ -152,8 +153,8 @@ def test_slider_moves_give_the_analytic_eigenvalues(page, name, slider, presses,
 
 @pytest.mark.parametrize("canvas", ["plot", "locus"], ids=["eigenvalues-vs-speed", "root-locus"])
 def test_plots_are_drawn(page, canvas):
-    """The canvas is not blank: reddish and bluish pixels (oscillatory and real modes; low and
-    high speeds of the locus) are there."""
+    """The canvas is not blank: reddish and bluish pixels (unstable and stable eigenvalues, the
+    paper's colours) are there."""
     pixels = page.evaluate("""(id) => { const c = document.getElementById(id);
         const d = c.getContext("2d").getImageData(0, 0, c.width, c.height).data;
         let red = 0, blue = 0;
@@ -615,7 +616,8 @@ def test_weave_and_capsize_speeds_shown(page, tmp_path, name):
     """The numbers shown for each choice: the linear ones equal cosim.analytic (1e-6 relative);
     rear-steered: none, self-stable nowhere (as cosim.analytic); crowned roller: the weave speed
     is where the native FMU's oscillatory mode changes sign (1e-6 either side), the capsize mode
-    is stable up to 10 m/s in the native FMU as the page says."""
+    is stable up to 12 m/s in the native FMU as the page says. The speeds are printed with
+    DIGITS decimals, and the explanations print the same numbers."""
     from cosim.analytic.whipple import self_stable_interval
 
     s = _choose(page, name)
@@ -625,8 +627,19 @@ def test_weave_and_capsize_speeds_shown(page, tmp_path, name):
         stable, expected = _extra(page)["selfStable"], self_stable_interval(s["parameters"], v_max=V_MAX)
         assert stable[0] == pytest.approx(expected[0], rel=SPEED_RTOL)
         assert stable[1] == pytest.approx(expected[1], rel=SPEED_RTOL)  # inf: stable up to 10 m/s in both
-        assert [weave_text, capsize_text] == [f"{x:.4f} m/s" if x is not None else "none in 0\u201310 m/s"
-                                              for x in (s["weave"], s["capsize"])]
+        # printed: cosim.analytic's speeds to the printed digits, in the numbers and in the explanation
+        analytic = _analytic_speeds(s["parameters"])
+        assert [weave_text, capsize_text] == [f"{x:.{DIGITS}f} m/s" for x in analytic]
+        assert [weave_text, capsize_text] == [f"{x:.{DIGITS}f} m/s" for x in (s["weave"], s["capsize"])]
+        assert page.locator("#self-stable").inner_text() == \
+            f"self-stable from {expected[0]:.{DIGITS}f} to {expected[1]:.{DIGITS}f} m/s"
+        explanation = page.locator("#bicycle-explanation").text_content()
+        assert f"{analytic[0]:.{DIGITS}f} m/s" in explanation and f"{analytic[1]:.{DIGITS}f} m/s" in explanation
+        if name == "astrom2005":
+            assert capsize_text == "10.368 m/s"
+        if name == "astrom2005-riderless":  # the paper's Figure 8 is the bicycle with rider
+            assert "Figure 8 of the paper" not in explanation
+            assert "Figures 8 and 9 are the bicycle with rider" in explanation
     elif name == "rear-steered":
         assert s["weave"] is None and s["capsize"] is None and _extra(page)["selfStable"] is None
         assert self_stable_interval(s["parameters"], v_min=BACKWARD_MIN, v_max=0.0) is None
@@ -636,14 +649,14 @@ def test_weave_and_capsize_speeds_shown(page, tmp_path, name):
 
         fmu = Path(os.environ["COSIM_FMU_DIR"]) / "Bicycle_Bicycles_Whipple.fmu"
         weave = s["weave"]
-        assert weave is not None and weave_text == f"{weave:.4f} m/s"
-        assert s["capsize"] is None and capsize_text == "none in 0\u201310 m/s"
+        assert weave is not None and weave_text == f"{weave:.{DIGITS}f} m/s"
+        assert s["capsize"] is None and capsize_text == "none in 0\u201312 m/s"
         sweep = linearize_speeds(fmu, [weave * (1 - 1e-6), weave * (1 + 1e-6), V_MAX], s["parameters"])
         ev = sweep.lateral_eigenvalues
         oscillatory = [e[np.abs(e.imag) > 1e-7 * np.maximum(1, np.abs(e))].real.max() for e in ev[:2]]
         assert oscillatory[0] > 0 > oscillatory[1], oscillatory
         real = ev[2][np.abs(ev[2].imag) <= 1e-7 * np.maximum(1, np.abs(ev[2]))]
-        assert real.size and real.real.max() < 0  # capsize stable at 10 m/s
+        assert real.size and real.real.max() < 0  # capsize stable at 12 m/s
         stable = _extra(page)["selfStable"]
         assert stable[0] == pytest.approx(weave, rel=SPEED_RTOL)
     folder = Path(os.environ["COSIM_SCREENSHOTS"]) if os.environ.get("COSIM_SCREENSHOTS") else tmp_path
@@ -679,3 +692,42 @@ def test_bicycle_data_refuses_what_does_not_fit(app_site, monkeypatch):
     monkeypatch.setitem(bicycles.LATERAL_STATES, bicycles.NONLINEAR, ("phi", "delta", "phi_dot", "delta_dot"))
     with pytest.raises(ValueError, match=r"Bicycle.Bicycles.Whipple has no state\(s\) phi_dot, delta_dot"):
         bicycles.bicycle_data(bicycles.BICYCLES[3], descriptions[bicycles.NONLINEAR])
+
+
+@pytest.mark.parametrize("width, height, beside", [(1440, 900, True), (1280, 800, True), (390, 844, False)],
+                         ids=["laptop-1440x900", "laptop-1280x800", "phone-390x844"])
+def test_layout_plot_on_first_screen(browser, app_site, width, height, beside):  # noqa: F811
+    """At a laptop's and a phone's window size, at a pixel ratio of 2: the eigenvalue plot lies
+    inside the first screen, beside the speed slider (laptop) or below it (phone); the page does
+    not scroll sideways; every canvas's backing store is its CSS size times the pixel ratio (to
+    1 px: three.js floors); astrom2005's printed capsize speed is cosim.analytic's, 10.368 m/s;
+    nothing is logged as an error."""
+    from cosim.analytic.whipple import capsize_speed
+
+    dpr = 2
+    with offline_page(browser, (app_site / "index.html").as_uri(), "window.cosimApp && window.cosimApp.ready",
+                      console_errors=True, viewport={"width": width, "height": height},
+                      device_scale_factor=dpr) as page:
+        s = _choose(page, "astrom2005")
+        geometry = page.evaluate("""() => {
+            const box = (id) => { const r = document.getElementById(id).getBoundingClientRect();
+                                  return {left: r.left, top: r.top, right: r.right, bottom: r.bottom}; };
+            return {plot: box("plot"), speed: box("speed"), scrollWidth: document.documentElement.scrollWidth,
+                    dpr: window.devicePixelRatio,
+                    canvases: [...document.querySelectorAll("canvas")].map((c) =>
+                      ({id: c.id, width: c.width, height: c.height, css: [c.clientWidth, c.clientHeight]}))}; }""")
+        capsize_text = page.locator("#capsize").inner_text()
+    plot, speed = geometry["plot"], geometry["speed"]
+    assert geometry["dpr"] == dpr
+    assert 0 <= plot["top"] and plot["bottom"] <= height and 0 <= plot["left"] and plot["right"] <= width, geometry
+    if beside:
+        assert plot["left"] >= speed["right"] and plot["top"] <= speed["bottom"], geometry
+    else:
+        assert plot["top"] >= speed["bottom"], geometry
+    assert geometry["scrollWidth"] <= width, geometry
+    assert len(geometry["canvases"]) >= 4
+    for c in geometry["canvases"]:
+        assert c["css"][0] > 0 and c["css"][1] > 0, c
+        assert abs(c["width"] - c["css"][0] * dpr) <= 1 and abs(c["height"] - c["css"][1] * dpr) <= 1, c
+    assert s["capsize"] == pytest.approx(capsize_speed(s["parameters"]), rel=SPEED_RTOL)
+    assert capsize_text == f"{capsize_speed(s['parameters']):.{DIGITS}f} m/s" == "10.368 m/s"

@@ -127,16 +127,19 @@ def browser(tmp_path_factory):
 
 @contextlib.contextmanager
 def offline_page(browser, url: str, ready: str, *, allowed: str = "file://", timeout: float = 60_000,
-                 **context_options):
+                 console_errors: bool = False, **context_options):
     """``url`` opened in a new context of ``browser``, once the JavaScript expression ``ready`` is
     true. Every request whose URL does not start with ``allowed`` is refused; at the end the test
-    fails if there was one, or an error in the page. ``page.requests`` lists every URL requested.
+    fails if there was one, or an error in the page (with ``console_errors``, also a message the
+    page logs as an error). ``page.requests`` lists every URL requested.
     ``context_options`` go to ``browser.new_context`` (viewport, accept_downloads, ...)."""
     context = browser.new_context(**context_options)
     page = context.new_page()
     page.requests, errors = [], []
     page.on("request", lambda r: page.requests.append(r.url))
     page.on("pageerror", lambda exc: errors.append(str(exc)))
+    if console_errors:
+        page.on("console", lambda m: errors.append(f"console: {m.text}") if m.type == "error" else None)
     page.route("**/*", lambda route: route.continue_() if route.request.url.startswith(allowed) else route.abort())
     try:
         page.goto(url)

@@ -12,8 +12,11 @@ Systems Magazine 25(4), is "the paper"):
 
 ``benchmark``, ``astrom2005``, ``astrom2005-riderless``
     The Meijaard et al. (2007) sets of ``cosim/params`` on ``Bicycle.Bicycles.WhippleLinear``
-    (eq (24); Figure 9 of the paper is astrom2005, Figure 8 and eq (25) astrom2005-riderless),
-    speed parameter ``v``, 0-10 m/s.
+    (eq (24); Figures 8 and 9 of the paper and eq (25) are astrom2005, the bicycle with rider;
+    astrom2005-riderless is the same bicycle without its rider, the values in parentheses of
+    Table 1 and eq (25), of which the paper draws no figure), speed parameter ``v``, 0-12 m/s.
+    Their explanations print the weave and capsize speeds of :mod:`cosim.analytic.whipple`
+    (``{weave}`` and ``{capsize}`` in the text), never numbers typed in by hand.
 ``rear-steered``
     The benchmark bicycle ridden backwards: the paper's "a model for a bicycle with rear-wheel
     steering is obtained simply by reversing the sign of the velocity" (section "Rear-Wheel
@@ -45,6 +48,7 @@ Every parameter of a choice can also be typed into the page's parameter editor.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from cosim.analytic import whipple
 from cosim.analytic.parameters import load_parameter_set
 
 LINEAR = "Bicycle.Bicycles.WhippleLinear"
@@ -54,7 +58,9 @@ NONLINEAR = "Bicycle.Bicycles.Whipple"
 CROWN_RADIUS = 0.3
 
 #: Speed ranges of the plots [m/s]: forwards, and backwards for the rear-steered bicycle.
-FORWARD = {"min": 0.0, "max": 10.0, "num": 200, "default": 5.0, "step": 0.01}
+#: Forwards up to 12 m/s: every weave and capsize speed of the sets offered (astrom2005 capsizes
+#: at 10.368 m/s) lies inside, with room to see the capsize mode grow (checked by :func:`page_data`).
+FORWARD = {"min": 0.0, "max": 12.0, "num": 200, "default": 5.0, "step": 0.01}
 BACKWARD = {"min": -10.0, "max": 0.0, "num": 200, "default": -5.0, "step": 0.01}
 
 #: Sliders (name, label, unit, minimum, maximum, step). Every bicycle's values must lie inside
@@ -108,15 +114,18 @@ class Bicycle:
 BICYCLES = (
     Bicycle("benchmark", "benchmark (Meijaard et al. 2007)",
             "The benchmark bicycle with rider of Meijaard, Papadopoulos, Ruina & Schwab (2007), Table 1, on the "
-            "linear Whipple model (eq (24) of the paper). Self-stable between the weave and the capsize speed.",
+            "linear Whipple model (eq (24) of the paper). Self-stable between the weave speed {weave} and the "
+            "capsize speed {capsize} (cosim analytic).",
             LINEAR, "benchmark", FORWARD),
     Bicycle("astrom2005", "astrom2005 (the paper, with rider)",
-            "The bicycle with rider of \u00c5str\u00f6m, Klein & Lennartsson (2005), Table 1: Figure 9 of the paper "
-            "(real parts of the eigenvalues vs speed, self-stable from 5.96 to 10.36 m/s).",
+            "The bicycle with rider of \u00c5str\u00f6m, Klein & Lennartsson (2005), Table 1 and eq (25): Figure 8 "
+            "(the root locus) and Figure 9 (real parts of the eigenvalues vs speed) of the paper. Self-stable from "
+            "the weave speed {weave} to the capsize speed {capsize} (cosim analytic).",
             LINEAR, "astrom2005", FORWARD),
     Bicycle("astrom2005-riderless", "astrom2005-riderless (the paper, no rider)",
-            "The same bicycle without its rider (Table 1, the values in parentheses; the matrices of eq (25)): "
-            "Figure 8 of the paper, the root locus in speed.",
+            "The same bicycle without its rider (Table 1 and eq (25), the values in parentheses); the paper "
+            "draws no figure of it (its Figures 8 and 9 are the bicycle with rider). Lighter and with a lower "
+            "centre of mass, it is self-stable at lower speeds: from {weave} to {capsize} (cosim analytic).",
             LINEAR, "astrom2005-riderless", FORWARD),
     Bicycle("crowned-roller", "crowned roller at the rear (Figure 15)",
             "The paper's adapted bicycle for teaching children (Figure 15, Figure 21, eq (27)): a crowned rear roller "
@@ -144,6 +153,41 @@ def _states_of(description: dict) -> dict[str, str]:
     return {variables[v["derivative"] - 1]["name"]: v["name"] for v in variables if "derivative" in v}
 
 
+#: Decimals of the speeds [m/s] the page prints (weave, capsize, self-stable interval).
+SPEED_DIGITS = 3
+
+
+def analytic_speeds(bicycle: Bicycle) -> dict:
+    """Weave and capsize speeds of :mod:`cosim.analytic.whipple` for a bicycle of :data:`LINEAR`.
+
+    Parameters
+    ----------
+    bicycle : Bicycle
+        A choice on :data:`LINEAR` ridden forwards, without modifiers.
+
+    Returns
+    -------
+    dict
+        ``weave`` and ``capsize`` [m/s] (None where cosim.analytic finds none below 30 m/s).
+
+    Raises
+    ------
+    ValueError
+        A bicycle that cosim.analytic does not describe (another module, modifiers, backwards),
+        or a speed outside the bicycle's speed range (the page would print "none").
+    """
+    if bicycle.module != LINEAR or bicycle.modifiers or bicycle.speeds["min"] < 0:
+        raise ValueError(f"bicycle {bicycle.name}: cosim.analytic gives no weave or capsize speed for it")
+    params = dict(load_parameter_set(bicycle.parameter_set).values)
+    speeds = {"weave": whipple.weave_speed(params), "capsize": whipple.capsize_speed(params)}
+    low, high = bicycle.speeds["min"], bicycle.speeds["max"]
+    for name, v in speeds.items():
+        if v is not None and not low <= v <= high:
+            raise ValueError(f"bicycle {bicycle.name}: the {name} speed {v:.{SPEED_DIGITS}f} m/s lies outside "
+                             f"its speed range [{low}, {high}] m/s")
+    return speeds
+
+
 def bicycle_data(bicycle: Bicycle, description: dict | None = None) -> dict:
     """One entry of ``COSIM_DATA.bicycles``, checked against its module's description if given.
 
@@ -166,7 +210,8 @@ def bicycle_data(bicycle: Bicycle, description: dict | None = None) -> dict:
     ------
     ValueError
         A parameter that is not a parameter of the module, a lateral state it lacks, a value
-        outside its slider's range or an unknown slider (each named).
+        outside its slider's range or an unknown slider (each named); an explanation that prints
+        the speeds of cosim.analytic for a bicycle it does not describe (:func:`analytic_speeds`).
     """
     loaded = load_parameter_set(bicycle.parameter_set)
     values = {**loaded.values, **bicycle.modifiers}
@@ -199,6 +244,10 @@ def bicycle_data(bicycle: Bicycle, description: dict | None = None) -> dict:
         if missing:
             raise ValueError(f"bicycle {bicycle.name}: {bicycle.module} has no state(s) {', '.join(missing)}")
         entry["derivatives"] = [derivative[s] for s in states]
+    if "{weave}" in bicycle.explanation or "{capsize}" in bicycle.explanation:
+        speeds = analytic_speeds(bicycle)
+        entry["explanation"] = bicycle.explanation.format(
+            **{k: "none" if v is None else f"{v:.{SPEED_DIGITS}f} m/s" for k, v in speeds.items()})
     return entry
 
 
@@ -229,4 +278,4 @@ def page_data(description: dict, descriptions: dict | None = None) -> dict:
             raise ValueError(f"parameter set {name} has other parameters than {first}")
     return {"model": LINEAR, "parameterSets": sets, "lateralStates": list(LATERAL_STATES[LINEAR]),
             "sliders": [dict(zip(("name", "label", "unit", "min", "max", "step"), s)) for s in SLIDERS],
-            "speeds": dict(FORWARD), "bicycles": bicycles}
+            "speeds": dict(FORWARD), "bicycles": bicycles, "speedDigits": SPEED_DIGITS}

@@ -35,7 +35,8 @@
 // smallest largest real part over the sweep), sweep {speeds, evs, weave, capsize}, lastRedrawMs
 // [ms: the computation of the last redraw, from its input event's handler to the canvases drawn,
 // the browser's paint not included] and evaluations (linearizations) of the last redraw, redraws,
-// continuation (true: see above; set it to false to initialize the module anew at every speed)}.
+// continuation (true: see above; set it to false to initialize the module anew at every speed),
+// clipped {plot, locus}: the points of the sweep that the axes leave out (the plots say so)}.
 (function () {
   "use strict";
   const DATA = window.COSIM_DATA;
@@ -49,7 +50,7 @@
   const state = { ready: false, error: null, parameterError: null, bicycle: null, set: null, module: null,
                   parameters: {}, speed: DATA.bicycles[0].speeds.default, speedRange: null, eigenvalues: [],
                   weave: null, capsize: null, selfStable: null, leastUnstable: null, sweep: null,
-                  lastRedrawMs: null, evaluations: 0, redraws: 0, continuation: true };
+                  lastRedrawMs: null, evaluations: 0, redraws: 0, continuation: true, clipped: null };
   window.cosimApp = state;
 
   const $ = (id) => document.getElementById(id);
@@ -230,93 +231,170 @@
     return { speeds, evs, ...critical, ...stability(lin, p, speeds, evs) };
   }
 
-  // --- the plot: real parts (dots) and imaginary parts (grey) vs speed, Figure 9 style -------
+  // A canvas drawn at its CSS size (its box, set by index.html's style) times
+  // window.devicePixelRatio, so that it is crisp on HiDPI screens and projectors: the backing
+  // store is resized to match and the context scaled, so drawing is in CSS pixels. Returns the
+  // context and the size [CSS px].
+  function fitCanvas(canvas) {
+    const dpr = window.devicePixelRatio || 1;
+    const W = canvas.clientWidth || 600, H = canvas.clientHeight || 400;
+    const bw = Math.round(W * dpr), bh = Math.round(H * dpr);
+    if (canvas.width !== bw) canvas.width = bw;
+    if (canvas.height !== bh) canvas.height = bh;
+    const ctx = canvas.getContext("2d");
+    ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+    return { ctx, W, H };
+  }
+
+  // A step of 1, 2 or 5 times a power of ten giving about `count` intervals on [lo, hi].
+  function niceStep(lo, hi, count) {
+    const raw = (hi - lo) / count, mag = Math.pow(10, Math.floor(Math.log10(raw)));
+    return [1, 2, 5, 10].map((m) => m * mag).find((x) => x >= raw * (1 - 1e-9));
+  }
+
+  // Axis limits that hold the values, on multiples of a nice step, never narrower than
+  // [least, most]; below `floor` (very fast stable modes, which would squash the rest) the axis
+  // stops: the caller says on the plot what it leaves out.
+  function fitAxis(values, least, most, floor = -Infinity) {
+    const all = Math.min(...values), cut = all < 2 * floor ? floor : -Infinity;  // a little beyond: all shown
+    let lo = Math.min(least, ...values.filter((x) => x >= cut)), hi = Math.max(most, ...values);
+    const step = niceStep(lo, hi, 8);
+    return { lo: Math.floor(lo / step - 1e-9) * step, hi: Math.ceil(hi / step + 1e-9) * step, step };
+  }
+
+  // The paper's convention (Figure 9): unstable red, stable blue; a real eigenvalue a dot, an
+  // oscillatory one a ring.
+  const UNSTABLE = "#d02020", STABLE = "#1f4fd0";
+  function marker(ctx, x, y, re, oscillatory) {
+    ctx.fillStyle = ctx.strokeStyle = re > 0 ? UNSTABLE : STABLE;
+    ctx.beginPath();
+    if (oscillatory) { ctx.lineWidth = 1.2; ctx.arc(x, y, 2.6, 0, 2 * Math.PI); ctx.stroke(); }
+    else { ctx.arc(x, y, 2, 0, 2 * Math.PI); ctx.fill(); }
+  }
+
+  // The note on a plot about what its axes leave out ("" if nothing).
+  function clipNote(count, what) {
+    return count === 0 ? "" : `not shown: ${count} ${what}`;
+  }
+
+  // Re lambda of the fast stable modes below this [1/s] is left off the axes when the rest is
+  // much smaller (the castor mode reaches -40 1/s at 12 m/s and would flatten the weave and
+  // capsize modes the plot is about); the plot says how many points it leaves out.
+  const FAST_STABLE = -20;
+
+  // --- the plot: real parts vs speed, Figure 9 of the paper: unstable red, stable blue, real
+  // modes dots, oscillatory rings; |Im| grey; the axes fit the eigenvalues ------------------
   function draw(canvas, s) {
-    const ctx = canvas.getContext("2d"), W = canvas.width, H = canvas.height;
+    const { ctx, W, H } = fitCanvas(canvas);
     const left = 56, right = 12, top = 14, bottom = 40;
-    const { min, max } = state.speedRange, yMin = -10, yMax = 10;
+    const { min, max } = state.speedRange;
+    const res = s.evs.flat().map(([re]) => re);
+    const ims = s.evs.flat().filter(([re, im]) => Math.abs(im) > imagTol(re, im)).map(([, im]) => Math.abs(im));
+    const ax = fitAxis([...res, ...ims], -5, 5, FAST_STABLE);
+    const yMin = ax.lo, yMax = ax.hi;
     const X = (v) => left + (v - min) / (max - min) * (W - left - right);
-    const Y = (y) => top + (yMax - Math.max(yMin, Math.min(yMax, y))) / (yMax - yMin) * (H - top - bottom);
+    const Y = (y) => top + (yMax - y) / (yMax - yMin) * (H - top - bottom);
     ctx.clearRect(0, 0, W, H);
-    ctx.font = "12px sans-serif";
-    ctx.strokeStyle = "#ccc"; ctx.fillStyle = "#444"; ctx.lineWidth = 1;
-    grid(ctx, { X, Y, left, right, top, bottom, W, H }, [min, max, 1, 4], [yMin, yMax, 2]);
+    ctx.font = "12px sans-serif"; ctx.textAlign = "left"; ctx.textBaseline = "alphabetic";
+    ctx.strokeStyle = "#ddd"; ctx.fillStyle = "#444"; ctx.lineWidth = 1;
+    const xStep = niceStep(min, max, Math.max(3, Math.floor((W - left - right) / 70)));
+    grid(ctx, { X, Y, left, right, top, bottom, W, H }, [min, max, xStep, 4], [yMin, yMax, ax.step]);
     ctx.strokeStyle = "#000";
     ctx.beginPath(); ctx.moveTo(left, Y(0)); ctx.lineTo(W - right, Y(0)); ctx.stroke();
     ctx.fillText("speed v [m/s]", W / 2 - 40, H - 8);
-    ctx.save(); ctx.translate(14, H / 2 + 40); ctx.rotate(-Math.PI / 2);
+    ctx.save(); ctx.translate(14, H / 2 + 60); ctx.rotate(-Math.PI / 2);
     ctx.fillText("Re \u03bb, |Im \u03bb| (grey) [1/s]", 0, 0); ctx.restore();
     if (s.selfStable !== null) {  // the self-stable band
-      ctx.fillStyle = "rgba(60, 170, 60, 0.12)";
+      ctx.fillStyle = "rgba(60, 170, 60, 0.14)";
       const [a, b] = s.selfStable, end = Math.min(b, max);
       ctx.fillRect(X(a), top, X(end) - X(a), H - top - bottom);
     }
+    let clipped = 0;
     s.speeds.forEach((v, k) => {
-      for (const [re, im] of s.evs[k]) {  // what lies outside the axes is not drawn
+      for (const [re, im] of s.evs[k]) {
         const osc = Math.abs(im) > imagTol(re, im);
-        if (osc && Math.abs(im) <= yMax) {
-          ctx.fillStyle = "#999"; ctx.fillRect(X(v) - 1, Y(Math.abs(im)) - 1, 2, 2);
-        }
-        if (re < yMin || re > yMax) continue;
-        ctx.fillStyle = osc ? "#c03030" : "#2050c0";
-        ctx.fillRect(X(v) - 1.5, Y(re) - 1.5, 3, 3);
+        if (osc) { ctx.fillStyle = "#aaa"; ctx.fillRect(X(v) - 1, Y(Math.abs(im)) - 1, 2, 2); }
+      }
+    });
+    s.speeds.forEach((v, k) => {
+      for (const [re, im] of s.evs[k]) {
+        if (re < yMin) { clipped++; continue; }
+        marker(ctx, X(v), Y(re), re, Math.abs(im) > imagTol(re, im));
       }
     });
     ctx.strokeStyle = "#e08000"; ctx.lineWidth = 1.5;
     ctx.beginPath(); ctx.moveTo(X(state.speed), top); ctx.lineTo(X(state.speed), H - bottom); ctx.stroke();
+    const note = clipNote(clipped, `points below ${yMin} 1/s (down to ${Math.min(...res).toFixed(1)})`);
+    state.clipped = { plot: clipped, locus: state.clipped ? state.clipped.locus : 0 };
+    if (note) { ctx.fillStyle = "#444"; ctx.fillText(`\u25bc ${note}`, left + 6, top + 12); }
   }
 
   // Grid lines with their labels: xs = [first, last, step, label offset], ys = [first, last, step]
   // (the stroke and fill styles are the caller's).
   function grid(ctx, { X, Y, left, right, top, bottom, W, H }, xs, ys) {
     const [x0, x1, dx, shift] = xs, [y0, y1, dy] = ys;
-    for (let x = x0; x <= x1 + 1e-9; x += dx) {
+    const label = (x) => String(Math.round(x * 1e6) / 1e6);
+    for (let x = Math.ceil(x0 / dx - 1e-9) * dx; x <= x1 + 1e-9; x += dx) {
       ctx.beginPath(); ctx.moveTo(X(x), top); ctx.lineTo(X(x), H - bottom); ctx.stroke();
-      ctx.fillText(String(Math.round(x * 1e6) / 1e6), X(x) - shift, H - bottom + 15);
+      ctx.fillText(label(x), X(x) - shift, H - bottom + 15);
     }
     for (let y = y0; y <= y1 + 1e-9; y += dy) {
       ctx.beginPath(); ctx.moveTo(left, Y(y)); ctx.lineTo(W - right, Y(y)); ctx.stroke();
-      ctx.fillText(String(y), left - 26, Y(y) + 4);
+      ctx.fillText(label(y), left - 30, Y(y) + 4);
     }
   }
 
-  // --- the root locus in speed, Figure 8 style: Im vs Re of every eigenvalue of the sweep, the
-  // colour going from blue (lowest speed) to red (highest); the eigenvalues at the speed as rings
+  // --- the root locus in speed, Figure 8 of the paper: Im vs Re of every eigenvalue of the
+  // sweep, unstable red, stable blue, real dots, oscillatory rings; the eigenvalues at the lowest
+  // speed black squares, at the chosen speed orange rings; the axes fit the eigenvalues ---------
   function drawLocus(canvas, s) {
-    const ctx = canvas.getContext("2d"), W = canvas.width, H = canvas.height;
+    const { ctx, W, H } = fitCanvas(canvas);
     const left = 56, right = 12, top = 14, bottom = 40;
-    const xMin = -15, xMax = 10, yMin = -10, yMax = 10;
+    const all = s.evs.flat();
+    const xa = fitAxis(all.map(([re]) => re), -5, 5, FAST_STABLE);
+    const imMax = Math.max(5, ...all.map(([, im]) => Math.abs(im)));
+    const ya = fitAxis([imMax, -imMax], -5, 5);
+    const xMin = xa.lo, xMax = xa.hi, yMin = ya.lo, yMax = ya.hi;
     const X = (x) => left + (x - xMin) / (xMax - xMin) * (W - left - right);
     const Y = (y) => top + (yMax - y) / (yMax - yMin) * (H - top - bottom);
     ctx.clearRect(0, 0, W, H);
-    ctx.font = "12px sans-serif"; ctx.lineWidth = 1;
+    ctx.font = "12px sans-serif"; ctx.textAlign = "left"; ctx.textBaseline = "alphabetic"; ctx.lineWidth = 1;
     ctx.strokeStyle = "#ddd"; ctx.fillStyle = "#444";
-    grid(ctx, { X, Y, left, right, top, bottom, W, H }, [xMin, xMax, 5, 6], [yMin, yMax, 5]);
+    grid(ctx, { X, Y, left, right, top, bottom, W, H }, [xMin, xMax, xa.step, 6], [yMin, yMax, ya.step]);
     ctx.strokeStyle = "#000";
     ctx.beginPath(); ctx.moveTo(X(0), top); ctx.lineTo(X(0), H - bottom); ctx.stroke();
     ctx.beginPath(); ctx.moveTo(left, Y(0)); ctx.lineTo(W - right, Y(0)); ctx.stroke();
     ctx.fillText("Re \u03bb [1/s]", W / 2 - 30, H - 8);
     ctx.save(); ctx.translate(14, H / 2 + 30); ctx.rotate(-Math.PI / 2); ctx.fillText("Im \u03bb [1/s]", 0, 0);
     ctx.restore();
-    const colour = (t) => `rgb(${Math.round(40 + 200 * t)}, 60, ${Math.round(220 - 180 * t)})`;
-    const { min, max } = state.speedRange;
-    ctx.fillStyle = colour(0); ctx.fillText(`v = ${min} m/s`, left + 6, top + 12);
-    ctx.fillStyle = colour(1); ctx.fillText(`v = ${max} m/s`, left + 6, top + 26);
-    const inside = (re, im) => re >= xMin && re <= xMax && im >= yMin && im <= yMax;
-    const n = s.speeds.length;
+    const inside = (re) => re >= xMin;
+    let clipped = 0;
     s.speeds.forEach((v, k) => {
-      ctx.fillStyle = colour(n > 1 ? k / (n - 1) : 0);
-      for (const [re, im] of s.evs[k]) if (inside(re, im)) ctx.fillRect(X(re) - 1.5, Y(im) - 1.5, 3, 3);
+      for (const [re, im] of s.evs[k]) {
+        if (!inside(re)) { clipped++; continue; }
+        marker(ctx, X(re), Y(im), re, Math.abs(im) > imagTol(re, im));
+      }
     });
+    ctx.fillStyle = "#000";
+    for (const [re, im] of s.evs[0]) if (inside(re)) ctx.fillRect(X(re) - 3.5, Y(im) - 3.5, 7, 7);
     ctx.strokeStyle = "#e08000"; ctx.lineWidth = 2;
     for (const [re, im] of state.eigenvalues) {
-      if (!inside(re, im)) continue;
-      ctx.beginPath(); ctx.arc(X(re), Y(im), 5, 0, 2 * Math.PI); ctx.stroke();
+      if (!inside(re)) continue;
+      ctx.beginPath(); ctx.arc(X(re), Y(im), 6, 0, 2 * Math.PI); ctx.stroke();
     }
+    const { min, max } = state.speedRange;
+    ctx.fillStyle = "#444";
+    ctx.fillText(`v from ${min} (black squares) to ${max} m/s`, left + 6, top + 12);
+    const note = clipNote(clipped, `points left of Re \u03bb = ${xMin} 1/s`);
+    state.clipped = { plot: state.clipped ? state.clipped.plot : 0, locus: clipped };
+    if (note) ctx.fillText(`\u25c0 ${note}`, left + 6, top + 26);
   }
 
   const range = () => `${state.speedRange.min}\u2013${state.speedRange.max} m/s`;
-  const fmt = (x, digits = 4) => (x === null ? `none in ${range()}` : `${x.toFixed(digits)} m/s`);
+  // Speeds are printed with the decimals of cosim.app.bicycles.SPEED_DIGITS (tests compare them with
+  // cosim.analytic to these digits).
+  const DIGITS = DATA.speedDigits || 3;
+  const fmt = (x, digits = DIGITS) => (x === null ? `none in ${range()}` : `${x.toFixed(digits)} m/s`);
 
   // Weave and capsize speeds, or (riding backwards) where the bicycle is self-stable.
   function showStability(s) {
@@ -329,8 +407,8 @@
     }
     const u = s.leastUnstable;
     $("self-stable").textContent = s.selfStable !== null
-      ? `self-stable from ${s.selfStable[0].toFixed(4)} to ${s.selfStable[1] === Infinity ? `beyond ${state.speedRange.max}`
-        : s.selfStable[1].toFixed(4)} m/s`
+      ? `self-stable from ${s.selfStable[0].toFixed(DIGITS)} to ${s.selfStable[1] === Infinity
+        ? `beyond ${state.speedRange.max}` : s.selfStable[1].toFixed(DIGITS)} m/s`
       : `self-stable at no speed of ${range()}: the largest real part is at least ${u.re.toFixed(3)} 1/s ` +
         `(at v = ${u.speed.toFixed(2)} m/s; p\u03c4 = ${(u.re * 0.2).toFixed(2)} for a rider's delay \u03c4 = 0.2 s)`;
   }
@@ -558,10 +636,12 @@
   async function main() {
     const select = $("set");
     for (const b of DATA.bicycles) select.add(new Option(b.label, b.name));
-    const explanation = document.createElement("p");
-    explanation.id = "bicycle-explanation";
-    explanation.className = "note";
-    select.parentElement.after(explanation);
+    // the explanation folded (a long one would push the plot off a phone's screen)
+    const about = document.createElement("details");
+    about.id = "bicycle-about";
+    about.className = "caption";
+    about.innerHTML = '<summary>about this bicycle</summary><p id="bicycle-explanation" class="note"></p>';
+    select.parentElement.after(about);
     const stable = document.createElement("p");
     stable.id = "self-stable";
     stable.className = "note";
@@ -582,6 +662,10 @@
       sliders.appendChild(label);
     }
     select.addEventListener("change", () => guarded(() => choose(select.value)));
+    // a new window size or pixel ratio (zoom, another screen): the plots drawn again, not recomputed
+    window.addEventListener("resize", () => guarded(() => {
+      if (state.sweep) { draw($("plot"), state.sweep); drawLocus($("locus"), state.sweep); }
+    }));
     await loadModules();
     choose(select.value);
     if (state.error !== null) throw new Error(state.error);

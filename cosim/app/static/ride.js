@@ -557,8 +557,22 @@
   }
 
   // --- the page -------------------------------------------------------------------------------------
+  // The 3-D view at its canvas's CSS size (index.html's style makes it fit the window; the view
+  // scales by the pixel ratio itself); before a ride, the empty canvas is sized the same way.
+  function fitView() {
+    const canvas = $("ride-canvas"), dpr = Math.min(window.devicePixelRatio || 1, 2);
+    const w = canvas.clientWidth, h = canvas.clientHeight;
+    if (!w || !h) return;
+    if (view) { view.resize(w, h); view.render(); return; }
+    canvas.width = Math.floor(w * dpr);
+    canvas.height = Math.floor(h * dpr);
+  }
+
   function build() {
     plots = CosimPlots.create($("ride-plots"));
+    fitView();
+    // a new window size or pixel ratio: the plots and the 3-D view drawn again at their new size
+    window.addEventListener("resize", () => { plots.redraw(); fitView(); });
     const list = $("demo-list");
     for (const d of DATA.demos) {
       const li = document.createElement("li");
