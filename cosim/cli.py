@@ -165,6 +165,11 @@ A, B, C, D per speed."""
 MAIN_EPILOG = f"""\
 Run `cosim VERB --help` for the options of a command.
 
+progress: build, figures, demo, run, validate and app --export show their progress on stderr: on a
+terminal one line, [3/7] ITEM (run: the percent of its stop time), redrawn and cleared at the end;
+elsewhere one line per item, "cosim VERB: [3/7] ITEM". -q (before or after the verb) shows none and
+no informational lines (results, warnings and errors stay); -v adds detail lines.
+
 {FMU_FOLDER}
 
 {ENVIRONMENT}
@@ -672,7 +677,6 @@ def _cmd_app(args) -> int:
         from cosim.app.export import export_app
 
         r = export_app(args.export)
-        active().detail(f"wrote {r.bundle} ({r.bytes} bytes) and {r.index}")
         print(f"wrote {r.index} and {r.bundle} ({r.bytes / 1e3:.0f} kB); open {r.index.resolve().as_uri()}")
         if args.open:
             import webbrowser

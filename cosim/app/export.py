@@ -249,18 +249,18 @@ def _export(folder: Path, demos: str | os.PathLike | None, shipped) -> ExportRes
     """:func:`export_app` into a checked and locked folder, with the shipped modules and
     diagrams (:class:`cosim.app.shipped.Shipped`) or, if None, building them."""
     with progress().steps(4):
-        progress().item("the shipped WebAssembly modules" if shipped is not None
-                        else "building the FMUs and their WebAssembly modules")
+        progress().item("load the shipped WebAssembly modules" if shipped is not None
+                        else "build the FMUs and their WebAssembly modules")
         modules = shipped.modules if shipped is not None else _page_modules(build_modules(_fmu_folder()))
         descriptions = {name: m["description"] for name, m in modules.items()}
-        progress().item("the bicycles' eigenvalues and the demos")
+        progress().item("compute the bicycles' eigenvalues and the demos")
         data = {**page_data(modules[MODEL]["description"], descriptions), **ride_data(descriptions, demos),
                 "modules": modules}
         models = diagram_models(data["bicycles"])
-        progress().item("the diagrams")
+        progress().item("draw the diagrams")
         data["diagrams"] = (shipped.diagrams if shipped is not None and list(shipped.diagrams) == models
                             else page_diagrams(models))
-        progress().item("the bundle")
+        progress().item("write the bundle")
         return _write_site(folder, data)
 
 

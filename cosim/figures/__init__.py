@@ -148,6 +148,9 @@ def _finished(name: str, future) -> None:
     """A task of the pool ended: counted unless it was cancelled or failed (the error says that)."""
     if not future.cancelled() and future.exception() is None:
         progress().item(name)
+        paths = future.result()
+        if isinstance(paths, list):  # a whole figure's files (a part's numbers are drawn here later)
+            progress().detail(f"{name}: {', '.join(map(str, paths))}")
 
 
 def _init_worker(parent: int) -> None:
