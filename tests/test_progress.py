@@ -145,7 +145,8 @@ def test_long_verbs_show_progress_on_a_terminal_and_nothing_with_q(verb, argv, e
     for pattern in expected:
         assert re.search(pattern, drawn), drawn
     assert "\n" not in drawn and drawn.endswith("\r"), drawn  # one line, redrawn, then cleared
-    quiet_status, quiet_out, quiet_drawn = _on_terminal([*argv, "-q"], tmp_path)
+    quiet = ["-q", *argv] if verb == "validate" else [*argv, "--quiet"]  # before or after the verb
+    quiet_status, quiet_out, quiet_drawn = _on_terminal(quiet, tmp_path)
     assert (quiet_status, quiet_drawn) == (0, "")
     if verb == "build":  # -q: only what was built (here nothing: the FMU is up to date)
         assert (quiet_out, out.startswith("up to date")) == ("", True)

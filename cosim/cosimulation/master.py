@@ -301,6 +301,7 @@ class System:
                     break
         finally:
             self._close_all()
+            progress().clear()  # what the command prints next starts on a clean line
         return finished(data, rows, record_names, outcome)
 
     def _communication_step(self, k: int, grid: np.ndarray, multiples: dict[str, int],
