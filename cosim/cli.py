@@ -39,6 +39,7 @@ from cosim import __version__
 from cosim.cli_options import LIBRARY_VARIABLE, library_option, positive_int
 from cosim.errors import CosimError, OutputError, ParameterError, ResultNotWritten
 from cosim.outputs import check_output, os_error_message
+from cosim.progress import NORMAL, QUIET, VERBOSE, Reporter, active, reporting
 
 EXIT_OK, EXIT_CHECK_FAILED, EXIT_BAD_INPUT, EXIT_FELL, EXIT_INCOMPLETE = 0, 1, 2, 3, 4
 EXIT_INTERNAL, EXIT_INTERRUPTED = 70, 130
@@ -164,6 +165,11 @@ A, B, C, D per speed."""
 MAIN_EPILOG = f"""\
 Run `cosim VERB --help` for the options of a command.
 
+progress: build, figures, demo, run, validate and app --export show their progress on stderr: on a
+terminal one line, [3/7] ITEM (run: the percent of its stop time), redrawn and cleared at the end;
+elsewhere one line per item, "cosim VERB: [3/7] ITEM". -q (before or after the verb) shows none and
+no informational lines (results, warnings and errors stay); -v adds detail lines.
+
 {FMU_FOLDER}
 
 {ENVIRONMENT}
@@ -232,7 +238,8 @@ def _cmd_build(args) -> int:
 
     def report(results):
         for r in results:
-            print(f"{'built ' if r.rebuilt else 'up to date'} {r.fmu}  ({r.seconds:.1f} s)")
+            if r.rebuilt or not active().quiet:  # -q: only what changed
+                print(f"{'built ' if r.rebuilt else 'up to date'} {r.fmu}  ({r.seconds:.1f} s)")
 
     versions = args.fmi_version or ("2",)
     if args.wasm:
@@ -249,10 +256,15 @@ def _cmd_build(args) -> int:
         raise
     report(results)
     if args.wasm:
-        for r in results:
-            if r.fmi_version == "2":
+        fmi2 = [r for r in results if r.fmi_version == "2"]
+        with active().steps(len(fmi2)):
+            for r in fmi2:
+                active().item(f"{r.model} (WebAssembly)")
                 w = build_wasm(r.fmu, args.output, force=args.force)
-                print(f"{'built ' if w.rebuilt else 'up to date'} {w.wasm}  ({w.size / 1e3:.0f} kB, {w.seconds:.1f} s)")
+                if w.rebuilt or not active().quiet:
+                    active().clear()
+                    print(f"{'built ' if w.rebuilt else 'up to date'} {w.wasm}  ({w.size / 1e3:.0f} kB, "
+                          f"{w.seconds:.1f} s)", flush=True)
     return EXIT_OK
 
 
@@ -297,33 +309,43 @@ def _cmd_info(args) -> int:
 def _cmd_validate(args) -> int:
     """Each target is validated; one that cannot be read as an FMU (or built) gets its error
     line and the others are still checked."""
+    outcomes = []
+    with active().steps(len(args.targets)):
+        for target in args.targets:
+            active().item(target)
+            outcomes.append(_validate_one(target, args.timeout))
+    return EXIT_BAD_INPUT if "unreadable" in outcomes else (
+        EXIT_CHECK_FAILED if "problems" in outcomes else EXIT_OK)
+
+
+def _validate_one(target: str, timeout: float | None) -> str:
+    """Validate one target of ``cosim validate`` and print its report: "valid", "problems" or
+    "unreadable" (the error line printed)."""
     from cosim.fmu.access import ALL_FMI_VERSIONS, LENIENT_HINT
     from cosim.fmu.target import resolve_fmu
     from cosim.fmu.validate import validate_report
 
-    failed = unreadable = 0
-    for target in args.targets:
-        try:
-            fmu = resolve_fmu(target, versions=ALL_FMI_VERSIONS)
-            report = validate_report(fmu, timeout=args.timeout or float("inf"))
-        except CosimError as exc:
-            unreadable += 1  # (validate has no --lenient: a model description's defects are its findings)
-            print(f"cosim validate: error: {str(exc).removesuffix(LENIENT_HINT)}", file=sys.stderr)
-            continue
-        what = f"FMI {report.fmi_version}, {len(report.checks)} checks"
-        warned = f", {len(report.warnings)} warning(s)" if report.warnings else ""
-        if report.problems:
-            failed += 1
-            print(f"{fmu}: {len(report.problems)} problem(s){warned} ({what})")
-            for p in report.problems:
-                print(f"  - {p}")
-        else:
-            print(f"{fmu}: valid{warned} ({what})")
-        for w in report.warnings:  # allowed by the standard, avoided by a robust FMU: not a problem
-            print(f"  warning: {w}")
-        for s in report.skipped:  # what does not apply to this FMU: not a problem, but not checked
-            print(f"  skipped: {s}")
-    return EXIT_BAD_INPUT if unreadable else (EXIT_CHECK_FAILED if failed else EXIT_OK)
+    try:
+        fmu = resolve_fmu(target, versions=ALL_FMI_VERSIONS)
+        report = validate_report(fmu, timeout=timeout or float("inf"))
+    except CosimError as exc:  # (validate has no --lenient: a model description's defects are its findings)
+        active().clear()
+        print(f"cosim validate: error: {str(exc).removesuffix(LENIENT_HINT)}", file=sys.stderr)
+        return "unreadable"
+    active().clear()  # the report starts on a clean line of the terminal
+    what = f"FMI {report.fmi_version}, {len(report.checks)} checks"
+    warned = f", {len(report.warnings)} warning(s)" if report.warnings else ""
+    if report.problems:
+        print(f"{fmu}: {len(report.problems)} problem(s){warned} ({what})")
+        for p in report.problems:
+            print(f"  - {p}")
+    else:
+        print(f"{fmu}: valid{warned} ({what})")
+    for w in report.warnings:  # allowed by the standard, avoided by a robust FMU: not a problem
+        print(f"  warning: {w}")
+    for s in report.skipped:  # what does not apply to this FMU: not a problem, but not checked
+        print(f"  skipped: {s}")
+    return "problems" if report.problems else "valid"
 
 
 def _default_result(target: str, suffix: str = ".csv") -> Path:
@@ -416,7 +438,7 @@ def _cmd_simulate(args) -> int:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", SimulationTerminated)
             result = simulate(fmu, args.stop_time, args.step, args.fmi_type, params, inputs,
-                              outputs=outputs or None, progress=sys.stderr.isatty(), timeout=args.timeout,
+                              outputs=outputs or None, progress=sys.stderr.isatty() and not active().quiet, timeout=args.timeout,
                               lenient=args.lenient)
     except IncompleteResult as exc:
         return _write_incomplete(exc, output, args.plot, md.modelName, "simulate")
@@ -752,6 +774,7 @@ def parser() -> argparse.ArgumentParser:
         description="Bicycle models of Astrom, Klein and Lennartsson (2005) as FMI 2.0 FMUs: build, validate, "
                     "simulate, linearize, co-simulate.")
     p.add_argument("--version", action="version", version=f"cosim {__version__}")
+    verbosity_options(p, NORMAL)
     sub = p.add_subparsers(dest="command", required=True, metavar="VERB")
 
     b = sub.add_parser("build", help="compile Modelica models to FMI 2.0 / 3.0 FMUs (ME + CS)", formatter_class=raw,
@@ -961,7 +984,19 @@ def parser() -> argparse.ArgumentParser:
     d.add_argument("-o", "--output", default="demo", help="folder for results (default: demo/)")
     library_option(d)
     d.set_defaults(func=_cmd_demo)
+    for verb in sub.choices.values():  # `cosim VERB -q` as well as `cosim -q VERB`
+        verbosity_options(verb, argparse.SUPPRESS)
     return p
+
+
+def verbosity_options(p: argparse.ArgumentParser, default) -> None:
+    """``-q``/``--quiet`` and ``-v``/``--verbose`` (a verb's own take the place of the main
+    parser's only when given: their default there is ``argparse.SUPPRESS``)."""
+    group = p.add_mutually_exclusive_group()
+    group.add_argument("-q", "--quiet", dest="verbosity", action="store_const", const=QUIET, default=default,
+                       help="no progress and no informational lines (results, warnings and errors are printed)")
+    group.add_argument("-v", "--verbose", dest="verbosity", action="store_const", const=VERBOSE, default=default,
+                       help="more detail on stderr: the time of each step and the paths written")
 
 
 def _debug() -> bool:
@@ -987,8 +1022,9 @@ def main(argv: list[str] | None = None) -> int:
         from cosim.compiler.build import DEFAULT_OUTPUT
 
         args.output = DEFAULT_OUTPUT
+    reporter = Reporter(args.command, args.verbosity)
     try:
-        with use_library(getattr(args, "library", None)), _lenient(args):
+        with use_library(getattr(args, "library", None)), _lenient(args), reporting(reporter):
             return args.func(args)
     except ResultNotWritten as exc:  # computed, but (partly) lost to a full disk, ...
         print(f"cosim {args.command}: error: {exc}", file=sys.stderr)

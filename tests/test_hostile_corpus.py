@@ -137,7 +137,9 @@ def check_answer(argv: list[str], status: int, stdout: str, stderr: str, folder:
         # the answer line comes first (after warnings); a message may go on over lines of its own
         # (e.g. the models of the library), but no other line speaks for the command
         kind = {2: "error", 4: "incomplete", 130: "interrupted"}[status]
-        message = [line for line in lines if not line.startswith(f"{prefix} warning:")]
+        # (progress lines off a terminal, "cosim VERB: [2/3] ITEM", speak for no outcome)
+        message = [line for line in lines if not line.startswith(f"{prefix} warning:")
+                   and not re.match(rf"{re.escape(prefix)} \[\d+/\d+\] ", line)]
         answers = [line for line in message if line.startswith(f"{prefix} {kind}")]
         expected = 1
         if verb == "validate" and status == 2:  # one error line per target it cannot read

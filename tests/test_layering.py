@@ -20,7 +20,7 @@ ROOT = Path(__file__).resolve().parents[1]
 #: Parts of the package (top-level modules and subpackages) by layer, lowest first. The parts of
 #: one layer do not import each other.
 LAYERS: list[tuple[str, ...]] = [
-    ("cosim", "errors", "processes", "native", "cli_options", "statespace"),
+    ("cosim", "errors", "processes", "native", "cli_options", "statespace", "progress"),
     ("outputs", "folder_lock"),
     ("analytic",),  # formulas only
     ("compiler",),
@@ -163,7 +163,8 @@ def test_no_circles_but_the_block_registry():
 def test_generic_fmu_tools_know_no_bicycle():
     """fmu/ imports nothing above it (the state-space type of the base included), and analytic/
     only the base (errors, outputs)."""
-    below = {"fmu": {"fmu", "compiler", "errors", "outputs", "processes", "folder_lock", "native", "statespace"},
+    below = {"fmu": {"fmu", "compiler", "errors", "outputs", "processes", "folder_lock", "native", "statespace",
+                     "progress"},
              "analytic": {"analytic", "errors", "outputs"}}
     bad = [f"{where}: {a} imports {b}" for a, b, where in imports(ROOT)
            if part(a) in below and part(b) not in below[part(a)]]

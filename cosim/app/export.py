@@ -38,6 +38,7 @@ from cosim.app.bicycles import CROWN_RADIUS, page_data
 from cosim.app.diagrams import page_diagrams
 from cosim.folder_lock import folder_lock
 from cosim.outputs import check_output_folder, write_text
+from cosim.progress import active as progress
 from cosim.analytic.parameters import load_parameters
 from cosim.app.demos import DEMOS, load_demos
 from cosim.app import shipped as shipped_files
@@ -247,13 +248,24 @@ def diagram_models(bicycles: list) -> list[str]:
 def _export(folder: Path, demos: str | os.PathLike | None, shipped) -> ExportResult:
     """:func:`export_app` into a checked and locked folder, with the shipped modules and
     diagrams (:class:`cosim.app.shipped.Shipped`) or, if None, building them."""
-    modules = shipped.modules if shipped is not None else _page_modules(build_modules(_fmu_folder()))
-    descriptions = {name: m["description"] for name, m in modules.items()}
-    data = {**page_data(modules[MODEL]["description"], descriptions), **ride_data(descriptions, demos),
-            "modules": modules}
-    models = diagram_models(data["bicycles"])
-    data["diagrams"] = (shipped.diagrams if shipped is not None and list(shipped.diagrams) == models
-                        else page_diagrams(models))
+    with progress().steps(4):
+        progress().item("load the shipped WebAssembly modules" if shipped is not None
+                        else "build the FMUs and their WebAssembly modules")
+        modules = shipped.modules if shipped is not None else _page_modules(build_modules(_fmu_folder()))
+        descriptions = {name: m["description"] for name, m in modules.items()}
+        progress().item("compute the bicycles' eigenvalues and the demos")
+        data = {**page_data(modules[MODEL]["description"], descriptions), **ride_data(descriptions, demos),
+                "modules": modules}
+        models = diagram_models(data["bicycles"])
+        progress().item("draw the diagrams")
+        data["diagrams"] = (shipped.diagrams if shipped is not None and list(shipped.diagrams) == models
+                            else page_diagrams(models))
+        progress().item("write the bundle")
+        return _write_site(folder, data)
+
+
+def _write_site(folder: Path, data: dict) -> ExportResult:
+    """``bundle.js`` (``data`` and the scripts) and ``index.html`` of :func:`export_app`."""
     scripts = _scripts()
     bundle = "\n".join([
         "// bundle.js of `cosim app --export`: generated, do not edit. Sources, in this order: "

@@ -25,7 +25,7 @@ import signal
 import tempfile
 import time
 import uuid
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from pathlib import Path
@@ -35,6 +35,7 @@ from cosim.folder_lock import held_lock_files, lock_file, unlock_file
 from cosim.outputs import (check_output_folder, make_temporary_folder, name_max, os_error_message,
                            temporary_folder)
 from cosim.processes import die_with_parent, stop_pool
+from cosim.progress import active as progress
 from cosim.compiler import fmu as fmu_files
 from cosim.compiler import schedule
 from cosim.compiler.library import compiler_digest  # noqa: F401 (cosim.compiler.build.compiler_digest)
@@ -395,6 +396,24 @@ def _build_one(args):
         return exc
 
 
+def _build_in_turn(task):
+    """:func:`_build_one` in this process, its start and end reported."""
+    progress().item(task[0])
+    outcome = _build_one(task)
+    _report(task[0], outcome, started=False)
+    return outcome
+
+
+def _report(model_name: str, outcome, started: bool = True) -> None:
+    """The progress of a finished build task (``started``: its item is not shown yet, as for a
+    task of the pool, which is reported when it ends); with ``-v`` a failure at once (the
+    command's error lists every failure after the other builds)."""
+    if started:
+        progress().item(model_name)
+    if isinstance(outcome, Exception):
+        progress().detail(f"{model_name} failed: {str(outcome).splitlines()[0]}")
+
+
 def _remove_stale_locks(task) -> None:
     model_name, output, _, _, versions = task
     for version in versions:
@@ -413,16 +432,18 @@ def _run_pool(tasks: list[tuple], jobs: int, scratch_root: str) -> list:
     pool = ProcessPoolExecutor(max_workers=min(jobs, len(tasks)), initializer=_init_worker,
                                initargs=(os.getpid(), scratch_root))
     try:
-        futures = [pool.submit(_build_one, task) for task in tasks]
-        results = []
-        for task, future in zip(tasks, futures):
+        futures = {pool.submit(_build_one, task): k for k, task in enumerate(tasks)}
+        results: list = [None] * len(tasks)
+        for future in as_completed(futures):  # reported as they finish, kept in the order of the tasks
+            task = tasks[futures[future]]
             try:
-                results.append(future.result())
+                results[futures[future]] = future.result()
             except BrokenProcessPool:
                 _remove_stale_locks(task)
-                results.append(BuildError(f"{task[0]}: a build worker died unexpectedly (killed, or out of "
-                                          "memory?) while this model was built or waiting; nothing was "
-                                          "written for it"))
+                results[futures[future]] = BuildError(f"{task[0]}: a build worker died unexpectedly (killed, or "
+                                                      "out of memory?) while this model was built or waiting; "
+                                                      "nothing was written for it")
+            _report(task[0], results[futures[future]])
     except BaseException:
         stop_pool(pool)
         # A worker killed before its cleanup ran (e.g. SIGKILL after the grace period of a
@@ -505,7 +526,8 @@ def build(models: list[str] | None = None, output: str | Path = DEFAULT_OUTPUT, 
     parallel = jobs > 1 and len(names) > 1
     started = schedule.longest_first(names) if parallel else names
     tasks = [(name, str(output), library_path, force, versions) for name in started]
-    done = dict(zip(started, _run_parallel(tasks, jobs) if parallel else map(_build_one, tasks)))
+    with progress().steps(len(tasks)):
+        done = dict(zip(started, _run_parallel(tasks, jobs) if parallel else map(_build_in_turn, tasks)))
     outcomes = [done[name] for name in names]
     schedule.record({outcome[0].model: max(r.seconds for r in outcome) for outcome in outcomes
                      if isinstance(outcome, list) and outcome and any(r.rebuilt for r in outcome)})

@@ -20,6 +20,7 @@ from cosim.cosimulation.system import MAX_STEPS, Connection, SystemError_, Syste
 from cosim.cosimulation import fastloop  # fastloop.library looked up when used: a replacement is seen
 from cosim.cosimulation.fastloop import address, fast_block, FastComponent
 from cosim.fmu.simulate import physical_cause
+from cosim.progress import active as progress
 
 
 #: Largest recording one run keeps in memory [bytes].
@@ -281,7 +282,10 @@ class System:
                         outcome, rows = self._ended(outcome, k, grid, data, record_idx)
                     except StepFailed as exc:
                         outcome, rows = self._failed_outcome(exc.component, grid[k], str(exc)), k + 1
+            reporter, span = progress(), grid[-1] - grid[0]
             for k in range(n_steps):
+                if not k % 64:  # the reporter redraws at most 10 times a second; asking costs a call
+                    reporter.fraction((grid[k] - grid[0]) / span, f"t = {grid[k]:.4g} of {grid[-1]:.4g} s")
                 try:
                     ended = self._communication_step(k, grid, multiples)
                 except StepFailed as exc:
@@ -297,6 +301,7 @@ class System:
                     break
         finally:
             self._close_all()
+            progress().clear()  # what the command prints next starts on a clean line
         return finished(data, rows, record_names, outcome)
 
     def _communication_step(self, k: int, grid: np.ndarray, multiples: dict[str, int],
@@ -486,6 +491,7 @@ class System:
         def pointer_to(array: np.ndarray) -> c_void_p:  # (data_as costs ~2 us a call, five a run)
             return c_void_p(array.ctypes.data)
 
+        progress().fraction(0.0, f"t = {grid[0]:.4g} of {grid[-1]:.4g} s (all steps in one call of the C loop)")
         status = lib.cosim_fast_run(
             len(self.names), comps, order, self.algorithm.fast_code,
             int(spec.sampling == "after-transfer"), pointer_to(self.signals), pointer_to(self._sampled),

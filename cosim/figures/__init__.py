@@ -28,6 +28,7 @@ from cosim.fmu import access
 from cosim.folder_lock import folder_lock
 from cosim.outputs import atomic_output, check_output_folder
 from cosim.processes import die_with_parent, stop_pool
+from cosim.progress import active as progress
 
 #: Figures in the order the workers start them, the longest computations first; figures not
 #: listed follow in the registry's order.
@@ -84,8 +85,18 @@ def make_figures(names: list[str], output: str | Path, jobs: int | None = None) 
         raise ParameterError(f"-j/--jobs must be >= 1, got {jobs!r}")
     with folder_lock(output, "figures folder"):  # one command writes the folder at a time
         if jobs == 1 or (len(names) == 1 and not hasattr(figures[names[0]], "parts")):
-            return [path for name in names for path in figures[name].make(output)]
+            with progress().steps(len(names)):
+                return [path for name in names for path in _make_in_turn(name, figures[name], output)]
         return _make_in_pool({name: figures[name] for name in names}, output, jobs)
+
+
+def _make_in_turn(name: str, module, output: Path) -> list[Path]:
+    """One figure in this process, its start reported (with ``-v`` its time and files)."""
+    reporter = progress()
+    reporter.item(name)
+    paths = module.make(output)
+    reporter.detail(f"{name}: {', '.join(map(str, paths))} ({reporter.elapsed():.1f} s)")
+    return paths
 
 
 def default_jobs() -> int:
@@ -110,8 +121,16 @@ def _make_in_pool(modules: dict, output: Path, jobs: int) -> list[Path]:
     context = multiprocessing.get_context("fork" if fork else "spawn")
     pool = ProcessPoolExecutor(max_workers=min(jobs, len(tasks)), mp_context=context,
                                initializer=_init_worker, initargs=(os.getpid(),))
+    with progress().steps(len(tasks)):
+        return _run_pool(pool, tasks, modules, order, parted, output)
+
+
+def _run_pool(pool, tasks: list, modules: dict, order: list, parted: set, output: Path) -> list[Path]:
+    """The tasks of :func:`_make_in_pool` in ``pool``, each counted when it finishes."""
     try:
         futures = [pool.submit(function, *args) for _, function, args in tasks]
+        for (name, _, _), future in zip(tasks, futures):  # counted as they finish, in the pool's thread
+            future.add_done_callback(lambda done, name=name: _finished(name, done))
         written: dict[str, list[Path]] = {}
         for name in order:  # the figures with parts first: drawn here while the workers go on
             mine = [future for (n, _, _), future in zip(tasks, futures) if n == name]
@@ -123,6 +142,15 @@ def _make_in_pool(modules: dict, output: Path, jobs: int) -> list[Path]:
         raise
     pool.shutdown(wait=True)
     return [path for name in modules for path in written[name]]
+
+
+def _finished(name: str, future) -> None:
+    """A task of the pool ended: counted unless it was cancelled or failed (the error says that)."""
+    if not future.cancelled() and future.exception() is None:
+        progress().item(name)
+        paths = future.result()
+        if isinstance(paths, list):  # a whole figure's files (a part's numbers are drawn here later)
+            progress().detail(f"{name}: {', '.join(map(str, paths))}")
 
 
 def _init_worker(parent: int) -> None:

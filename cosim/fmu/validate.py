@@ -41,6 +41,7 @@ from cosim.errors import FMUError
 from cosim.fmu.access import ALL_FMI_VERSIONS, FMU, LENIENT_HINT
 from cosim.fmu.isolation import FMUProcessError, Worker, run_isolated
 from cosim.fmu.validate_checks import CHECKS, Check, Session, run_check
+from cosim.progress import active as progress
 
 #: Longest time one dynamic check may take [s] before its process is ended (a binary that hangs).
 CHECK_TIMEOUT = 60.0
@@ -192,6 +193,7 @@ def _run_isolated(session: Session, checks: tuple[Check, ...], report: Validatio
             nonlocal start
             if kind == "start":
                 current["index"] = payload
+                progress().item(checks[payload].name)
             elif kind == "done":
                 report.add(checks[payload["index"]].name, payload["problems"], payload["skipped"],
                            payload["warnings"])
@@ -222,6 +224,7 @@ def _skip_rest(checks, reason: str, report: ValidationReport) -> None:
 
 def _run_in_process(session: Session, checks: tuple[Check, ...], report: ValidationReport) -> None:
     for index, check in enumerate(checks):
+        progress().item(check.name)
         findings = run_check(check, session)
         report.add(check.name, findings.problems, findings.skipped, findings.warnings)
         if findings.stop_reason:
@@ -258,9 +261,10 @@ def validate_report(path: str | Path, checks: tuple[Check, ...] = CHECKS, isolat
         fmu = FMU(path, versions=ALL_FMI_VERSIONS)  # refuses what must not even be unpacked
     except FMUError as exc:  # validation has no --lenient: the refusal names the problem only
         raise FMUError(str(exc).removesuffix(LENIENT_HINT)) from None
-    with fmu:
+    with fmu, progress().steps(len(STATIC_CHECKS) + len(checks)):
         report = ValidationReport(path, fmu.fmi_version)
         for name, function in STATIC_CHECKS:
+            progress().item(name)
             report.add(name, function(path, fmu))
         if any(p.startswith("binary: ") for p in report.problems):
             _skip_rest(checks, "the FMU has no binary for this platform", report)

@@ -6,6 +6,7 @@ import json
 import sys
 
 from cosim.cli_options import library_option, positive_int
+from cosim.progress import active
 from cosim.matrix.spec import MAX_CASES, bundled_specs
 
 __all__ = ["add_parser", "run"]
@@ -84,7 +85,7 @@ def run(args) -> int:
     try:
         result = run_matrix(args.spec, args.output, workers=args.workers, scheduler=args.scheduler,
                             resume=args.resume, force=args.force, keep_failed=args.keep_failed,
-                            max_cases=args.max_cases, fmu_dir=args.fmu_dir, progress=not args.no_progress)
+                            max_cases=args.max_cases, fmu_dir=args.fmu_dir, progress=not (args.no_progress or active().quiet))
     except KeyboardInterrupt:
         print("cosim matrix: interrupted (the finished cases are kept: --resume runs the rest)", file=sys.stderr)
         return 130

@@ -15,6 +15,7 @@ from cosim.fmu.simulate import input_signals, plot, simulate, write_csv
 from cosim.fmu.validate import validate
 from cosim.folder_lock import folder_lock
 from cosim.outputs import check_output, check_output_folder
+from cosim.progress import active as progress
 
 MODEL = "Bicycle.Bicycles.SelfStabilizing"
 STOP = 30.0  # s: long enough for the slow roll mode to settle
@@ -52,8 +53,14 @@ def run_demo(output: Path) -> None:
     for name in OUTPUTS:
         check_output(output / name, "demo result")
     check_output_folder(DEFAULT_OUTPUT, "FMU folder")
-    with folder_lock(output, "demo folder"):  # one demo writes the folder at a time
+    with folder_lock(output, "demo folder"), progress().steps(4):  # one demo writes the folder at a time
         _demo(output)
+
+
+def _say(text: str) -> None:
+    """A line of the demo's account on stdout, on a line of its own under the progress line."""
+    progress().clear()
+    print(text, flush=True)
 
 
 def _demo(output: Path) -> None:
@@ -62,20 +69,25 @@ def _demo(output: Path) -> None:
     from cosim.compiler.build import DEFAULT_OUTPUT, build
     from cosim.cosimulation.factory import run_system
 
-    print("1. building every exported model (pymoca -> CasADi -> C -> gcc) ...")
+    _say("1. building every exported model (pymoca -> CasADi -> C -> gcc) ...")
+    progress().item("build every exported model")
     results = build(output=DEFAULT_OUTPUT, jobs=2)
-    for r in results:
-        print(f"   {'built' if r.rebuilt else 'up to date'}: {r.fmu}")
-        problems = validate(r.fmu)
-        print(f"   validation: {'no problems' if not problems else problems}")
-        if problems:
-            raise SimulationError(f"{r.fmu} failed validation")
+    progress().item("validate the FMUs")
+    with progress().steps(len(results)):
+        for r in results:
+            progress().item(r.model)
+            _say(f"   {'built' if r.rebuilt else 'up to date'}: {r.fmu}")
+            problems = validate(r.fmu)
+            _say(f"   validation: {'no problems' if not problems else problems}")
+            if problems:
+                raise SimulationError(f"{r.fmu} failed validation")
     fmu = next(r.fmu for r in results if r.model == MODEL)
 
     V, T = 6.0, 1.0
-    print(f"2. simulating {MODEL} at V = {V} m/s, steer torque step T = {T} N.m at t = 0.5 s ...")
+    _say(f"2. simulating {MODEL} at V = {V} m/s, steer torque step T = {T} N.m at t = 0.5 s ...")
     inputs = input_signals(fmu, [f"T=step:0.5:{T}"], 0.0, STOP)
     runs = {}
+    progress().item(f"simulate {MODEL}")
     for kind in ("cs", "me"):
         result = simulate(fmu, STOP, 0.01, kind, {"V": V}, inputs, outputs=["phi", "delta", "T"])
         write_csv(result, output / f"self_stabilizing_{kind}.csv")
@@ -84,16 +96,17 @@ def _demo(output: Path) -> None:
     params = dict(m=92, a=0.5, h=1.0, b=1.0, c=0.08, lam=math.radians(70), g=9.81, V=V)
     phi_ss, delta_ss = steady_state(T, **params)
     cs, me = runs["cs"], runs["me"]
-    print(f"   final roll  phi:   CS {cs['phi'][-1]: .6f} rad, ME {me['phi'][-1]: .6f} rad, eq (15) {phi_ss: .6f} rad")
-    print(f"   final steer delta: CS {cs['delta'][-1]: .6f} rad, ME {me['delta'][-1]: .6f} rad, eq (11) {delta_ss: .6f} rad")
+    _say(f"   final roll  phi:   CS {cs['phi'][-1]: .6f} rad, ME {me['phi'][-1]: .6f} rad, eq (15) {phi_ss: .6f} rad")
+    _say(f"   final steer delta: CS {cs['delta'][-1]: .6f} rad, ME {me['delta'][-1]: .6f} rad, eq (11) {delta_ss: .6f} rad")
     me_on_cs_grid = np.interp(cs["time"], me["time"], me["phi"])  # ME has an extra row at the input step
-    print(f"   CS vs ME max difference in phi: {np.max(np.abs(cs['phi'] - me_on_cs_grid)):.2e} rad")
+    _say(f"   CS vs ME max difference in phi: {np.max(np.abs(cs['phi'] - me_on_cs_grid)):.2e} rad")
     system = Path(__file__).resolve().parents[1] / "systems" / "lane-change.toml"
-    print(f"3. co-simulating {system.name}: WhippleLinear FMU + Python lane-change controller ...")
+    _say(f"3. co-simulating {system.name}: WhippleLinear FMU + Python lane-change controller ...")
+    progress().item(f"co-simulate {system.name}")
     lane = run_system(system)
     write_csv(lane.data, output / "lane_change.csv")
     plot(lane.data, output / "lane_change.png", title="lane change by counter-steering (benchmark, 5 m/s)")
     y = lane.data["bike.y"]
-    print(f"   {lane.outcome.message}; lateral position first {y.min():.3f} m (counter-steer), "
-          f"finally {y[-1]:.3f} m")
-    print(f"4. results in {output}/: {', '.join(OUTPUTS)}")
+    _say(f"   {lane.outcome.message}; lateral position first {y.min():.3f} m (counter-steer), "
+         f"finally {y[-1]:.3f} m")
+    _say(f"4. results in {output}/: {', '.join(OUTPUTS)}")
