@@ -661,7 +661,7 @@ def _cmd_run(args) -> int:
     from cosim.cosimulation.factory import run_system
     from cosim.cosimulation.master import RunFailed
     from cosim.cosimulation.system import load_system
-    from cosim.fmu.simulate import IncompleteResult
+    from cosim.fmu.simulate import IncompleteResult, incomplete_path
 
     output = Path(args.output) if args.output else Path(f"{Path(args.system).stem}.csv")
     _check_outputs(output, args.plot)  # before any build or run
@@ -672,12 +672,17 @@ def _cmd_run(args) -> int:
     except RunFailed as exc:  # an FMU failed a step: the rows before it are kept
         result = exc.result
     outcome = result.outcome
+    try:  # the recorded columns are known now: an unknown --signals name costs the plot only
+        plotting = _run_plotting(spec, result.data, signals, args.plot)
+    except ParameterError as exc:
+        kept = incomplete_path(output) if not outcome.complete else output
+        _write_results(result.data, kept, None, spec.name)
+        raise ParameterError(f"{exc}; the {_rows(result.data)} computed were written to {kept}, "
+                             "without a plot") from None
     if not outcome.complete:  # an FMU failed or a signal turned non-finite: keep the rows
         exc = IncompleteResult(outcome.message, result.data, outcome.time, outcome.message)
-        return _write_incomplete(exc, output, args.plot, spec.name, "run",
-                                 _run_plotting(spec, result.data, signals, args.plot))
-    _write_results(result.data, output, args.plot, spec.name,
-                   plotting=_run_plotting(spec, result.data, signals, args.plot))
+        return _write_incomplete(exc, output, args.plot, spec.name, "run", plotting)
+    _write_results(result.data, output, args.plot, spec.name, plotting=plotting)
     end = float(result.data["time"][-1])
     summary = f"wrote {output} ({result.steps} steps, {len(result.data)} rows, t = {spec.start:g} .. {end:g} s)"
     if outcome.status == "terminated":  # the model's own end: one note, as simulate gives it

@@ -151,3 +151,19 @@ def test_heat_map_colours_units_and_legend(boundary, tmp_path, drawn_figures):
     assert found["colorbars"] == ["observed growth rate [1/s] (symmetric log scale)"]
     assert found["ylabels"] == ["tau [s]"] and not found["unlabelled"]
     assert ("predicted boundary (max Re = 0)" in found["legend"]) == boundary
+
+
+def test_run_keeps_its_result_when_signals_are_refused(tmp_path):
+    """`cosim run` knows its recorded columns after the run: an unknown `--signals` name costs the
+    plot, not the computed rows (exit 2, one line, the result written)."""
+    from conftest import ROOT
+
+    text = (ROOT / "cosim" / "systems" / "rider-p-control.toml").read_text(encoding="utf-8")
+    system = tmp_path / "short.toml"
+    system.write_text(text.replace("stop = 20.0", "stop = 0.5"), encoding="utf-8")
+    status, out, err = cli_in_process(["run", str(system), "-o", "r.csv", "--plot", "r.png", "--signals", "bike.phi,nope"],
+                                      tmp_path)
+    assert status == 2 and len(err.strip().splitlines()) == 1, err
+    assert err.startswith("cosim run: error: --signals: unknown signal(s) nope; available: bike.phi, ")
+    assert err.strip().endswith("computed were written to r.csv, without a plot")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.csv", "short.toml"]

@@ -11,7 +11,9 @@ import math
 import sys
 from pathlib import Path
 
+from cosim.cosimulation import registry
 from cosim.errors import CosimError, OutputError
+from cosim.fmu.parameters import declarations
 from cosim.outputs import atomic_output, write_text
 
 ORDER = {"failed": 0, "disagree": 1, "marginal": 2, "agree": 3, "observed": 3}
@@ -84,9 +86,6 @@ def axis_label(study, name: str, key: str) -> str:
 
 
 def _parameter_unit(study, name: str) -> str | None:
-    from cosim.cosimulation import registry
-    from cosim.fmu.parameters import declarations
-
     for component in (study.raw.get("components") or {}).values():
         if not isinstance(component, dict):
             continue
