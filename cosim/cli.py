@@ -367,16 +367,6 @@ def _signals(args) -> list[str] | None:
     return [s.strip() for s in args.signals.split(",") if s.strip()]
 
 
-def _units(md, prefix: str = "") -> dict:
-    """Variable name (after ``prefix``) -> unit, as the model description declares it."""
-    units = {}
-    for v in md.modelVariables:
-        unit = getattr(v, "unit", None) or getattr(getattr(v, "declaredType", None), "unit", None)
-        if unit:
-            units[prefix + v.name] = unit
-    return units
-
-
 def _write_results(result, output: Path, plot_path: str | None, title: str, complete: bool = True,
                    plotting: dict | None = None) -> list[str]:
     """Write the computed result (and its plot: ``plotting`` holds the keywords of
@@ -422,7 +412,7 @@ def _cmd_simulate(args) -> int:
     from cosim.fmu.access import ALL_FMI_VERSIONS, read_fmu
     from cosim.fmu.parameters import declarations
     from cosim.fmu.simulate import (IncompleteResult, SimulationTerminated, check_run, check_signals, input_signals,
-                                    simulate)
+                                    simulate, variable_units)
     from cosim.fmu.target import is_fmu_path, resolve_fmu
 
     # a model first: an unknown one is named before its result file; an FMU is read for --param only
@@ -440,7 +430,7 @@ def _cmd_simulate(args) -> int:
     outputs = [v.name for v in md.modelVariables if v.causality == "output" and getattr(v, "alias", None) is None]
     if signals is not None:  # the recorded columns are the outputs (all variables if it has none)
         check_signals(signals, outputs or [v.name for v in md.modelVariables if v.name != "time"])
-    plotting = {"units": _units(md), "signals": signals,
+    plotting = {"units": variable_units(md), "signals": signals,
                 "inputs": [v.name for v in md.modelVariables if v.causality == "input"]}
     try:
         with warnings.catch_warnings(record=True) as caught:
@@ -639,22 +629,14 @@ def _signals_option(parser) -> None:
 def _run_plotting(spec, data, signals: list[str] | None, plot_path: str | None) -> dict:
     """The plot keywords of a co-simulation result: the units its FMU components declare (a
     Python block declares none), the chosen signals (checked against the recorded columns)."""
-    from cosim.fmu.access import ALL_FMI_VERSIONS, read_fmu
+    from cosim.cosimulation.factory import recorded_units
     from cosim.fmu.simulate import check_signals, numeric_names
-    from cosim.fmu.target import built_fmu
 
     if not plot_path:
         return {}
     if signals is not None:
         check_signals(signals, numeric_names(data))
-    units: dict = {}
-    for name, component in spec.components.items():
-        # a model was built by the run: its FMU is found, never built again here
-        fmu = Path(component.source) if component.kind == "fmu" else \
-            built_fmu(component.source, fmi_version=component.fmi_version) if component.kind == "model" else None
-        if fmu is not None:
-            units.update(_units(read_fmu(fmu, ALL_FMI_VERSIONS), prefix=f"{name}."))
-    return {"units": units, "signals": signals}
+    return {"units": recorded_units(spec), "signals": signals}
 
 
 def _cmd_run(args) -> int:

@@ -1153,6 +1153,17 @@ def plot_signals(result: np.ndarray, signals: list[str] | None = None, inputs=()
     return order[:PLOT_PANELS]
 
 
+def variable_units(md, prefix: str = "") -> dict:
+    """Variable name (with ``prefix`` before it) -> unit, as the model description ``md`` declares
+    it (on the variable or on its declared type); variables without a unit are left out."""
+    units = {}
+    for v in md.modelVariables:
+        unit = getattr(v, "unit", None) or getattr(getattr(v, "declaredType", None), "unit", None)
+        if unit:
+            units[prefix + v.name] = unit
+    return units
+
+
 def check_signals(signals: list[str], available: list[str], option: str = "--signals") -> None:
     """Refuse names that are not among ``available`` (one message listing those available)."""
     unknown = [s for s in signals if s not in available]
