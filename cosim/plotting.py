@@ -1,7 +1,7 @@
 """Readable matplotlib figures: legends that cover no data, angles shown in degrees.
 
 Shared by ``cosim figures``, the ``--plot`` option of ``simulate``/``run`` and the matrix heat
-maps. Nothing here imports matplotlib: it works on the figures and axes it is given.
+maps. It works on the figures and axes it is given; importing it does not load matplotlib.
 """
 from __future__ import annotations
 
@@ -69,16 +69,17 @@ def _inside(points: np.ndarray, box) -> bool:
     return bool(np.any((x >= box.x0) & (x <= box.x1) & (y >= box.y0) & (y <= box.y1)))
 
 
-def _segments_cross(vertices: np.ndarray, box, samples: int = 16) -> bool:
-    """Whether the polyline (NaN breaks it) passes through ``box``: each segment sampled densely."""
-    a, b = vertices[:-1], vertices[1:]
-    ok = np.all(np.isfinite(a), axis=1) & np.all(np.isfinite(b), axis=1)
-    a, b = a[ok], b[ok]
-    if len(a) == 0:
-        return _inside(vertices[np.all(np.isfinite(vertices), axis=1)], box)
-    t = np.linspace(0.0, 1.0, samples)[None, :, None]
-    points = (a[:, None, :] + t * (b - a)[:, None, :]).reshape(-1, 2)
-    return _inside(points, box)
+def _segments_cross(vertices: np.ndarray, box) -> bool:
+    """Whether the polyline (a non-finite vertex breaks it) passes through or lies in ``box``."""
+    from matplotlib.path import Path
+
+    finite = np.all(np.isfinite(vertices), axis=1)
+    breaks = np.flatnonzero(~finite)
+    for run in np.split(vertices, breaks):
+        run = run[np.all(np.isfinite(run), axis=1)]
+        if len(run) == 1 and _inside(run, box) or len(run) > 1 and Path(run).intersects_bbox(box, filled=False):
+            return True
+    return False
 
 
 def place_legend(ax, outside: str = "right", **kwargs):

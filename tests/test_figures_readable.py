@@ -93,7 +93,7 @@ def test_plot_panels_and_units(signals, inputs, labels, tmp_path, drawn_figures)
     result = _whipple_like()
     plot(result, tmp_path / "p.png", "Whipple", units=UNITS, signals=signals, inputs=inputs)
     (_, axes, found), = drawn_figures
-    assert len(axes) == len(labels) <= PLOT_PANELS or signals
+    assert len(axes) == (PLOT_PANELS if signals is None else len(signals))
     assert found["ylabels"] == labels
     for data, label in zip(axes, labels):
         (t, y), = data
@@ -125,7 +125,8 @@ def test_signals_choose_the_panels(fmus, tmp_path, drawn_figures):
 
 def _study(boundary: bool):
     """A 4 x 4 study in (V, tau) and its records: growth rates across 0 (``boundary``) or all negative."""
-    study = SimpleNamespace(name="s", settings={"margin": 0.05}, plots=[{"x": "V", "y": "tau", "x_unit": "m/s", "y_unit": "s"}],
+    study = SimpleNamespace(name="s", settings={"margin": 0.05},
+                            plots=[{"x": "V", "y": "tau", "x_unit": "m/s", "y_unit": "s"}],
                             axes={"V": [1.0, 2.0, 3.0, 4.0], "tau": [0.1, 0.2, 0.3, 0.4]}, raw={"components": {}})
     cases, records = [], []
     for i, (V, tau) in enumerate((V, tau) for V in study.axes["V"] for tau in study.axes["tau"]):
@@ -161,8 +162,8 @@ def test_run_keeps_its_result_when_signals_are_refused(tmp_path):
     text = (ROOT / "cosim" / "systems" / "rider-p-control.toml").read_text(encoding="utf-8")
     system = tmp_path / "short.toml"
     system.write_text(text.replace("stop = 20.0", "stop = 0.5"), encoding="utf-8")
-    status, out, err = cli_in_process(["run", str(system), "-o", "r.csv", "--plot", "r.png", "--signals", "bike.phi,nope"],
-                                      tmp_path)
+    status, out, err = cli_in_process(["run", str(system), "-o", "r.csv", "--plot", "r.png",
+                                       "--signals", "bike.phi,nope"], tmp_path)
     assert status == 2 and len(err.strip().splitlines()) == 1, err
     assert err.startswith("cosim run: error: --signals: unknown signal(s) nope; available: bike.phi, ")
     assert err.strip().endswith("computed were written to r.csv, without a plot")
