@@ -13,6 +13,8 @@ INSIDE = ("upper right", "upper left", "lower left", "lower right",
 
 #: Display pixels kept free around a legend box.
 MARGIN_PX = 2.0
+#: Gap between the axes and a legend put beside them, in axes widths.
+GAP = 0.015
 
 
 def degrees(values):
@@ -114,5 +116,5 @@ def place_legend(ax, outside: str = "right", **kwargs):
     if outside == "below":
         # under the axes' own tick labels and x label, in axes coordinates
         tight = ax.get_tightbbox(renderer).transformed(ax.transAxes.inverted())
-        return ax.legend(loc="upper center", bbox_to_anchor=(0.5, tight.y0 - 0.02), borderaxespad=0.0, **kwargs)
-    return ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, **kwargs)
+        return ax.legend(loc="upper center", bbox_to_anchor=(0.5, tight.y0 - GAP), borderaxespad=0.0, **kwargs)
+    return ax.legend(loc="upper left", bbox_to_anchor=(1.0 + GAP, 1.0), borderaxespad=0.0, **kwargs)
