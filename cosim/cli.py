@@ -380,9 +380,21 @@ def _rows(result) -> str:
     return f"{len(result)} rows (t = {result['time'][0]:.6g} .. {result['time'][-1]:.6g} s)"
 
 
-def _write_results(result, output: Path, plot_path: str | None, title: str, complete: bool = True) -> list[str]:
-    """Write the computed result (and its plot); a write that fails (disk full, quota, read-only
-    file system) is one :class:`ResultNotWritten` naming the path and what was kept and lost."""
+def _signals(args) -> list[str] | None:
+    """``--signals a,b,c`` as a list (None: not given); refused without ``--plot``."""
+    if args.signals is None:
+        return None
+    if not args.plot:
+        raise ParameterError("--signals chooses the panels of --plot: give --plot FILE too")
+    return [s.strip() for s in args.signals.split(",") if s.strip()]
+
+
+def _write_results(result, output: Path, plot_path: str | None, title: str, complete: bool = True,
+                   plotting: dict | None = None) -> list[str]:
+    """Write the computed result (and its plot: ``plotting`` holds the keywords of
+    :func:`cosim.fmu.simulate.plot`, units, signals and inputs); a write that fails (disk full,
+    quota, read-only file system) is one :class:`ResultNotWritten` naming the path and what was
+    kept and lost."""
     from cosim.fmu.simulate import incomplete_path, plot, write_result
 
     targets = [output, plot_path] if complete else [incomplete_path(output),
@@ -391,7 +403,8 @@ def _write_results(result, output: Path, plot_path: str | None, title: str, comp
     try:
         written.append(str(write_result(result, targets[0])))
         if plot_path:
-            written.append(str(plot(result, targets[1], title=title if complete else f"{title} (incomplete)")))
+            written.append(str(plot(result, targets[1], title=title if complete else f"{title} (incomplete)",
+                                    **(plotting or {}))))
     except OutputError as exc:
         kept = f"; kept: {', '.join(written)}" if written else ""
         raise ResultNotWritten(f"{exc}; the {_rows(result)} computed{' before the failure' if not complete else ''} "
@@ -399,14 +412,15 @@ def _write_results(result, output: Path, plot_path: str | None, title: str, comp
     return written
 
 
-def _write_incomplete(exc, output: Path, plot_path: str | None, title: str, verb: str) -> int:
+def _write_incomplete(exc, output: Path, plot_path: str | None, title: str, verb: str,
+                      plotting: dict | None = None) -> int:
     """Keep what was computed before a solver failure: write it beside the final name."""
     result = exc.result
     if result is None or len(result) == 0:
         print(f"cosim {verb}: error: {exc} (nothing computed to write)", file=sys.stderr)
         return EXIT_BAD_INPUT
     try:
-        written = _write_results(result, output, plot_path, title, complete=False)
+        written = _write_results(result, output, plot_path, title, complete=False, plotting=plotting)
     except ResultNotWritten as lost:
         raise ResultNotWritten(f"incomplete: {exc}; and {lost}") from None
     stale = f"; note: {output} is from an earlier run" if output.exists() else ""
@@ -419,13 +433,15 @@ def _cmd_simulate(args) -> int:
     from cosim.bicycle.parameters import from_command_line
     from cosim.fmu.access import ALL_FMI_VERSIONS, read_fmu
     from cosim.fmu.parameters import declarations
-    from cosim.fmu.simulate import IncompleteResult, SimulationTerminated, check_run, input_signals, simulate
+    from cosim.fmu.simulate import (IncompleteResult, SimulationTerminated, check_run, check_signals, input_signals,
+                                    simulate, variable_units)
     from cosim.fmu.target import is_fmu_path, resolve_fmu
 
     # a model first: an unknown one is named before its result file; an FMU is read for --param only
     declared = None if is_fmu_path(args.target) else declarations(args.target)
     output = Path(args.output) if args.output else _default_result(args.target)
     _check_outputs(output, args.plot)  # before any build or run
+    signals = _signals(args)
     params = from_command_line(args.target, args.param, parameter_set=args.params, declared=declared)
     check_run(None, args.stop_time, args.step, args.fmi_type, parameters=params)
     fmu = resolve_fmu(args.target, versions=ALL_FMI_VERSIONS)  # FMI 2.0 and 3.0 (FMPy runs both)
@@ -434,6 +450,10 @@ def _cmd_simulate(args) -> int:
     inputs = input_signals(fmu, args.input, t0, t1)
     # an FMI 3 <Alias> (another name, maybe another display unit, of the same value) is no column of its own
     outputs = [v.name for v in md.modelVariables if v.causality == "output" and getattr(v, "alias", None) is None]
+    if signals is not None:  # the recorded columns are the outputs (all variables if it has none)
+        check_signals(signals, outputs or [v.name for v in md.modelVariables if v.name != "time"])
+    plotting = {"units": variable_units(md), "signals": signals,
+                "inputs": [v.name for v in md.modelVariables if v.causality == "input"]}
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", SimulationTerminated)
@@ -441,13 +461,13 @@ def _cmd_simulate(args) -> int:
                               outputs=outputs or None, progress=sys.stderr.isatty() and not active().quiet, timeout=args.timeout,
                               lenient=args.lenient)
     except IncompleteResult as exc:
-        return _write_incomplete(exc, output, args.plot, md.modelName, "simulate")
+        return _write_incomplete(exc, output, args.plot, md.modelName, "simulate", plotting)
     for warning in caught:  # the model's own end is a note; any other warning is shown as usual
         if isinstance(warning.message, SimulationTerminated):
             print(f"cosim simulate: note: {warning.message}", file=sys.stderr)
         else:
             warnings.showwarning(warning.message, warning.category, warning.filename, warning.lineno)
-    _write_results(result, output, args.plot, md.modelName)
+    _write_results(result, output, args.plot, md.modelName, plotting=plotting)
     print(f"wrote {output} ({len(result)} rows: {', '.join(result.dtype.names)})")
     if args.plot:
         print(f"wrote {args.plot}")
@@ -621,24 +641,52 @@ def _cmd_compare(args) -> int:
     return EXIT_OK
 
 
+def _signals_option(parser) -> None:
+    parser.add_argument("--signals", default=None, metavar="A,B,...",
+                        help="the signals --plot draws, one panel each (default: at most 4: roll and steer "
+                             "angles phi, delta, then the inputs, the torques, speed v and lateral position y, "
+                             "then the others); an unknown name is refused with the list of those available")
+
+
+def _run_plotting(spec, data, signals: list[str] | None, plot_path: str | None) -> dict:
+    """The plot keywords of a co-simulation result: the units its FMU components declare (a
+    Python block declares none), the chosen signals (checked against the recorded columns)."""
+    from cosim.cosimulation.factory import recorded_units
+    from cosim.fmu.simulate import check_signals, numeric_names
+
+    if not plot_path:
+        return {}
+    if signals is not None:
+        check_signals(signals, numeric_names(data))
+    return {"units": recorded_units(spec), "signals": signals}
+
+
 def _cmd_run(args) -> int:
     from cosim.cosimulation.factory import run_system
     from cosim.cosimulation.master import RunFailed
     from cosim.cosimulation.system import load_system
-    from cosim.fmu.simulate import IncompleteResult
+    from cosim.fmu.simulate import IncompleteResult, incomplete_path
 
     output = Path(args.output) if args.output else Path(f"{Path(args.system).stem}.csv")
     _check_outputs(output, args.plot)  # before any build or run
+    signals = _signals(args)
     spec = load_system(args.system)
     try:
         result = run_system(spec, timeout=args.timeout)
     except RunFailed as exc:  # an FMU failed a step: the rows before it are kept
         result = exc.result
     outcome = result.outcome
+    try:  # the recorded columns are known now: an unknown --signals name costs the plot only
+        plotting = _run_plotting(spec, result.data, signals, args.plot)
+    except ParameterError as exc:
+        kept = incomplete_path(output) if not outcome.complete else output
+        _write_results(result.data, kept, None, spec.name)
+        raise ParameterError(f"{exc}; the {_rows(result.data)} computed were written to {kept}, "
+                             "without a plot") from None
     if not outcome.complete:  # an FMU failed or a signal turned non-finite: keep the rows
         exc = IncompleteResult(outcome.message, result.data, outcome.time, outcome.message)
-        return _write_incomplete(exc, output, args.plot, spec.name, "run")
-    _write_results(result.data, output, args.plot, spec.name)
+        return _write_incomplete(exc, output, args.plot, spec.name, "run", plotting)
+    _write_results(result.data, output, args.plot, spec.name, plotting=plotting)
     end = float(result.data["time"][-1])
     summary = f"wrote {output} ({result.steps} steps, {len(result.data)} rows, t = {spec.start:g} .. {end:g} s)"
     if outcome.status == "terminated":  # the model's own end: one note, as simulate gives it
@@ -846,6 +894,7 @@ def parser() -> argparse.ArgumentParser:
                         "at T0 [s] (see 'inputs')")
     s.add_argument("-o", "--output", default=None, help="result .csv or .npy (default: <model>.csv)")
     s.add_argument("--plot", default=None, help="save a plot of the result (PNG, PDF, SVG, ...)")
+    _signals_option(s)
     timeout_option(s, "it completes no step")
     lenient_option(s, "the FMU")
     library_option(s)
@@ -890,6 +939,7 @@ def parser() -> argparse.ArgumentParser:
     run.add_argument("system", help="system file (TOML)")
     run.add_argument("-o", "--output", default=None, help="result .csv or .npy (default: <system>.csv)")
     run.add_argument("--plot", default=None, help="save a plot of the recorded signals (PNG, PDF, SVG, ...)")
+    _signals_option(run)
     run.add_argument("--allow-fall", action="store_true", help="exit 0 even if the bicycle falls")
     timeout_option(run, "the system completes no communication step")
     lenient_option(run, "every FMU component of the system")

@@ -329,7 +329,8 @@ def line_pixels(path: Path, color: str = "C0") -> int:
 @pytest.fixture()
 def drawn_figures(monkeypatch) -> list:
     """Every matplotlib figure saved during the test, with what its axes show, recorded at save
-    time: a list of ``(path, [per axes: list of (x, y) arrays of its lines and point sets])``."""
+    time: a list of ``(path, [per axes: list of (x, y) arrays of its lines and point sets],
+    readability)``, ``readability`` as :func:`readability` finds it."""
     import matplotlib.figure
     import numpy as np
 
@@ -346,11 +347,74 @@ def drawn_figures(monkeypatch) -> list:
             data += [(c.get_offsets()[:, 0], c.get_offsets()[:, 1]) for c in ax.collections
                      if len(c.get_offsets()) > 1]
             axes.append(data)
-        saved.append((fname, axes))
+        saved.append((fname, axes, readability(fig)))
         return original(fig, fname, *args, **kwargs)
 
     monkeypatch.setattr(matplotlib.figure.Figure, "savefig", record)
     return saved
+
+
+def readability(fig) -> dict:
+    """What a reader meets in a drawn figure: ``"unlabelled"``, the axes sides (``"axes 0 y:
+    'phi'"``) that show tick labels without a ``[unit]`` in their label, ``"covered"``, per
+    legend the data points it lies on (``"legend 'a, b' over 3 points of axes 0"``); and the
+    ``"ylabels"``, ``"legend"`` texts, ``"colorbars"`` labels and ``"colormaps"`` of the cells.
+
+    Data points: each line drawn in data coordinates, sampled 20 times per segment in display
+    coordinates, and each point set; reference lines across the axes (axhline, grid) are not data.
+    Inset axes (children of another axes) are read as part of their parent.
+    """
+    import re
+
+    import numpy as np
+    from matplotlib.collections import PathCollection
+
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    insets = {id(child) for ax in fig.axes for child in ax.child_axes}
+    shown = [ax for ax in fig.axes if not hasattr(ax, "_colorbar") and id(ax) not in insets]
+    unlabelled = []
+    for k, ax in enumerate(shown):
+        for side, ticks, label in (("x", ax.get_xticklabels(), ax.get_xlabel()),
+                                   ("y", ax.get_yticklabels(), ax.get_ylabel())):
+            if any(t.get_visible() and t.get_text() for t in ticks) and not re.search(r"\[[^\]]+\]", label):
+                unlabelled.append(f"axes {k} {side}: {label!r}")
+    points = []
+    for k, ax in enumerate(shown):
+        for line in ax.get_lines():
+            if line.get_transform() != ax.transData or not line.get_visible():
+                continue
+            xy = ax.transData.transform(np.column_stack([line.get_xdata(), line.get_ydata()]).astype(float))
+            if line.get_linestyle() not in ("None", "none", "", " ") and len(xy) > 1:
+                t = np.linspace(0.0, 1.0, 20)[None, :, None]
+                xy = (xy[:-1, None, :] + t * (xy[1:] - xy[:-1])[:, None, :]).reshape(-1, 2)
+            points.append((k, xy[np.all(np.isfinite(xy), axis=1)]))
+        for c in ax.collections:
+            if len(c.get_offsets()) > 1 and c.get_offset_transform() == ax.transData:
+                xy = ax.transData.transform(np.asarray(c.get_offsets(), float))
+                points.append((k, xy[np.all(np.isfinite(xy), axis=1)]))
+    legends = [ax.get_legend() for ax in shown if ax.get_legend() is not None] + list(fig.legends)
+    covered = []
+    for legend in legends:
+        box = legend.get_window_extent(renderer)
+        for k, xy in points:
+            inside = ((xy[:, 0] >= box.x0) & (xy[:, 0] <= box.x1) & (xy[:, 1] >= box.y0) & (xy[:, 1] <= box.y1))
+            if inside.any():
+                names = ", ".join(t.get_text() for t in legend.get_texts())
+                covered.append(f"legend {names[:60]!r} over {int(inside.sum())} points of axes {k}")
+    return {"unlabelled": unlabelled, "covered": covered, "ylabels": [ax.get_ylabel() for ax in shown],
+            "legend": [t.get_text() for legend in legends for t in legend.get_texts()],
+            "colorbars": [ax.get_xlabel() or ax.get_ylabel() for ax in fig.axes if hasattr(ax, "_colorbar")],
+            "colormaps": [c.cmap for ax in shown for c in ax.collections
+                          if isinstance(c, PathCollection) and c.get_array() is not None]}
+
+
+def assert_readable(record: tuple) -> None:
+    """A figure recorded by :func:`drawn_figures` has a unit on every labelled axis side and no
+    legend over its data (:func:`readability`)."""
+    path, _, found = record
+    assert not found["unlabelled"], f"{path}: axes without a unit: {found['unlabelled']}"
+    assert not found["covered"], f"{path}: {found['covered']}"
 
 
 def assert_plotted(axes_data: list, min_points: int = 10) -> None:

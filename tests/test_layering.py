@@ -20,7 +20,7 @@ ROOT = Path(__file__).resolve().parents[1]
 #: Parts of the package (top-level modules and subpackages) by layer, lowest first. The parts of
 #: one layer do not import each other.
 LAYERS: list[tuple[str, ...]] = [
-    ("cosim", "errors", "processes", "native", "cli_options", "statespace", "progress"),
+    ("cosim", "errors", "processes", "native", "cli_options", "statespace", "progress", "plotting"),
     ("outputs", "folder_lock"),
     ("analytic",),  # formulas only
     ("compiler",),

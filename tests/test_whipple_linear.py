@@ -22,7 +22,7 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from conftest import assert_plotted, calculated_parameters, png_pixels
+from conftest import assert_plotted, assert_readable, calculated_parameters, png_pixels
 from cosim.bicycle import stability as WP
 from cosim.analytic import parameters as P
 from cosim.analytic import whipple as W
@@ -260,7 +260,8 @@ FIGURES = ["fig8", "fig9", "fig13", "fig15"]
 @pytest.mark.parametrize("name", FIGURES, ids=FIGURES)
 def test_figure_is_written(fmu, name, tmp_path, monkeypatch, drawn_figures):
     """`cosim figures NAME` (cosim.figures.make_figures) writes NAME.png, using this module's FMU:
-    every axes of the figure shows finite, varying data, and the PNG is that drawing."""
+    every axes of the figure shows finite, varying data with a unit on its axes and no legend
+    over it, and the PNG is that drawing."""
     from cosim.figures import make_figures, registry
 
     monkeypatch.setattr(WP, "whipple_fmu", lambda *a, **k: fmu)
@@ -269,6 +270,7 @@ def test_figure_is_written(fmu, name, tmp_path, monkeypatch, drawn_figures):
     assert written == [tmp_path / f"{name}.png"]
     assert len(drawn_figures) == 1
     assert_plotted(drawn_figures[0][1])
+    assert_readable(drawn_figures[0])
     pixels = png_pixels(written[0])
     assert min(pixels.shape[:2]) >= 300, f"{pixels.shape[1]} x {pixels.shape[0]} pixels"
     assert (pixels.min(axis=-1) < 0.5).mean() > 0.005, "the image is (almost) blank"

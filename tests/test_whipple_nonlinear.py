@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import assert_plotted, png_pixels
+from conftest import assert_plotted, assert_readable, png_pixels
 from cosim.analytic import whipple as W
 from cosim.analytic.parameters import load_parameters
 from cosim.analytic.compare import root_set_error
@@ -258,6 +258,7 @@ def test_figure_modules_write_files(fmu, tmp_path, monkeypatch, drawn_figures):
         assert [p.suffix for p in written] == [".png", ".json"]
         assert len(drawn_figures) == 1, "one figure per module"
         assert_plotted(drawn_figures[0][1], min_points=3)
+        assert_readable(drawn_figures[0])  # units on the axes, no legend over a curve
         assert min(png_pixels(written[0]).shape[:2]) >= 300
         assert json.loads(written[1].read_text()), f"{written[1]} holds no data"
 

@@ -13,7 +13,10 @@ from cosim.outputs import check_input_file
 from cosim.compiler.library import load_library
 from cosim.cosimulation.isolated import run_isolated_system
 from cosim.cosimulation.master import run_components
+from cosim.fmu.access import ALL_FMI_VERSIONS, read_fmu
 from cosim.fmu.parameters import check, declarations
+from cosim.fmu.simulate import variable_units
+from cosim.fmu.target import built_fmu
 
 
 def python_block(name: str, block: str, parameters: dict, where: str = "system") -> Component:
@@ -102,6 +105,31 @@ def create_components(spec: SystemSpec, fmu_dir: str | Path | None = None) -> di
             comp.close()
         raise
     return {name: created[name] for name in spec.components}  # in the order of the system file
+
+
+def recorded_units(spec: SystemSpec, fmu_dir: str | Path | None = None) -> dict:
+    """``component.variable`` -> unit of the system's FMU components, from their model
+    descriptions; a model's FMU is read where a run built it (never built here). A Python block
+    declares no units: its output has the unit of the FMU input it is connected to, if any.
+
+    Parameters
+    ----------
+    spec : SystemSpec
+        The system.
+    fmu_dir : str or Path, optional
+        Where its models were built (default as :func:`run_system`).
+    """
+    units: dict = {}
+    for name, entry in spec.components.items():
+        fmu = Path(entry.source) if entry.kind == "fmu" else \
+            built_fmu(entry.source, fmu_dir, fmi_version=entry.fmi_version) if entry.kind == "model" else None
+        if fmu is not None:
+            units.update(variable_units(read_fmu(fmu, ALL_FMI_VERSIONS), prefix=f"{name}."))
+    for c in spec.connections:  # a Python block's output has the unit of the FMU input it drives
+        target = units.get(f"{c.target}.{c.input}")
+        if target is not None:
+            units.setdefault(f"{c.source}.{c.output}", target)
+    return units
 
 
 def run_system(path_or_spec, fmu_dir: str | Path | None = None, isolate: bool | None = None,

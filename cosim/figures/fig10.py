@@ -21,6 +21,7 @@ import numpy as np
 
 from cosim.outputs import write_text
 from cosim.figures import pyplot, save
+from cosim.plotting import degrees
 from cosim.fmu.simulate import simulate
 from cosim.nonlinear import model as nonlinear_model  # its build looked up when used: a replacement is seen
 from cosim.nonlinear.model import Bicycle, MODEL, parameters, speed_parameters
@@ -68,29 +69,33 @@ def make(output: Path) -> list[Path]:
               "above": ("--", "tab:red", f"v0 = {V_ABOVE} m/s > v_w")}
     for label, run in runs.items():
         ls, color, text = styles[label]
-        axes[0, 0].plot(run["time"], run["phi"], ls, color=color, lw=0.9, label=text)
-        axes[1, 0].plot(run["time"], run["delta"], ls, color=color, lw=0.9, label=text)
-        axes[1, 1].plot(run["time"], run["v"], ls, color=color, lw=0.9, label=text)
-        axes[0, 1].plot(run["phi"], run["delta"], ls, color=color, lw=0.5, alpha=0.6)
+        # angles drawn in degrees (the JSON keeps radians)
+        axes[0, 0].plot(run["time"], degrees(run["phi"]), ls, color=color, lw=0.9, label=text)
+        axes[1, 0].plot(run["time"], degrees(run["delta"]), ls, color=color, lw=0.9)
+        axes[1, 1].plot(run["time"], run["v"], ls, color=color, lw=0.9)
+        axes[0, 1].plot(degrees(run["phi"]), degrees(run["delta"]), ls, color=color, lw=0.5, alpha=0.6)
     traj = orbit.trajectory
-    axes[0, 1].plot(traj["phi"], traj["delta"], "k-", lw=1.8,
+    axes[0, 1].plot(degrees(traj["phi"]), degrees(traj["delta"]), "k-", lw=1.8,
                     label=f"periodic orbit: T = {orbit.period:.4f} s")
-    axes[0, 0].set_ylabel("roll angle phi [rad]")
-    axes[1, 0].set_ylabel("steer angle delta [rad]")
+    axes[0, 0].set_ylabel("roll angle phi [deg]")
+    axes[1, 0].set_ylabel("steer angle delta [deg]")
     axes[1, 1].set_ylabel("forward speed v [m/s]")
     for ax in (axes[0, 0], axes[1, 0], axes[1, 1]):
         ax.set_xlabel("time t [s]")
-    axes[0, 1].set_xlabel("roll angle phi [rad]")
-    axes[0, 1].set_ylabel("steer angle delta [rad]")
+    axes[0, 1].set_xlabel("roll angle phi [deg]")
+    axes[0, 1].set_ylabel("steer angle delta [deg]")
     for ax in axes.ravel():
         ax.grid(True, lw=0.3)
-        ax.legend(fontsize=7, loc="upper right")
     fig.suptitle(
         "Fig. 10: nonlinear Whipple bicycle without rider (astrom2005-riderless), FMU simulation\n"
         f"weave speed v_w = {v_w:.4f} m/s (FMU linearization); limit cycle at mean speed "
-        f"{orbit.mean_speed:.4f} m/s: period {orbit.period:.4f} s, roll amplitude {orbit.roll_amplitude:.4f} rad, "
-        f"steer amplitude {orbit.steer_amplitude:.4f} rad", fontsize=9)
+        f"{orbit.mean_speed:.4f} m/s: period {orbit.period:.4f} s, roll amplitude {orbit.roll_amplitude:.4f} rad "
+        f"({np.degrees(orbit.roll_amplitude):.1f} deg), steer amplitude {orbit.steer_amplitude:.4f} rad "
+        f"({np.degrees(orbit.steer_amplitude):.1f} deg)", fontsize=9)
     fig.tight_layout()
+    # one legend for the four panels, below them: it covers no curve
+    handles = [h for ax in (axes[0, 0], axes[0, 1]) for h in ax.get_legend_handles_labels()[0]]
+    fig.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, 0.0), ncol=len(handles), fontsize=8)
     out = Path(output)
     out.mkdir(parents=True, exist_ok=True)
     first, last = _decay(runs["above"])

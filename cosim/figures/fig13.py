@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from cosim.figures import pyplot, save
+from cosim.plotting import place_legend
 
 NAME = "fig13"
 PARAMS = "astrom2005-riderless"
@@ -96,8 +97,8 @@ def make(output: Path, computed: list | None = None) -> list[Path]:
     if ok.sum() >= 2:
         slope = np.polyfit(np.log(INERTIAS[ok]), np.log(capsize[ok]), 1)[0]
         ax.text(0.03, 0.05, f"both wheels, I <= 0.02: v_c ~ I^({slope:.2f})", transform=ax.transAxes, fontsize=8)
-    ax.axvline(0.14, color="tab:blue", lw=0.8, ls=":", label="Table 1: I = 0.14 kg m^2")
-    ax.set_xlabel("wheel spin inertia I = Iyy [kg m^2]  (Ixx = I/2)")
+    ax.axvline(0.14, color="tab:blue", lw=0.8, ls=":", label="Table 1: I = 0.14 kg m²")
+    ax.set_xlabel("wheel spin inertia I = Iyy [kg m²]  (Ixx = I/2)")
     ax.set_ylabel("critical speed [m/s]")
     ax.set_title("Fig. 13: critical speeds vs wheel inertia, riderless bicycle (astrom2005-riderless)\n"
                  "solid: weave speed (becomes stable), dashed: capsize speed; FMU linearizations",
@@ -108,6 +109,6 @@ def make(output: Path, computed: list | None = None) -> list[Path]:
     ax.yaxis.set_major_formatter(plain)
     ax.yaxis.set_minor_formatter(FuncFormatter(lambda y, _: f"{y:g}" if str(round(y))[0] in "2357" else ""))
     ax.grid(True, which="both", lw=0.3)
-    ax.legend(fontsize=8, loc="upper right")
+    place_legend(ax, fontsize=8)
     Path(output).mkdir(parents=True, exist_ok=True)
     return [save(fig, Path(output) / f"{NAME}.png")]

@@ -48,6 +48,7 @@ from pathlib import Path
 import numpy as np
 
 from cosim.figures import pyplot, save
+from cosim.plotting import place_legend
 from cosim.analytic.parameters import load_parameter_set, parameters_for_model, validate_parameters
 from cosim.figures.fig9 import plot_real_parts
 
@@ -122,7 +123,6 @@ def make(output: Path) -> list[Path]:
         ax.plot(SPEEDS, ev0.real.max(axis=1), color="0.5", lw=0.8, ls="--",
                 label=f"max Re, knife-edge rear wheel (R = 0): stable {vw0:.2f}..{vc0:.2f} m/s")
         ax.set_title(f"crowned rear roller R = {R:g} m ({'caption' if R == 0.3 else 'text'})", fontsize=9)
-        ax.legend(loc="upper right", fontsize=7)
         ax.set_ylim(-16, 16)
     axes[1].set_ylabel("")
     fig.suptitle("Fig. 15: adapted bicycle with rider (CoM height 0.4 m, front wheel 3 kg in the rim), crowned rear "
@@ -131,6 +131,8 @@ def make(output: Path) -> list[Path]:
                  "toroidal rear wheel (crown radius R); the weave speeds differ from the paper's 3.9 m/s because the "
                  "adapted bicycle's data are our choice (the paper gives none)", fontsize=9)
     fig.tight_layout()
+    for ax in axes:  # the layout is final: the legends measure the drawing
+        place_legend(ax, outside="below", fontsize=7)
     Path(output).mkdir(parents=True, exist_ok=True)
     return [save(fig, Path(output) / f"{NAME}.png")]
 

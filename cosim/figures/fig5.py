@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from cosim.figures import pyplot, save
+from cosim.plotting import place_legend
 from cosim.outputs import write_text
 from cosim.fmu.simulate import simulate
 
@@ -161,7 +162,6 @@ def make(output: Path, fmu: Path | None = None) -> list[Path]:
         ax.grid(True)
     for ax, name in zip(axes[1:], ("phi", "delta")):  # the paper's steady values
         ax.axhline(cases[0]["steady_state_rad"][name], color="C3", lw=0.8, ls=":")
-    axes[1].legend(fontsize=6.5, loc="lower right")
     r = cases[0]["result"]
     early = r["time"] <= 1.5
     inset = axes[0].inset_axes([0.08, 0.12, 0.38, 0.5])  # the small positive start of eta
@@ -170,6 +170,7 @@ def make(output: Path, fmu: Path | None = None) -> list[Path]:
     inset.set_title("first 1.5 s (solid)", fontsize=7)
     inset.tick_params(labelsize=6)
     axes[-1].set_xlabel("time [s]")
+    place_legend(axes[1], fontsize=6.5)
     s = cases[0]["settled_rad"]
     axes[0].set_title(
         f"{MODEL}, T from t = 0; solid: V = {V:.4f} m/s, T = {T:.4f} N m, solved from the static\n"

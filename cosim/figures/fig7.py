@@ -32,6 +32,7 @@ import numpy as np
 
 from cosim.outputs import write_text
 from cosim.figures import pyplot, save
+from cosim.plotting import degrees
 from cosim.analytic import whipple as W
 from cosim.nonlinear import model as nonlinear_model  # its build looked up when used: a replacement is seen
 from cosim.nonlinear.model import Bicycle, MODEL, parameters
@@ -158,6 +159,7 @@ def _label(crown: float) -> str:
 
 
 def _draw(axes, data: dict) -> None:
+    """Draw one variant into its (roll, steer) axes, the angles in degrees (the JSON keeps radians)."""
     ax_phi, ax_delta = axes
     stable_style = dict(color="tab:blue", lw=2.2)
     unstable_style = dict(color="tab:red", lw=1.2, ls="--")
@@ -166,6 +168,7 @@ def _draw(axes, data: dict) -> None:
         s = np.array([p.stable for p in branch.points])
         # the reversed branch (delta = pi) only in the steer panel: at phi = 0 it would hide the upright one
         for ax, y in ((ax_phi, 0.0), (ax_delta, delta))[1 if delta else 0:]:
+            y = np.degrees(y)
             ax.plot(np.where(s, v, np.nan), np.full_like(v, y), **stable_style,
                     label="stable" if ax is ax_phi and delta == 0.0 else None)
             ax.plot(np.where(~s, v, np.nan), np.full_like(v, y), **unstable_style,
@@ -176,34 +179,42 @@ def _draw(axes, data: dict) -> None:
         v = curve.array("v")
         s = np.array([p.stable for p in curve.points])
         for ax, name in ((ax_phi, "phi"), (ax_delta, "delta")):
-            y = curve.array(name)
+            y = degrees(curve.array(name))
             ax.plot(np.where(s, v, np.nan), y, **stable_style)
             ax.plot(np.where(~s, v, np.nan), y, **unstable_style)
             ax.plot(v, -y, color="0.6", lw=0.6, ls="--")  # mirror branch
     rows = fold_table(data)
+    # text on an opaque box above the curves: a label is never crossed by a line
+    boxed = dict(boxstyle="round,pad=0.15", fc="white", ec="0.7", lw=0.4)
+    listed = [r for r in rows if r["side"] == "phi>0"]
     for ax, key in ((ax_phi, "phi_rad"), (ax_delta, "delta_rad")):
         for r in rows:
             mirror = r["side"] != "phi>0"
-            ax.plot(r["v_m_s"], r[key], "o", ms=6, mfc="none" if mirror else "k", mec="k",
+            ax.plot(r["v_m_s"], np.degrees(r[key]), "o", ms=6, mfc="none" if mirror else "k", mec="k",
                     label="saddle-node fold" if ax is ax_phi and r is rows[-1] else None)
-        for r in rows:
-            if r["side"] == "phi>0" and key == "delta_rad":
-                ax.annotate(f"V = {r['v_m_s']:.4f}\nphi = {r['phi_rad']:.4f}\ndelta = {r['delta_rad']:.4f}",
-                            (r["v_m_s"], r[key]), textcoords="offset points", xytext=(6, -4), fontsize=6.5)
+        for number, r in enumerate(listed if key == "delta_rad" else (), start=1):
+            # a number beside the fold (its values are listed under the panel), away from the curve
+            ax.annotate(str(number), (r["v_m_s"], np.degrees(r[key])), textcoords="offset points",
+                        xytext=(10, 10 if r[key] < 0 else -10), ha="left", va="center", fontsize=7,
+                        bbox=boxed, zorder=5, arrowprops=dict(arrowstyle="-", lw=0.5, color="0.3"))
     for ax in axes:
-        for speed, label in zip(data["interval"] or (), ("v_w", "v_c")):
+        for speed, label, side in zip(data["interval"] or (), ("v_w", "v_c"), ("right", "left")):
             ax.axvline(speed, color="0.5", lw=0.6, ls=":")
-            ax.annotate(f"{label} = {speed:.3f}", (speed, 0), textcoords="offset points", xytext=(3, 6),
-                        fontsize=7, color="0.3")
+            # at the top edge of the panel, beside its line (v_w to the left of it, v_c to the right)
+            ax.annotate(f"{label} = {speed:.3f} m/s", (speed, 1.0), xycoords=("data", "axes fraction"),
+                        textcoords="offset points", xytext=(-3 if side == "right" else 3, -3),
+                        ha=side, va="top", fontsize=7, color="0.3", bbox=boxed, zorder=5)
         ax.grid(True, lw=0.3)
         ax.set_xlim(0.0, data["window"].v_max)
-    ax_phi.set_ylim(-np.pi / 2, np.pi / 2)
-    ax_delta.set_ylim(-1.05 * np.pi, 1.05 * np.pi)
-    ax_delta.set_yticks(np.linspace(-np.pi, np.pi, 9))
-    ax_delta.set_xlabel("forward speed V of the rear contact point [m/s]")
+    ax_phi.set_ylim(-90.0, 90.0)
+    ax_delta.set_ylim(-189.0, 189.0)
+    ax_delta.set_yticks(np.arange(-180.0, 181.0, 45.0))
+    folds = "".join(f"\nfold {k}: V = {r['v_m_s']:.4f} m/s, phi = {np.degrees(r['phi_rad']):.2f} deg, "
+                    f"delta = {np.degrees(r['delta_rad']):.2f} deg" for k, r in enumerate(listed, start=1))
+    ax_delta.set_xlabel("forward speed V of the rear contact point [m/s]" + folds)
     n = sum(len(f) for f in data["folds"])
     ax_phi.set_title(f"{_label(data['crown'])}: {n} fold(s) per side\n{_upright_text(data)}", fontsize=8.5)
-    ax_delta.set_title("steer; delta = +-pi: straight running with the front wheel turned backwards", fontsize=8)
+    ax_delta.set_title("steer; delta = +-180 deg: straight running with the front wheel turned backwards", fontsize=8)
 
 
 def _upright_text(data: dict) -> str:
@@ -267,12 +278,16 @@ def make(output: Path, computed: list[dict] | None = None) -> list[Path]:
     fig, axes = plt.subplots(2, 2, figsize=(13.0, 8.5), sharex=True)
     for col, data in enumerate(variants):
         _draw(axes[:, col], data)
-    axes[0, 0].set_ylabel("roll angle phi [rad]")
-    axes[1, 0].set_ylabel("steer angle delta [rad]")
-    axes[0, 0].legend(loc="upper left", fontsize=7)
+    for ax in axes[0]:
+        ax.set_ylabel("roll angle phi [deg]")
+    for ax in axes[1]:
+        ax.set_ylabel("steer angle delta [deg]")
     fig.suptitle("Fig. 7: steady turns of the nonlinear bicycle with rider (astrom2005), Whipple FMU; "
                  f"searched {variants[0]['window'].describe()}; mirror branches grey, folds o", fontsize=9)
     fig.tight_layout()
+    # the legend below the panels, where it covers no curve
+    fig.legend(handles=axes[0, 0].get_legend_handles_labels()[0], loc="upper center", bbox_to_anchor=(0.5, 0.0),
+               ncol=3, fontsize=8)
     out = Path(output)
     out.mkdir(parents=True, exist_ok=True)
     summary = {

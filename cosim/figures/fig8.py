@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from cosim.figures import pyplot, save
+from cosim.plotting import place_legend
 
 NAME = "fig8"
 PARAMS = "astrom2005"
@@ -58,7 +59,7 @@ def make(output: Path) -> list[Path]:
     ax.set_ylabel("Im p [1/s]")
     ax.set_title("Fig. 8: root locus over speed, bicycle with rider\n"
                  "(astrom2005, 0 <= v <= 15 m/s, FMU linearizations of WhippleLinear)", fontsize=10)
-    ax.legend(loc="upper left", fontsize=8)
     ax.grid(True, lw=0.3)
+    place_legend(ax, fontsize=8)
     Path(output).mkdir(parents=True, exist_ok=True)
     return [save(fig, Path(output) / f"{NAME}.png")]

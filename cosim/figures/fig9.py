@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from cosim.figures import pyplot, save
+from cosim.plotting import place_legend
 
 NAME = "fig9"
 PARAMS = "astrom2005"
@@ -70,6 +71,6 @@ def make(output: Path) -> list[Path]:
     ax.set_title("Fig. 9: real parts of the poles, bicycle with rider (astrom2005)\n"
                  "dot real, o complex; red unstable, blue stable; FMU linearizations of WhippleLinear",
                  fontsize=10)
-    ax.legend(loc="lower left", fontsize=8)
+    place_legend(ax, fontsize=8)
     Path(output).mkdir(parents=True, exist_ok=True)
     return [save(fig, Path(output) / f"{NAME}.png")]

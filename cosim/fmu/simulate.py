@@ -1112,19 +1112,100 @@ def _csv_cell(text: str) -> str:
     return text
 
 
-def plot(result: np.ndarray, path: str | Path, title: str = "") -> Path:
-    """One subplot per signal against time, saved as an image (atomically)."""
+#: At most this many panels in a plot whose signals are not chosen (``--signals``).
+PLOT_PANELS = 4
+#: The signals a plot shows when it chooses (matched on the name after the last ``.``, so
+#: ``bike.phi`` is ``phi``): the roll and steer angles first, then the model's inputs, then the
+#: torques, the forward speed and the lateral position, then the others in the result's order,
+#: :data:`PLOT_PANELS` in all.
+PLOT_FIRST = ("phi", "delta")
+PLOT_THEN = ("T_delta", "T", "T_phi", "v", "V", "y", "eta")
+
+
+def plot_signals(result: np.ndarray, signals: list[str] | None = None, inputs=()) -> list[str]:
+    """The columns of ``result`` that :func:`plot` draws, one panel each.
+
+    Parameters
+    ----------
+    result : numpy structured array
+        A result with a ``time`` column [s].
+    signals : list of str, optional
+        The columns to draw, in this order; default: at most :data:`PLOT_PANELS`, chosen as
+        :data:`PLOT_FIRST` describes.
+    inputs : sequence of str
+        The model's input names, preferred after the roll and steer angles.
+
+    Raises
+    ------
+    ParameterError
+        If a name of ``signals`` is not a numeric column of ``result``; the message lists them.
+    """
+    names = numeric_names(result)
+    if signals is not None:
+        check_signals(signals, names)
+        return list(dict.fromkeys(signals))
+    if len(names) <= PLOT_PANELS:
+        return names
+    base = {n: n.rsplit(".", 1)[-1] for n in names}
+    ranked = [*PLOT_FIRST, *inputs, *PLOT_THEN]
+    order = sorted(names, key=lambda n: (ranked.index(base[n]) if base[n] in ranked else len(ranked),
+                                         names.index(n)))
+    return order[:PLOT_PANELS]
+
+
+def variable_units(md, prefix: str = "") -> dict:
+    """Variable name (with ``prefix`` before it) -> unit, as the model description ``md`` declares
+    it (on the variable or on its declared type); variables without a unit are left out."""
+    units = {}
+    for v in md.modelVariables:
+        unit = getattr(v, "unit", None) or getattr(getattr(v, "declaredType", None), "unit", None)
+        if unit:
+            units[prefix + v.name] = unit
+    return units
+
+
+def check_signals(signals: list[str], available: list[str], option: str = "--signals") -> None:
+    """Refuse names that are not among ``available`` (one message listing those available)."""
+    unknown = [s for s in signals if s not in available]
+    if unknown:
+        raise ParameterError(f"{option}: unknown signal(s) {', '.join(unknown)}; available: {', '.join(available)}")
+    if not signals:
+        raise ParameterError(f"{option}: no signal named; available: {', '.join(available)}")
+
+
+def plot(result: np.ndarray, path: str | Path, title: str = "", units: dict | None = None,
+         signals: list[str] | None = None, inputs=()) -> Path:
+    """One subplot per signal against time, saved as an image (atomically).
+
+    Parameters
+    ----------
+    result : numpy structured array
+        A result with a ``time`` column [s].
+    path : path
+        The image file; its suffix gives the format.
+    title : str
+        The title above the first panel.
+    units : dict, optional
+        Signal name -> unit (the model description's); a signal in ``rad`` is drawn in degrees,
+        for display only. A signal without a unit is labelled "no unit declared".
+    signals, inputs
+        Which signals, as :func:`plot_signals` chooses them.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    names = numeric_names(result)
+    units = units or {}
+    names = plot_signals(result, signals, inputs)
     fig, axes = plt.subplots(len(names) or 1, 1, sharex=True, figsize=(7, 1.8 * max(1, len(names))), squeeze=False)
     try:
         for ax, name in zip(axes[:, 0], names):
-            ax.plot(result["time"], result[name])
-            ax.set_ylabel(name)
+            values, unit = np.asarray(result[name], dtype=float), units.get(name)
+            if unit == "rad":  # angles are read in degrees
+                values, unit = np.degrees(values), "deg"
+            ax.plot(result["time"], values)
+            ax.set_ylabel(f"{name} [{unit}]" if unit else f"{name}\n(no unit declared)")
             ax.grid(True)
         axes[-1, 0].set_xlabel("time [s]")
         if title:

@@ -68,6 +68,7 @@ Spec format (TOML)::
     x = "V"
     y = "ptau"
     hlines = [0.2, 2.0]
+    y_unit = "1"                  # optional x_unit, y_unit: else the unit of the model parameter set to "=V"
     [[study.checks]]              # claims: stable-interval, region, growth-rate (see checks.py)
     kind = "region"
     where = "ptau > 2"

@@ -11,12 +11,17 @@ import math
 import sys
 from pathlib import Path
 
-from cosim.errors import OutputError
+from cosim.cosimulation import registry
+from cosim.errors import CosimError, OutputError
+from cosim.fmu.parameters import declarations
 from cosim.outputs import atomic_output, write_text
 
 ORDER = {"failed": 0, "disagree": 1, "marginal": 2, "agree": 3, "observed": 3}
-COLORS = {"stable": "#3a9d5d", "unstable": "#d9534f", "fell": "#a02622", "diverged": "#6b1010",
-          "marginal": "#b0b0b0", "unexcited": "#f0ad4e", None: "#000000"}
+# Okabe-Ito colours, told apart by colour-blind readers: blue stable, orange and vermilion unstable
+COLORS = {"stable": "#0072B2", "unstable": "#E69F00", "fell": "#D55E00", "diverged": "#CC79A7",
+          "marginal": "#999999", "unexcited": "#56B4E9", None: "#000000"}
+#: The heat map's diverging colour map of the observed growth rate: blue (decays) - white - orange (grows).
+GROWTH_COLORS = ("#2166AC", "#F7F7F7", "#E66101")
 
 
 def _num(v, fmt="{:.4g}"):
@@ -72,6 +77,31 @@ def _plot_axes(study, cases):
     return (varying[0] if varying else None), (varying[1] if len(varying) > 1 else None)
 
 
+def axis_label(study, name: str, key: str) -> str:
+    """``NAME [unit]`` of a plot axis (``key``: ``"x"`` or ``"y"``): the unit the study's plot
+    gives (``x_unit``/``y_unit``), else that of the parameter the study sets to ``=NAME`` (of a
+    model, or of a Python block's Modelica twin)."""
+    unit = _plot_options(study).get(f"{key}_unit") or _parameter_unit(study, name)
+    return f"{name} [{unit}]" if unit else f"{name} (no unit declared)"
+
+
+def _parameter_unit(study, name: str) -> str | None:
+    for component in (study.raw.get("components") or {}).values():
+        if not isinstance(component, dict):
+            continue
+        params = [p for p, value in (component.get("parameters") or {}).items() if value == f"={name}"]
+        if params:
+            try:
+                model = component.get("model") or registry.lookup(component.get("python")).twin
+                declared = declarations(model, str(component.get("fmi_version", "2"))) if model else {}
+            except (CosimError, OSError):  # the report is written whatever the library holds now
+                return None
+            unit = getattr(declared.get(params[0]), "unit", None)
+            if unit:
+                return unit
+    return None
+
+
 def plot_study(study, cases, records, path: Path, expected=None) -> Path | None:
     import matplotlib
 
@@ -93,13 +123,37 @@ def plot_study(study, cases, records, path: Path, expected=None) -> Path | None:
     options = _plot_options(study)
     fig, ax = plt.subplots(figsize=(9.0, 4.8))
     if y_name:
+        from matplotlib.colors import LinearSegmentedColormap, SymLogNorm
+        from matplotlib.ticker import FuncFormatter, NullLocator
+
         xs = np.array([val(c, x_name) for c, _ in pairs])
         ys = np.array([val(c, y_name) for c, _ in pairs])
+        # cells: the observed growth rate on a blue/orange diverging map (white: neither grows nor
+        # decays); a case without one (it fell or diverged before a rate was measured, or failed)
+        # is drawn by its class
+        grow = np.array([(r.get("observed") or {}).get("growth_rate") or math.nan for _, r in pairs], float)
+        classes = [(r.get("observed") or {}).get("class") for _, r in pairs]
+        rated = np.isfinite(grow)
+        if rated.any():
+            # symmetric log scale: rates near 0 (the boundary) stay told apart beside large ones
+            lim = max(float(np.abs(grow[rated]).max()), 2 * margin, 1e-9)
+            thresh = min(max(margin, 0.05), lim)
+            cmap = LinearSegmentedColormap.from_list("growth", GROWTH_COLORS)
+            cells = ax.scatter(xs[rated], ys[rated], s=160, marker="s", c=grow[rated], cmap=cmap,
+                               norm=SymLogNorm(thresh, vmin=-lim, vmax=lim), edgecolors="0.6", linewidths=0.4)
+            # under the axes: the legend has the space on the right
+            bar = fig.colorbar(cells, ax=ax, label="observed growth rate [1/s] (symmetric log scale)",
+                               location="bottom", pad=0.2, fraction=0.05, aspect=50)
+            # 0 and the decades well outside the linear part, so that no two tick labels touch
+            decades = [10.0 ** k for k in range(-6, 7) if 3 * thresh <= 10.0 ** k <= lim]
+            bar.set_ticks([-d for d in reversed(decades)] + [0.0] + decades)
+            bar.ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+            bar.ax.xaxis.set_minor_locator(NullLocator())
         for cls in ("stable", "unstable", "fell", "diverged", "marginal", "unexcited", None):
-            sel = [i for i, (_, r) in enumerate(pairs) if (r.get("observed") or {}).get("class") == cls]
+            sel = [i for i in range(len(pairs)) if classes[i] == cls and not rated[i]]
             if sel:
-                ax.scatter(xs[sel], ys[sel], s=160, marker="s", c=COLORS[cls], label=f"observed {cls or 'failed'}",
-                           edgecolors="none")
+                ax.scatter(xs[sel], ys[sel], s=160, marker="s", c=COLORS[cls],
+                           label=f"observed {cls or 'failed'} (no growth rate)", edgecolors="none")
         for agreement, marker, color in (("disagree", "x", "black"), ("marginal", "o", "black"),
                                          ("failed", "X", "orange")):
             sel = [i for i, (_, r) in enumerate(pairs) if r.get("agreement") == agreement]
@@ -111,18 +165,18 @@ def plot_study(study, cases, records, path: Path, expected=None) -> Path | None:
         if ok.sum() >= 4 and len(set(xs[ok])) > 1 and len(set(ys[ok])) > 1:
             try:
                 clipped = np.clip(pred[ok], -5, 5)
-                cs = ax.tricontour(xs[ok], ys[ok], clipped, levels=[0.0], colors="navy", linewidths=2)
-                ax.tricontour(xs[ok], ys[ok], clipped, levels=[-margin, margin], colors="navy",
+                cs = ax.tricontour(xs[ok], ys[ok], clipped, levels=[0.0], colors="black", linewidths=2)
+                ax.tricontour(xs[ok], ys[ok], clipped, levels=[-margin, margin], colors="black",
                               linewidths=0.8, linestyles="dashed")
-                ax.plot([], [], color="navy", lw=2, label="predicted boundary (max Re = 0)")
-                del cs
+                if any(len(segment) for segment in cs.allsegs[0]):  # listed only where a line is drawn
+                    ax.plot([], [], color="black", lw=2, label="predicted boundary (max Re = 0)")
             except Exception:
                 pass
         for k, level in enumerate(options.get("hlines", [])):
             ax.axhline(level, color="purple", ls=":", lw=1.2, label=f"{y_name} = {level:g}")
         ax.margins(0.06)
-        ax.set_ylabel(y_name)
-        ax.set_title(f"{study.name}: observed stability (cells) and predicted boundary (line)")
+        ax.set_ylabel(axis_label(study, y_name, "y"))
+        ax.set_title(f"{study.name}: observed growth rate (cells) and predicted boundary (line)")
     else:
         order = sorted(range(len(pairs)), key=lambda i: val(pairs[i][0], x_name))
         xs = np.array([val(pairs[i][0], x_name) for i in order])
@@ -150,8 +204,9 @@ def plot_study(study, cases, records, path: Path, expected=None) -> Path | None:
         ax.set_yscale("symlog", linthresh=max(2 * margin, 0.02))
         ax.set_ylabel("growth rate [1/s] (symlog)")
         ax.set_title(f"{study.name}: predicted max Re vs observed growth")
-    ax.set_xlabel(x_name)
-    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), framealpha=0.85)
+    ax.set_xlabel(axis_label(study, x_name, "x"))
+    if ax.get_legend_handles_labels()[0]:  # beside the axes: it covers no cell
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), framealpha=0.85)
     ax.grid(alpha=0.3)
     fig.tight_layout()
     try:

@@ -99,7 +99,7 @@ CHECK_KEYS = {"stable-interval": {"axis", "expected", "tolerance"}, "region": {"
 REGION_EXPECT = ("stable", "unstable", "not-stable", "marginal")
 TUNE_KEYS = {"min", "max", "points", "scale"}
 TUNE_MAX_POINTS = 10_000
-PLOT_KEYS = {"x", "y", "hlines"}
+PLOT_KEYS = {"x", "y", "hlines", "x_unit", "y_unit"}
 #: Names that become file names (study.png) and folder names (matrix-NAME).
 _SAFE_NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.+-]*$")
 
@@ -739,13 +739,16 @@ def _plots(raw, known: set[str], where: str) -> list:
         _table(plot, pw)
         unknown = set(plot) - PLOT_KEYS
         if unknown:
-            raise SpecError(f"{pw}: unknown keys {', '.join(sorted(unknown))} (known: hlines, x, y)")
+            raise SpecError(f"{pw}: unknown keys {', '.join(sorted(unknown))} (known: {', '.join(sorted(PLOT_KEYS))})")
         for key in ("x", "y"):
             if key in plot:
                 _text(plot[key], f"{pw} {key}")
                 if plot[key] not in known:
                     raise SpecError(f"{pw} {key}: '{plot[key]}' is not a variable of the cases "
                                     f"(variables: {', '.join(sorted(known))})")
+        for key in ("x_unit", "y_unit"):
+            if key in plot:
+                _text(plot[key], f"{pw} {key}")
         if "hlines" in plot:
             _expect(plot["hlines"], isinstance(plot["hlines"], list)
                     and all(_is_number(v) and math.isfinite(v) for v in plot["hlines"]),

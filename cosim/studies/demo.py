@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 from cosim.errors import SimulationError
-from cosim.fmu.simulate import input_signals, plot, simulate, write_csv
+from cosim.fmu.simulate import input_signals, plot, simulate, variable_units, write_csv
 from cosim.fmu.validate import validate
 from cosim.folder_lock import folder_lock
 from cosim.outputs import check_output, check_output_folder
@@ -67,7 +67,9 @@ def _demo(output: Path) -> None:
     """:func:`run_demo` in a checked and locked output folder."""
     # deferred: loads casadi, fmpy, which importing this module does not
     from cosim.compiler.build import DEFAULT_OUTPUT, build
-    from cosim.cosimulation.factory import run_system
+    from cosim.cosimulation.factory import recorded_units, run_system
+    from cosim.cosimulation.system import load_system
+    from cosim.fmu.access import read_fmu
 
     _say("1. building every exported model (pymoca -> CasADi -> C -> gcc) ...")
     progress().item("build every exported model")
@@ -92,7 +94,8 @@ def _demo(output: Path) -> None:
         result = simulate(fmu, STOP, 0.01, kind, {"V": V}, inputs, outputs=["phi", "delta", "T"])
         write_csv(result, output / f"self_stabilizing_{kind}.csv")
         runs[kind] = result
-    plot(runs["cs"], output / "self_stabilizing.png", title=f"{MODEL}, V = {V} m/s, T = {T} N.m step")
+    plot(runs["cs"], output / "self_stabilizing.png", title=f"{MODEL}, V = {V} m/s, T = {T} N.m step",
+         units=variable_units(read_fmu(fmu)))
     params = dict(m=92, a=0.5, h=1.0, b=1.0, c=0.08, lam=math.radians(70), g=9.81, V=V)
     phi_ss, delta_ss = steady_state(T, **params)
     cs, me = runs["cs"], runs["me"]
@@ -105,7 +108,8 @@ def _demo(output: Path) -> None:
     progress().item(f"co-simulate {system.name}")
     lane = run_system(system)
     write_csv(lane.data, output / "lane_change.csv")
-    plot(lane.data, output / "lane_change.png", title="lane change by counter-steering (benchmark, 5 m/s)")
+    plot(lane.data, output / "lane_change.png", title="lane change by counter-steering (benchmark, 5 m/s)",
+         units=recorded_units(load_system(system)))
     y = lane.data["bike.y"]
     _say(f"   {lane.outcome.message}; lateral position first {y.min():.3f} m (counter-steer), "
          f"finally {y[-1]:.3f} m")
