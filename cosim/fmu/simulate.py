@@ -833,7 +833,7 @@ def _run_isolated(run: _Run, timeout: float | None) -> np.ndarray:
         elif kind == "rows":
             received["rows"].extend(payload)
 
-    fmu, md = run.handle.path, run.handle.description
+    fmu = run.handle.path
     try:
         return run_isolated(run, what=str(fmu), timeout=timeout, on_message=on_message)
     except FMUProcessError as exc:

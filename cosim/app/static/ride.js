@@ -343,8 +343,14 @@
       onEnd() { $("ride-play").textContent = "play"; if (player) state.player = { ...player.state }; },
     });
     state.player = { ...player.state };
-    player.play();
-    $("ride-play").textContent = "pause";
+    // The ride plays at once, unless the reader's system asks for reduced motion: then the first
+    // frame stays until "play" is pressed.
+    if (matchMedia("(prefers-reduced-motion: reduce)").matches) {
+      $("ride-play").textContent = "play";
+    } else {
+      player.play();
+      $("ride-play").textContent = "pause";
+    }
   }
 
   function showTrajectories(main, compare, labels) {
