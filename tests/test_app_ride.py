@@ -337,7 +337,8 @@ def test_rider_in_the_loop_gamepad_stick(page):
     moved = page.evaluate("(a) => { window.__axis = a; return window.cosimRide.live.t.at(-1); }", axis)
     page.wait_for_function("(n) => window.cosimRide.live.steps > n", arg=page.evaluate("cosimRide.live.steps") + 50)
     live = page.evaluate("window.cosimRide.live")
-    page.click("#live-stop")
+    page.keyboard.press("Escape")  # stops the ride as the stop button does
+    assert page.evaluate("[window.cosimRide.live.active, window.cosimRide.live.reason]") == [False, "stopped"]
     t, torque = np.array(live["t"]), np.array(live["T_delta"])
     first = t[np.argmax(torque != 0)]
     # the stick is read at the first step after it moved, the torque arrives tau later

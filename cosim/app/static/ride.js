@@ -555,6 +555,11 @@
   }
 
   function onKey(event, down) {
+    if (event.key === "Escape" && down && state.live && state.live.active) {
+      event.preventDefault();
+      stopLive();
+      return;
+    }
     if (!(event.key in keys) || !state.live || !state.live.active) return;
     event.preventDefault();
     if (keys[event.key] === down) return;  // auto-repeat
