@@ -15,7 +15,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from cosim.compiler.library import (Library, code_only, compiler_digest, library_digest, library_files,
-                                    library_paths, load_library)
+                                    library_paths, load_library, top_level_class)
 from cosim.errors import CosimError, ModelicaError
 from cosim.compiler.flatten import fewer_collections, flatten
 
@@ -278,10 +278,9 @@ def _package_keys(path=None) -> dict[str, tuple[Path, str]]:
     files: dict[str, list[Path]] = {}
     places: dict[str, Path] = {}
     for file, root in library_files(paths).items():
-        parts = file.relative_to(root).parts
-        top = parts[0] if len(parts) > 1 else file.stem
+        top = top_level_class(file, root)
         files.setdefault(top, []).append(file)
-        places.setdefault(top, root / parts[0])
+        places.setdefault(top, root / file.relative_to(root).parts[0])
     digests, named = {}, {}
     for top, members in files.items():
         h, code = hashlib.sha256(), []

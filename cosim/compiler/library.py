@@ -502,6 +502,13 @@ class Library:
 # `cosim list`, `cosim info MODEL` and the up-to-date check of an FMU need the library's digest,
 # not its parse: these functions read the files only (no pymoca, no CasADi is imported).
 
+def top_level_class(file: Path, root: Path) -> str:
+    """The top-level class that ``file`` of the library folder ``root`` belongs to: the package
+    folder ``Name/`` it lies in, or ``Name`` of a file ``Name.mo`` directly in ``root``."""
+    parts = file.relative_to(root).parts
+    return parts[0] if len(parts) > 1 else file.stem
+
+
 def library_files(paths: list[Path]) -> dict[Path, Path]:
     """Every ``.mo`` file of the library folders ``paths`` (sorted per folder) -> its folder.
 
@@ -518,8 +525,7 @@ def library_files(paths: list[Path]) -> dict[Path, Path]:
         for file in sorted(p for p in root.rglob("*.mo") if p.is_file()):
             if file in roots:
                 continue
-            parts = file.relative_to(root).parts
-            top = parts[0] if len(parts) > 1 else file.stem
+            top = top_level_class(file, root)
             if top in taken:
                 continue
             found.add(top)
