@@ -611,7 +611,8 @@ def test_bad_editor_value_is_one_message_and_the_plots_stay(page, name, paramete
     assert _state(page)["parameters"] == s0["parameters"]
 
 
-@pytest.mark.parametrize("name", ["benchmark", "astrom2005", "astrom2005-riderless", "rear-steered", "crowned-roller"])
+@pytest.mark.parametrize("name", ["benchmark", "astrom2005", "astrom2005-riderless", "rear-steered", "crowned-roller",
+                                  "measured/fisher"])
 def test_weave_and_capsize_speeds_shown(page, tmp_path, name):
     """The numbers shown for each choice: the linear ones equal cosim.analytic (1e-6 relative);
     rear-steered: none, self-stable nowhere (as cosim.analytic); crowned roller: the weave speed
@@ -622,7 +623,7 @@ def test_weave_and_capsize_speeds_shown(page, tmp_path, name):
 
     s = _choose(page, name)
     weave_text, capsize_text = page.locator("#weave").inner_text(), page.locator("#capsize").inner_text()
-    if name in ("benchmark", "astrom2005", "astrom2005-riderless"):
+    if name in ("benchmark", "astrom2005", "astrom2005-riderless", "measured/fisher"):
         _check_against_analytic(s)
         stable, expected = _extra(page)["selfStable"], self_stable_interval(s["parameters"], v_max=V_MAX)
         assert stable[0] == pytest.approx(expected[0], rel=SPEED_RTOL)

@@ -45,6 +45,7 @@ __all__ = [
     "Waiver",
     "ParameterSet",
     "bundled_parameter_sets",
+    "measured_parameter_sets",
     "load_parameter_set",
     "load_parameters",
     "load_set_for_models",
@@ -149,6 +150,24 @@ def bundled_parameter_sets() -> list[str]:
         :func:`load_parameters`.
     """
     return sorted(p.stem for p in _params_dir().glob("*.toml"))
+
+
+#: Subfolder of ``cosim/params`` with measured bicycles; its sets are named ``measured/<stem>``.
+MEASURED = "measured"
+
+
+def measured_parameter_sets() -> list[str]:
+    """Names of the bundled measured bicycles (BicycleParameters' published data).
+
+    Returns
+    -------
+    list of str
+        Sorted names ``measured/<stem>`` of ``cosim/params/measured/*.toml``, e.g.
+        ``"measured/browser"``; each is accepted by :func:`load_parameters`. They are kept apart
+        from :func:`bundled_parameter_sets` (the sets of the papers, which the Modelica records
+        and the reference checks are made from).
+    """
+    return sorted(f"{MEASURED}/{p.stem}" for p in (_params_dir() / MEASURED).glob("*.toml"))
 
 
 def _is_number(value: object) -> bool:
@@ -281,12 +300,18 @@ def _resolve(name_or_path: str | os.PathLike[str]) -> Path:
     """The file of a bundled name, or the path given."""
     bundled = {p.stem: p for p in _params_dir().glob("*.toml")}
     text = os.fspath(name_or_path)
+    if isinstance(name_or_path, str) and text.startswith(f"{MEASURED}/") and not os.path.exists(text):
+        measured = measured_parameter_sets()
+        if text not in measured:
+            raise ValueError(f"unknown measured bicycle {text!r}; bundled: {', '.join(measured)}")
+        return _params_dir() / f"{text}.toml"
     looks_like_path = isinstance(name_or_path, os.PathLike) or text.endswith(".toml") or os.sep in text \
         or (os.altsep is not None and os.altsep in text)
     if not looks_like_path:
         if text not in bundled:
             raise ValueError(f"unknown bundled parameter set {text!r}; bundled: "
-                             f"{', '.join(sorted(bundled))} (or pass a path to a .toml file)")
+                             f"{', '.join(sorted(bundled))}; measured: {', '.join(measured_parameter_sets())} "
+                             "(or pass a path to a .toml file)")
         return bundled[text]
     path = Path(text).expanduser()
     if not os.path.exists(path):  # (False also for a name too long to be a file)

@@ -43,6 +43,11 @@ Systems Magazine 25(4), is "the paper"):
     this bicycle, with a rear roller only, still falls standing, slower: measured here, the
     roll mode at 0 m/s goes from 3.05 1/s (knife edge) to 2.80 (0.3 m) and 2.07 (1.0 m)).
 
+``measured/...``
+    Real bicycles without rider measured by Moore et al. (2010, 2012), the published data of
+    BicycleParameters (``cosim/params/measured``, :data:`MEASURED_LABELS`), on WhippleLinear;
+    their explanations name the source and its licence (:data:`MEASURED_SOURCE`).
+
 Every parameter of a choice can also be typed into the page's parameter editor.
 """
 from __future__ import annotations
@@ -69,7 +74,7 @@ SLIDERS = (
     ("w", "wheelbase w", "m", 0.5, 2.0, 0.001),
     ("c", "trail c", "m", -0.1, 0.3, 0.001),
     ("lam", "steer-axis tilt \u03bb", "rad", -0.2, 0.8, 0.001),
-    ("mB", "rear frame mass m_B", "kg", 5.0, 150.0, 0.1),
+    ("mB", "rear frame mass m_B", "kg", 1.0, 150.0, 0.1),
     ("rF", "front wheel radius r_F", "m", 0.1, 0.6, 0.001),
     ("rR", "rear wheel radius r_R", "m", 0.1, 0.6, 0.001),
     ("tR", "rear crown radius t_R", "m", 0.0, 1.0, 0.001),
@@ -97,6 +102,20 @@ PITCH = {
 }
 
 
+#: The measured bicycles offered (``cosim/params/measured``): set name -> what the page calls it.
+MEASURED_LABELS = {
+    "measured/browser": "Batavus Browser",
+    "measured/crescendo": "Batavus Crescendo",
+    "measured/fisher": "Gary Fisher mountain bicycle",
+    "measured/pista": "Bianchi Pista",
+    "measured/yellow": "Yellow",
+    "measured/yellow-reversed": "Yellow with its fork reversed",
+}
+#: Where the measured values come from and under which licence (shown with each of them).
+MEASURED_SOURCE = ("Data: BicycleParameters 1.5.2 (J. K. Moore and the BicycleParameters authors, "
+                   "BSD 2-clause licence), nominal values of its benchmark files.")
+
+
 @dataclass(frozen=True)
 class Bicycle:
     """One choice of the page (see the module docstring)."""
@@ -105,7 +124,7 @@ class Bicycle:
     label: str
     explanation: str
     module: str
-    parameter_set: str  # a bundled Meijaard set of cosim/params
+    parameter_set: str  # a bundled Meijaard set of cosim/params (or measured/NAME)
     speeds: dict
     modifiers: dict = field(default_factory=dict)  # further parameters of the module, SI units
     sliders: tuple = COMMON_SLIDERS
@@ -144,6 +163,12 @@ BICYCLES = (
             "at negative speeds: an eigenvalue lies in the right half plane at every speed, so it is never "
             "self-stable, and a rider must stabilize a fast unstable mode.",
             LINEAR, "benchmark", BACKWARD),
+    *(Bicycle(name, f"measured: {label} (no rider)",
+              f"{label}, measured by Moore, Hubbard, Peterson, Schwab & Kooijman (2010) and Moore (2012): the "
+              "bicycle alone, without a rider, on the linear Whipple model. Self-stable from the weave speed "
+              "{weave} to the capsize speed {capsize} (cosim analytic). " + MEASURED_SOURCE,
+              LINEAR, name, FORWARD)
+      for name, label in MEASURED_LABELS.items()),
 )
 
 
