@@ -740,7 +740,7 @@ def _cmd_app(args) -> int:
 def _cmd_animate(args) -> int:
     from cosim.app.animate import animate
 
-    r = animate(args.result, args.output, params=args.params, param=args.param, speed=args.speed)
+    r = animate(args.result, args.output, params=args.params, param=args.param, speed=args.speed, signs=args.signs)
     for note in r.notes:
         print(f"note: {note}")
     print(f"wrote {r.path} ({r.rows} samples, {r.duration:g} s, {r.bytes / 1e3:.0f} kB); "
@@ -999,7 +999,10 @@ def parser() -> argparse.ArgumentParser:
                                "without the prefix of one component (bike.phi or phi; the component that has both phi\n"
                                "and delta). Results of the linear models have no x:\n"
                                "--speed V draws x = V t; missing y, psi, theta are 0, missing wheel angles are rolled\n"
-                               "along the path. The page (three.js inlined) opens from file:// with no network.\n\n"
+                               "along the path. The page (three.js inlined) opens from file:// with no network.\n"
+                               "Signs: the page draws Meijaard's axes (roll, steer, yaw, y positive to the right); the\n"
+                               "paper's second-order models write ISO 8855 signs (steer, yaw and the path eta positive\n"
+                               "to the left): --signs auto (default) takes those for a result with eta and no y.\n\n"
                                + EXIT_CODES)
     an.add_argument("result", help="result file (.csv or .npy)")
     an.add_argument("-o", "--output", default=None,
@@ -1010,6 +1013,10 @@ def parser() -> argparse.ArgumentParser:
                     help="a geometry value overriding --params: w, c, lam, rR, rF, tR, tF [m, rad] (repeatable)")
     an.add_argument("--speed", type=_finite, default=None, metavar="V",
                     help="forward speed [m/s] for a result without x (x = V t)")
+    an.add_argument("--signs", choices=("auto", "meijaard", "paper"), default="auto",
+                    help="sign convention of the result: meijaard (Whipple models), paper (ISO 8855, the "
+                         "second-order models: steer, yaw, eta positive to the left) or auto (default: paper "
+                         "for a result with eta and no y)")
     an.set_defaults(func=_cmd_animate)
 
     dg = sub.add_parser("diagram", help="a class's diagram (or icon) layer as SVG, from its graphical annotations",

@@ -19,6 +19,16 @@ signal        unit      when the result has none
 ``thetaF``    rad       ``-s / rF``
 ============  ========  =============================================================================
 
+Sign conventions (``--signs``): the page draws in Meijaard's axes (x forward, y right, z down:
+roll, steer, yaw and ``y`` positive to the right), the convention of the Whipple models. The
+paper's second-order models (SelfStabilizing, InvertedPendulum, LeaningRider, ...) use its ISO 8855
+axes (x forward, y left, z up): roll positive leaning right as in Meijaard's, but steer ``delta``,
+yaw ``psi`` and the path deviation ``eta`` positive to the left. ``--signs paper`` converts them
+(``delta``, ``psi`` negated, ``y = -eta``); ``auto`` (the default) takes the paper's signs for a
+result that has ``eta`` and no ``y`` (only those models write ``eta``), Meijaard's otherwise, and
+says which in a note. The rear-steered models (RearSteered and its examples) are drawn as a
+front-steered bicycle: the page has no rear-steered geometry.
+
 The page is one HTML file: the vendored three.js, ``static/ride3d.js`` (the view and the player)
 and ``static/animate.js`` (the controls and the roll/steer plots) inlined with
 :meth:`cosim.app.export.Script.inline`, and the trajectory as JSON; it opens from ``file://`` with
@@ -48,6 +58,10 @@ from cosim.fmu.simulate import finite_number
 
 REQUIRED = ("phi", "delta")
 OPTIONAL = ("x", "y", "psi", "theta", "thetaR", "thetaF")
+#: Sign conventions of a result: Meijaard's (the Whipple models) and the paper's ISO 8855 axes of
+#: the second-order models (steer, yaw and the path deviation ``eta`` positive to the left).
+SIGNS = ("auto", "meijaard", "paper")
+PAPER_PATH = "eta"  # [m] the paper's path deviation of the rear contact point, positive to the left
 GEOMETRY = ("w", "c", "lam", "rR", "rF", "tR", "tF")  # [m, rad]
 TEMPLATE = STATIC / "animate.html"
 MARKER = "<!-- COSIM:SCRIPTS -->"
@@ -220,8 +234,30 @@ def geometry(params: str | None = None, overrides: list[str] = ()) -> dict[str, 
     return g
 
 
-def trajectory(columns: dict, path: Path, geometry_: dict, speed: float | None = None):
+def result_signs(columns: dict, prefix: str, signs: str = "auto") -> str:
+    """The sign convention of a result: ``"meijaard"`` or ``"paper"`` (see the module docstring).
+
+    Parameters
+    ----------
+    columns : dict
+        The result's columns.
+    prefix : str
+        The bicycle's prefix (:func:`bicycle_prefix`).
+    signs : {"auto", "meijaard", "paper"}
+        ``auto``: the paper's for a result with ``eta`` and no ``y``, else Meijaard's.
+    """
+    if signs not in SIGNS:
+        raise ParameterError(f"--signs: '{signs}' is not one of {', '.join(SIGNS)}")
+    if signs != "auto":
+        return signs
+    return "paper" if prefix + PAPER_PATH in columns and prefix + "y" not in columns else "meijaard"
+
+
+def trajectory(columns: dict, path: Path, geometry_: dict, speed: float | None = None, signs: str = "auto"):
     """The configuration signals of a result: ``(trajectory, signals, notes)``.
+
+    ``signs`` is the result's sign convention (:func:`result_signs`); the trajectory is always in
+    Meijaard's (roll, steer, yaw and y positive to the right).
 
     Returns
     -------
@@ -255,6 +291,20 @@ def trajectory(columns: dict, path: Path, geometry_: dict, speed: float | None =
             out[name] = columns[prefix + name]
             signals[name] = prefix + name
     notes = []
+    convention = result_signs(columns, prefix, signs)
+    if convention == "paper":
+        if "y" not in out and prefix + PAPER_PATH in columns:
+            out["y"] = -columns[prefix + PAPER_PATH]
+            signals["y"] = f"-{prefix}{PAPER_PATH}"
+        flipped = [name for name in ("delta", "psi") if name in out]
+        for name in flipped:
+            out[name] = -out[name]
+            signals[name] = f"-{signals[name]}"
+        notes.append("the paper's signs (ISO 8855: steer, yaw and path positive to the left) drawn in "
+                     f"Meijaard's (to the right): {', '.join(f'{n} = -{prefix}{n}' for n in flipped)}"
+                     + (f", y = -{prefix}{PAPER_PATH}" if signals.get("y", "").startswith("-") else ""))
+    elif prefix + PAPER_PATH in columns:
+        notes.append(f"{prefix}{PAPER_PATH} ignored: Meijaard's signs were chosen (--signs paper draws it as the path)")
     if "x" not in out:
         if speed is None:
             raise InputDataError(f"{path}: no signal {prefix}x, the forward position of the rear "
@@ -308,7 +358,7 @@ def _script_safe(text: str) -> str:
 
 
 def animate(result: str | os.PathLike, output: str | os.PathLike | None = None, *, params: str | None = None,
-            param: list[str] = (), speed: float | None = None) -> AnimationResult:
+            param: list[str] = (), speed: float | None = None, signs: str = "auto") -> AnimationResult:
     """Write the 3-D animation of a result as one HTML file.
 
     Parameters
@@ -323,6 +373,8 @@ def animate(result: str | os.PathLike, output: str | os.PathLike | None = None, 
         ``NAME=VALUE`` geometry overrides (w, c, lam, rR, rF, tR, tF) [m, rad].
     speed : float, optional
         Forward speed V [m/s] for results without x (x = V t).
+    signs : {"auto", "meijaard", "paper"}
+        The result's sign convention (:func:`result_signs`; the notes say which was used).
 
     Returns
     -------
@@ -341,9 +393,11 @@ def animate(result: str | os.PathLike, output: str | os.PathLike | None = None, 
     check_output(output, "animation file")
     if speed is not None and not math.isfinite(speed):
         raise ParameterError(f"--speed: {speed} is not a finite number")
+    if signs not in SIGNS:
+        raise ParameterError(f"--signs: '{signs}' is not one of {', '.join(SIGNS)}")
     g = geometry(params, list(param))
     columns = read_result(result)
-    traj, signals, notes = trajectory(columns, result, g, speed)
+    traj, signals, notes = trajectory(columns, result, g, speed, signs)
     text = page(traj, g, f"{result.name}: 3-D ride", signals, notes)
     write_text(output, text, "animation file")
     t = traj["t"]
