@@ -31,6 +31,7 @@ import numpy as np
 import pytest
 
 from cosim.cli import EXIT_INTERRUPTED
+from cosim.app.bicycles import MEASURED_LABELS
 from conftest import bound_by_permissions, bundle_data, cli_in_process
 from test_wasm import browser, offline_page  # noqa: F401 (browser: the shared fixture)
 
@@ -679,7 +680,7 @@ def test_bicycle_data_refuses_what_does_not_fit(app_site, monkeypatch):
     descriptions = {m: modules[m]["description"] for m in (bicycles.LINEAR, bicycles.NONLINEAR)}
     data = bicycles.page_data(descriptions[bicycles.LINEAR], descriptions)
     assert [b["name"] for b in data["bicycles"]] == ["benchmark", "astrom2005", "astrom2005-riderless",
-                                                     "crowned-roller", "rear-steered"]
+                                                     "crowned-roller", "rear-steered", *MEASURED_LABELS]
     assert all(len(b["derivatives"]) == 4 for b in data["bicycles"])
     crowned = dataclasses.replace(bicycles.BICYCLES[3], modifiers={"tR": 0.3, "tX": 1.0})
     with pytest.raises(ValueError, match=r"bicycle crowned-roller: tX not parameters of Bicycle.Bicycles.Whipple"):
