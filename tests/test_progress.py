@@ -131,21 +131,25 @@ def _on_terminal(argv: list[str], cwd) -> tuple[int, str, str]:
     ("figures", ["figures", "figA", "figB", "-o", "figures", "-j", "1"], [r"\[1/2\] figA", r"\[2/2\] figB"]),
     ("run", ["run", str(ROOT / "cosim" / "systems" / "lane-change.toml"), "-o", "r.csv"],
      [r"\d+% t = [\d.]+ of 20 s"]),
+    ("run-c-loop", ["run", str(ROOT / "cosim" / "systems" / "lane-change.toml"), "-o", "r.csv"],
+     [r"\d+% t = [\d.]+ of 20 s"]),
     ("demo", ["demo", "-o", "d"], [r"\[1/4\] build every exported model",
                                    rf"\[2/4\] validate the FMUs > \[1/2\] {DEMO_MODELS[0]}",
                                    rf"\[2/4\] validate the FMUs > \[2/2\] {DEMO_MODELS[1]}",
                                    rf"\[3/4\] simulate {DEMO_MODELS[0]}", r"\[4/4\] co-simulate lane-change\.toml"]),
     ("app-export", ["app", "--export", "site"], [r"\[1/4\] load the shipped WebAssembly modules",
                                                  r"\[4/4\] write the bundle"]),
-], ids=["build", "validate", "figures", "run", "demo", "app-export"])
+], ids=["build", "validate", "figures", "run", "run-c-loop", "demo", "app-export"])
 def test_long_verbs_show_progress_on_a_terminal_and_nothing_with_q(verb, argv, expected, fmus, tmp_path,
                                                                    monkeypatch):
     """Each verb shows the count and current item (``run``: the percent of its stop time, on the
-    Python loop that steps one communication point at a time) on a terminal, clears the line at
+    Python loop that steps one communication point at a time and on the C loop, called for a
+    fiftieth of the grid at a time) on a terminal, clears the line at
     the end, and with -q leaves the terminal blank and prints the same result. (The figures are
     two that write a small file each: the paper's take seconds to compute; the demo's build is
     two FMUs of the session; `app --export` uses the shipped modules, as an installed cosim does.)"""
-    monkeypatch.setattr(System, "use_fast_loop", False)
+    if verb != "run-c-loop":  # the Python loop, one communication point at a time
+        monkeypatch.setattr(System, "use_fast_loop", False)
     monkeypatch.setattr(figures, "registry", lambda: {name: _Figure(name) for name in ("figA", "figB")})
     # the demo's build returns two of the session's FMUs (building and validating all of them takes
     # half a minute); its validation, simulations and co-simulation run as they are

@@ -266,10 +266,11 @@ static double step_length(const fast_component *c, const double *times, long k, 
    and *failed_time the time the call names (the step's start for fmi2DoStep, else the FMU's
    communication point); on RING_FULL *failed is the index of the delay, on DIVERGED the index of
    the first non-finite signal. *steps_done counts the base steps whose results are recorded (rows 0 .. *steps_done of
-   rec). */
+   rec). Steps first .. last - 1 of the grid are taken (0 and n_steps for all): the master calls again from
+   where a call stopped to report progress between calls, with the same results as one call. */
 int cosim_fast_run(int nc, fast_component *comps, const int *order, int gauss_seidel, int after_transfer,
                    double *signals, double *sampled, int n_signals, const double *times, long n_steps,
-                   int n_rec, const int *rec_idx, double *rec,
+                   long first, long last, int n_rec, const int *rec_idx, double *rec,
                    int fall_idx, double fall_limit, long *steps_done, int *failed, int *fmi_status,
                    int *failed_call, double *failed_time) {
     long k;
@@ -278,7 +279,7 @@ int cosim_fast_run(int nc, fast_component *comps, const int *order, int gauss_se
         *fmi_status = status; *failed_call = (what); *steps_done = k; \
         *failed_time = (what) == CALL_STEP ? t : comps[order[j]].now; \
         return status < 0 ? RING_FULL : FMI_ERROR; } } while (0)
-    for (k = 0; k < n_steps; k++) {
+    for (k = first; k < last; k++) {
         double t = times[k];
         double *row;
         if (gauss_seidel) {
@@ -322,6 +323,6 @@ int cosim_fast_run(int nc, fast_component *comps, const int *order, int gauss_se
         if (fall_idx >= 0 && fabs(signals[fall_idx]) > fall_limit) { *steps_done = k + 1; return FELL; }
     }
 #undef FAIL_IF
-    *steps_done = n_steps;
+    *steps_done = last;
     return COMPLETED;
 }

@@ -48,6 +48,9 @@ def step_grid(start: float, stop: float, step: float) -> np.ndarray:
     return times
 
 
+#: Calls of the C loop over one run's grid: between them the terminal shows how far the run is.
+CHUNKS = 50
+
 #: Longest grid that :func:`step_grid` keeps (100,000 steps: 0.8 MB).
 CACHED_GRID_STEPS = 100_000
 
@@ -453,7 +456,7 @@ class System:
 
     def _fast_steps(self, lib, natives: dict, multiples: dict, data: np.ndarray, grid: np.ndarray,
                     record_idx: np.ndarray):
-        """One call of ``cosim_fast_run`` (fastloop.c) over the whole grid: (outcome, rows)."""
+        """``cosim_fast_run`` (fastloop.c) over the whole grid in :data:`CHUNKS` calls: (outcome, rows)."""
         from ctypes import byref, c_double, c_int, c_long, c_uint, c_void_p, pointer
 
         spec = self.spec
@@ -491,13 +494,21 @@ class System:
         def pointer_to(array: np.ndarray) -> c_void_p:  # (data_as costs ~2 us a call, five a run)
             return c_void_p(array.ctypes.data)
 
-        progress().fraction(0.0, f"t = {grid[0]:.4g} of {grid[-1]:.4g} s (all steps in one call of the C loop)")
-        status = lib.cosim_fast_run(
-            len(self.names), comps, order, self.algorithm.fast_code,
-            int(spec.sampling == "after-transfer"), pointer_to(self.signals), pointer_to(self._sampled),
-            len(self.signals), pointer_to(times), c_long(n_steps), len(rec_idx), pointer_to(rec_idx),
-            pointer_to(data), fall, c_double(spec.fall_limit or 0.0),
-            byref(steps_done), byref(failed), byref(fmi_status), byref(failed_call), byref(failed_time))
+        reporter, span = progress(), grid[-1] - grid[0]
+        # the grid in CHUNKS calls, so that the terminal shows how far the run is (a call costs µs)
+        bounds = np.unique(np.linspace(0, n_steps, min(n_steps, CHUNKS) + 1).round().astype(int))
+        status = 0
+        for first, last in zip(bounds[:-1], bounds[1:]):
+            reporter.fraction((grid[first] - grid[0]) / span if span > 0 else 0.0,
+                              f"t = {grid[first]:.4g} of {grid[-1]:.4g} s")
+            status = lib.cosim_fast_run(
+                len(self.names), comps, order, self.algorithm.fast_code,
+                int(spec.sampling == "after-transfer"), pointer_to(self.signals), pointer_to(self._sampled),
+                len(self.signals), pointer_to(times), c_long(n_steps), c_long(int(first)), c_long(int(last)),
+                len(rec_idx), pointer_to(rec_idx), pointer_to(data), fall, c_double(spec.fall_limit or 0.0),
+                byref(steps_done), byref(failed), byref(fmi_status), byref(failed_call), byref(failed_time))
+            if status != 0:
+                break
         for j, name in enumerate(self.names):
             if name not in natives:
                 self.components[name].now = comps[j].now  # as the Python loop leaves it
