@@ -114,8 +114,9 @@ def _scripts() -> tuple[Script, ...]:
     # three.js before ride3d.js (it uses the global THREE); ride3d.js and plots.js before ride.js
     # (which uses CosimRide3D and CosimPlots). app.js and ride.js are independent of each other;
     # ride.js comes first so that the rides are defined even if app.js throws while loading (one
-    # bundle is one script: an uncaught error stops what follows it). diagram.js after app.js, which
-    # fills the bicycle select it follows.
+    # bundle is one script: an uncaught error stops what follows it). sideview.js, modes.js and
+    # viewstate.js before app.js, which uses them. diagram.js after app.js, which fills the bicycle
+    # select it follows.
     return (
         Script(VENDOR / "ml-matrix.umd.js"),
         Script(LOADER, "CosimFMU", "module"),
@@ -123,6 +124,9 @@ def _scripts() -> tuple[Script, ...]:
         Script(STATIC / "ride3d.js"),
         Script(STATIC / "plots.js"),
         Script(STATIC / "ride.js"),
+        Script(STATIC / "sideview.js"),
+        Script(STATIC / "modes.js"),
+        Script(STATIC / "viewstate.js"),
         Script(STATIC / "app.js"),
         Script(STATIC / "diagram.js"),
     )

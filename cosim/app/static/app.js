@@ -32,11 +32,19 @@
 // (= bicycle), module, parameters (the last valid ones, drawn), speed, speedRange {min, max},
 // eigenvalues [[re, im] x 4] at the speed, weave, capsize (m/s or null), selfStable ([from, to]
 // m/s of the first self-stable run of the sweep, or null), leastUnstable ({speed, re}: the
-// smallest largest real part over the sweep), sweep {speeds, evs, weave, capsize}, lastRedrawMs
+// smallest largest real part over the sweep), sweep {speeds, evs, modes, weave, capsize}, lastRedrawMs
 // [ms: the computation of the last redraw, from its input event's handler to the canvases drawn,
 // the browser's paint not included] and evaluations (linearizations) of the last redraw, redraws,
 // continuation (true: see above; set it to false to initialize the module anew at every speed),
-// clipped {plot, locus}: the points of the sweep that the axes leave out (the plots say so)}.
+// clipped {plot, locus}: the points of the sweep that the axes leave out (the plots say so),
+// reRange ({min, max} [1/s] chosen, or null: the axes fit), axes {plot, locus} (what a pointer
+// position means: the last drawing's margins [CSS px] and limits), hover {plot: {v, eigenvalues,
+// modes, text} | null, locus: {v, re, im, mode, text} | null} (the read-outs), rangeError {v, re}
+// and viewError (the messages of the range fields and of a refused file or link, or null)}.
+//
+// The side view (sideview.js) is drawn after every redraw; the modes are named by modes.js; the
+// view is saved to and loaded from a JSON file and written into the address's hash after every
+// redraw (viewstate.js), and a link with such a hash opens that view.
 (function () {
   "use strict";
   const DATA = window.COSIM_DATA;
@@ -228,7 +236,8 @@
     const evs = speeds.map((v) => lin.eigenvalues(p, v));
     // weave and capsize are defined for riding forwards (cosim.analytic.whipple)
     const critical = min >= 0 ? criticalSpeeds(lin, p, speeds, evs) : { weave: null, capsize: null };
-    return { speeds, evs, ...critical, ...stability(lin, p, speeds, evs) };
+    const modes = evs.map((ev, k) => CosimModes.name(ev, speeds[k]));  // weave, capsize, castering (modes.js)
+    return { speeds, evs, modes, ...critical, ...stability(lin, p, speeds, evs) };
   }
 
   // A canvas drawn at its CSS size (its box, set by index.html's style) times
@@ -282,6 +291,52 @@
   // capsize modes the plot is about); the plot says how many points it leaves out.
   const FAST_STABLE = -20;
 
+  // --- the modes named on the plot, the chosen Re range, the axes kept for the read-outs ------
+  // [CSS px and data units] of the last drawing of each plot: what a pointer position means
+  const axes = { plot: null, locus: null };
+  state.axes = axes;
+
+  // The axis of a chosen range {min, max}: exactly that, with a nice step for its grid.
+  function chosenAxis(r) {
+    return { lo: r.min, hi: r.max, step: niceStep(r.min, r.max, 8) };
+  }
+
+  // Each named mode's name beside its curve (the names of CosimModes.name, at each speed): at
+  // a point of the curve inside the axes, near a speed of its own so that the names stand apart.
+  const MODE_LABELS = [["weave", 0.25], ["capsize", 0.85], ["castering", 0.6], ["capsize + castering", 0.1]];
+  function labelModes(ctx, s, X, Y, yMin, yMax, top) {
+    const n = s.speeds.length, taken = [];  // the boxes of the names drawn [px]
+    ctx.font = "bold 12px sans-serif"; ctx.textBaseline = "bottom"; ctx.lineJoin = "round";
+    const W = ctx.canvas.clientWidth;
+    const box = (x, y, mode) => {
+      const width = ctx.measureText(mode).width, right = x > W - width - 20;
+      const x0 = right ? x - 5 - width : x + 5;
+      return { x0, x1: x0 + width, y0: y - 18, y1: y - 4, right, tx: right ? x - 5 : x + 5, ty: y - 4 };
+    };
+    const overlaps = (b) => taken.some((t) => b.x0 < t.x1 && t.x0 < b.x1 && b.y0 < t.y1 && t.y0 < b.y1);
+    for (const [mode, at] of MODE_LABELS) {
+      let best = null;
+      for (let k = 0; k < n; k++) {
+        const i = s.modes[k].indexOf(mode);
+        if (i < 0) continue;
+        const [re, im] = s.evs[k][i];
+        if (mode === "weave" && !(Math.abs(im) > imagTol(re, im))) continue;  // named where it is oscillatory
+        if (re < yMin || re > yMax || Y(re) < top + 34) continue;  // inside, below the plot's own notes
+        const b = box(X(s.speeds[k]), Y(re), mode);
+        if (overlaps(b)) continue;
+        const d = Math.abs(k / (n - 1) - at);
+        if (best === null || d < best.d) best = { d, b };
+      }
+      if (best === null) continue;
+      const b = best.b;
+      taken.push(b);
+      ctx.textAlign = b.right ? "right" : "left";
+      ctx.strokeStyle = "#fff"; ctx.lineWidth = 3; ctx.strokeText(mode, b.tx, b.ty);
+      ctx.fillStyle = "#111"; ctx.fillText(mode, b.tx, b.ty);
+    }
+    ctx.font = "12px sans-serif"; ctx.textAlign = "left"; ctx.textBaseline = "alphabetic"; ctx.lineWidth = 1;
+  }
+
   // --- the plot: real parts vs speed, Figure 9 of the paper: unstable red, stable blue, real
   // modes dots, oscillatory rings; |Im| grey; the axes fit the eigenvalues ------------------
   function draw(canvas, s) {
@@ -290,8 +345,9 @@
     const { min, max } = state.speedRange;
     const res = s.evs.flat().map(([re]) => re);
     const ims = s.evs.flat().filter(([re, im]) => Math.abs(im) > imagTol(re, im)).map(([, im]) => Math.abs(im));
-    const ax = fitAxis([...res, ...ims], -5, 5, FAST_STABLE);
+    const ax = state.reRange ? chosenAxis(state.reRange) : fitAxis([...res, ...ims], -5, 5, FAST_STABLE);
     const yMin = ax.lo, yMax = ax.hi;
+    axes.plot = { left, right, top, bottom, W, H, min, max, yMin, yMax };
     const X = (v) => left + (v - min) / (max - min) * (W - left - right);
     const Y = (y) => top + (yMax - y) / (yMax - yMin) * (H - top - bottom);
     ctx.clearRect(0, 0, W, H);
@@ -313,18 +369,20 @@
     s.speeds.forEach((v, k) => {
       for (const [re, im] of s.evs[k]) {
         const osc = Math.abs(im) > imagTol(re, im);
-        if (osc) { ctx.fillStyle = "#aaa"; ctx.fillRect(X(v) - 1, Y(Math.abs(im)) - 1, 2, 2); }
+        if (osc && Math.abs(im) <= yMax) { ctx.fillStyle = "#aaa"; ctx.fillRect(X(v) - 1, Y(Math.abs(im)) - 1, 2, 2); }
       }
     });
     s.speeds.forEach((v, k) => {
       for (const [re, im] of s.evs[k]) {
-        if (re < yMin) { clipped++; continue; }
+        if (re < yMin || re > yMax) { clipped++; continue; }
         marker(ctx, X(v), Y(re), re, Math.abs(im) > imagTol(re, im));
       }
     });
+    if (min >= 0) labelModes(ctx, s, X, Y, yMin, yMax, top);  // riding backwards: not named (modes.js)
     ctx.strokeStyle = "#e08000"; ctx.lineWidth = 1.5;
     ctx.beginPath(); ctx.moveTo(X(state.speed), top); ctx.lineTo(X(state.speed), H - bottom); ctx.stroke();
-    const note = clipNote(clipped, `points below ${yMin} 1/s (down to ${Math.min(...res).toFixed(1)})`);
+    const note = clipNote(clipped, state.reRange ? `points outside Re \u03bb ${yMin} to ${yMax} 1/s (the range chosen)`
+      : `points below ${yMin} 1/s (down to ${Math.min(...res).toFixed(1)})`);
     state.clipped = { plot: clipped, locus: state.clipped ? state.clipped.locus : 0 };
     if (note) { ctx.fillStyle = "#444"; ctx.fillText(`\u25bc ${note}`, left + 6, top + 12); }
   }
@@ -351,12 +409,13 @@
     const { ctx, W, H } = fitCanvas(canvas);
     const left = 56, right = 12, top = 14, bottom = 40;
     const all = s.evs.flat();
-    const xa = fitAxis(all.map(([re]) => re), -5, 5, FAST_STABLE);
+    const xa = state.reRange ? chosenAxis(state.reRange) : fitAxis(all.map(([re]) => re), -5, 5, FAST_STABLE);
     const imMax = Math.max(5, ...all.map(([, im]) => Math.abs(im)));
     const ya = fitAxis([imMax, -imMax], -5, 5);
     const xMin = xa.lo, xMax = xa.hi, yMin = ya.lo, yMax = ya.hi;
     const X = (x) => left + (x - xMin) / (xMax - xMin) * (W - left - right);
     const Y = (y) => top + (yMax - y) / (yMax - yMin) * (H - top - bottom);
+    axes.locus = { X, Y, left, right, top, bottom, W, H, xMin, xMax, yMin, yMax };
     ctx.clearRect(0, 0, W, H);
     ctx.font = "12px sans-serif"; ctx.textAlign = "left"; ctx.textBaseline = "alphabetic"; ctx.lineWidth = 1;
     ctx.strokeStyle = "#ddd"; ctx.fillStyle = "#444";
@@ -367,7 +426,7 @@
     ctx.fillText("Re \u03bb [1/s]", W / 2 - 30, H - 8);
     ctx.save(); ctx.translate(14, H / 2 + 30); ctx.rotate(-Math.PI / 2); ctx.fillText("Im \u03bb [1/s]", 0, 0);
     ctx.restore();
-    const inside = (re) => re >= xMin;
+    const inside = (re) => re >= xMin && re <= xMax;
     let clipped = 0;
     s.speeds.forEach((v, k) => {
       for (const [re, im] of s.evs[k]) {
@@ -385,7 +444,8 @@
     const { min, max } = state.speedRange;
     ctx.fillStyle = "#444";
     ctx.fillText(`v from ${min} (black squares) to ${max} m/s`, left + 6, top + 12);
-    const note = clipNote(clipped, `points left of Re \u03bb = ${xMin} 1/s`);
+    const note = clipNote(clipped, state.reRange ? `points outside Re \u03bb ${xMin} to ${xMax} 1/s (the range chosen)`
+      : `points left of Re \u03bb = ${xMin} 1/s`);
     state.clipped = { plot: state.clipped ? state.clipped.plot : 0, locus: clipped };
     if (note) ctx.fillText(`\u25c0 ${note}`, left + 6, top + 26);
   }
@@ -443,6 +503,7 @@
     state.evaluations = lin.evaluations - evaluations;
     state.redraws++;
     $("redraw").textContent = state.lastRedrawMs.toFixed(1);
+    viewRedrawn();
   }
 
   // An FMU refusal (FMIError) or another failure of a redraw: shown on the page and kept in
@@ -619,6 +680,8 @@
     state.bicycle = state.set = name;
     state.module = bicycle.module;
     state.speedRange = { min: bicycle.speeds.min, max: bicycle.speeds.max, num: bicycle.speeds.num };
+    state.reRange = null;
+    showRanges();
     $("model").textContent = bicycle.module;
     $("bicycle-explanation").textContent = bicycle.explanation;
     const speed = $("speed");
@@ -633,7 +696,183 @@
     guarded(() => redraw(app.lins.get(name), { ...bicycle.parameters }));
   }
 
+  // --- the side view, the chosen ranges, the read-outs, save / load / the address -------------
+  // (sideview.js draws, modes.js names, viewstate.js reads and writes; applied here)
+
+  // After every redraw: the side view of the parameters drawn, the read-out of the plot at its
+  // speed computed anew, the address set to the view.
+  function viewRedrawn() {
+    CosimSideView.draw($("geometry"), state.parameters);
+    if (state.hover.plot !== null) plotReadout(state.hover.plot.v);
+    if (state.hover.locus !== null) { state.hover.locus = null; $("locus-readout").textContent = LOCUS_HINT; }
+    writeAddress();
+  }
+
+  const PLOT_HINT = "point at the plot (or tap it) for the eigenvalues at that speed";
+  const LOCUS_HINT = "point at the root locus (or tap it) for the nearest eigenvalue and its speed";
+  const speedText = (v) => `v = ${v.toFixed(2)} m/s`;
+
+  // The eigenvalues at the speed v [m/s] (rounded to the speed slider's 0.01 m/s), named.
+  function plotReadout(v) {
+    const ev = linearization().eigenvalues(state.parameters, v);
+    const text = `${speedText(v)}: ${CosimModes.readout(ev, v)} (1/s)`;
+    state.hover.plot = { v, eigenvalues: ev, modes: CosimModes.name(ev, v), text };
+    $("plot-readout").textContent = text;
+  }
+
+  function plotPointer(event) {
+    const a = axes.plot;
+    if (!a || !state.sweep) return;
+    const f = (event.offsetX - a.left) / (a.W - a.left - a.right);
+    if (!(f >= -0.02 && f <= 1.02)) return;
+    const v = Math.min(a.max, Math.max(a.min, Number((a.min + f * (a.max - a.min)).toFixed(2))));
+    guarded(() => plotReadout(v));
+  }
+
+  // The eigenvalue of the sweep nearest the pointer on the root locus, its speed and mode.
+  function locusPointer(event) {
+    const a = axes.locus, s = state.sweep;
+    if (!a || !s) return;
+    let best = null;
+    s.evs.forEach((ev, k) => ev.forEach(([re, im], i) => {
+      const d = Math.hypot(a.X(re) - event.offsetX, a.Y(im) - event.offsetY);
+      if (best === null || d < best.d) best = { d, k, i, re, im };
+    }));
+    const v = s.speeds[best.k], mode = s.modes[best.k][best.i];
+    const text = `\u03bb = ${CosimModes.value(best.re, best.im)} 1/s at ${speedText(v)}: ` +
+      (mode || (v < 0 ? "modes not named riding backwards" : "not named"));
+    state.hover.locus = { v, re: best.re, im: best.im, mode, text };
+    $("locus-readout").textContent = text;
+  }
+
+  // The range fields show the ranges of the view; their messages cleared.
+  function showRanges() {
+    const r = state.speedRange;
+    $("v-min").value = String(r.min); $("v-max").value = String(r.max);
+    $("re-min").value = state.reRange ? String(state.reRange.min) : "";
+    $("re-max").value = state.reRange ? String(state.reRange.max) : "";
+    $("v-range-error").textContent = $("re-range-error").textContent = "";
+    state.rangeError = { v: null, re: null };
+  }
+
+  // A speed range [m/s] for the view: the slider's ends, the speed kept inside.
+  function setSpeedRange(r) {
+    const bicycle = BICYCLES.get(state.bicycle);
+    state.speedRange = { min: r.min, max: r.max, num: bicycle.speeds.num };
+    const speed = $("speed");
+    Object.assign(speed, { min: r.min, max: r.max });
+    state.speed = Math.min(r.max, Math.max(r.min, state.speed));
+    speed.value = String(state.speed);
+  }
+
+  // A change of a range field: applied (the sweep recomputed for a new speed range, only redrawn
+  // for a new Re range) or its message beside the field, the plots as they were.
+  function rangeInput(which) {
+    const [lo, hi, out] = which === "v" ? ["v-min", "v-max", "v-range-error"] : ["re-min", "re-max", "re-range-error"];
+    const parsed = CosimViewState.range($(lo).value, $(hi).value, which === "re");
+    const message = parsed.message ? `${which === "v" ? "speed" : "Re \u03bb"} range ${parsed.message}` : null;
+    state.rangeError[which] = message;
+    $(out).textContent = message === null ? "" : `${message}; the plots keep the last valid range`;
+    if (parsed.message) return;
+    if (which === "re") { state.reRange = parsed.range; guarded(() => redraw(linearization())); return; }
+    const previous = { ...state.speedRange }, speed = state.speed;
+    setSpeedRange(parsed.range);
+    guarded(() => redraw(linearization(), state.parameters));
+    if (state.error !== null) { setSpeedRange(previous); state.speed = speed; $("speed").value = String(speed); }
+  }
+
+  const currentView = () => ({ bicycle: state.bicycle, parameters: { ...state.parameters }, speed: state.speed,
+                               speedRange: { min: state.speedRange.min, max: state.speedRange.max },
+                               reRange: state.reRange ? { ...state.reRange } : null });
+
+  // The address (its hash) always holds the view: a link to it restores it (readAddress).
+  let written = null;
+  function writeAddress() {
+    if (!state.ready && !state.addressRead) return;  // a shared address is read before it is overwritten
+    written = CosimViewState.toHash(currentView(), DATA.bicycles);
+    if (location.hash.replace(/^#/, "") === written) return;
+    try { history.replaceState(null, "", `#${written}`); } catch (e) { location.replace(`#${written}`); }
+  }
+
+  function showViewError(message) {
+    state.viewError = message;
+    $("view-error").textContent = message === null ? "" : message;
+  }
+
+  // A view (CosimViewState's, checked there) applied: its bicycle, ranges, parameters (the
+  // editor's checks first: a refused parameter refuses the view) and speed. Returns the problem
+  // or null.
+  function applyView(view) {
+    const bicycle = BICYCLES.get(view.bicycle), fmu = app.fmus.get(bicycle.module);
+    const message = problem(fmu, bicycle, view.parameters);
+    if (message) return `parameters.${message}`;
+    const before = currentView();
+    if (state.bicycle !== view.bicycle) { $("set").value = view.bicycle; choose(view.bicycle); }
+    state.speed = view.speed;
+    setSpeedRange(view.speedRange);
+    state.reRange = view.reRange;
+    showRanges();
+    guarded(() => redraw(linearization(), { ...view.parameters }));
+    if (state.error !== null) {  // the FMU refused: the previous view back
+      const e = state.error;
+      if (before.bicycle !== state.bicycle) { $("set").value = before.bicycle; choose(before.bicycle); }
+      state.speed = before.speed; setSpeedRange(before.speedRange); state.reRange = before.reRange; showRanges();
+      guarded(() => redraw(linearization(), before.parameters));
+      syncControls(BICYCLES.get(state.bicycle));
+      return e;
+    }
+    syncControls(bicycle);
+    showParameterError(null);
+    return null;
+  }
+
+  function readAddress() {
+    const got = CosimViewState.fromHash(location.hash, DATA.bicycles);
+    state.addressRead = true;
+    if (got === null) return;
+    const message = got.message || applyView(got.view);
+    showViewError(message ? `the link was not applied: ${message}` : null);
+  }
+
+  function saveView() {
+    const a = document.createElement("a");
+    a.href = URL.createObjectURL(new Blob([CosimViewState.toFile(currentView())], { type: "application/json" }));
+    a.download = `cosim-bicycle-${state.bicycle}.json`;
+    document.body.appendChild(a);
+    a.click();
+    a.remove();
+    setTimeout(() => URL.revokeObjectURL(a.href), 60_000);
+  }
+
+  async function loadView(input) {
+    const file = input.files && input.files[0];
+    if (!file) return;
+    const got = CosimViewState.fromFile(await file.text(), DATA.bicycles);
+    const message = got.message || applyView(got.view);
+    showViewError(message ? `${file.name} was not loaded: ${message}` : null);
+    input.value = "";  // the same file can be loaded again
+  }
+
+  function setupView() {
+    Object.assign(state, { hover: { plot: null, locus: null }, reRange: null, rangeError: { v: null, re: null }, viewError: null,
+                           addressRead: false });
+    $("plot-readout").textContent = PLOT_HINT;
+    $("locus-readout").textContent = LOCUS_HINT;
+    for (const [id, handler] of [["plot", plotPointer], ["locus", locusPointer]]) {
+      $(id).addEventListener("pointermove", handler);
+      $(id).addEventListener("pointerdown", handler);
+    }
+    for (const id of ["v-min", "v-max"]) $(id).addEventListener("change", () => rangeInput("v"));
+    for (const id of ["re-min", "re-max"]) $(id).addEventListener("change", () => rangeInput("re"));
+    $("view-save").addEventListener("click", saveView);
+    $("view-load").addEventListener("change", (e) => loadView(e.target).catch((err) => showViewError(String(err))));
+    window.addEventListener("hashchange", () => {
+      if (location.hash.replace(/^#/, "") !== written) guarded(readAddress);
+    });
+  }
+
   async function main() {
+    setupView();
     const select = $("set");
     for (const b of DATA.bicycles) select.add(new Option(b.label, b.name));
     // the explanation folded (a long one would push the plot off a phone's screen)
@@ -665,11 +904,14 @@
     // a new window size or pixel ratio (zoom, another screen): the plots drawn again, not recomputed
     window.addEventListener("resize", () => guarded(() => {
       if (state.sweep) { draw($("plot"), state.sweep); drawLocus($("locus"), state.sweep); }
+      CosimSideView.draw($("geometry"), state.parameters);
     }));
     await loadModules();
     choose(select.value);
     if (state.error !== null) throw new Error(state.error);
+    readAddress();  // a shared link: its view
     state.ready = true;
+    writeAddress();
   }
 
   main().catch((e) => {
