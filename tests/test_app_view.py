@@ -285,6 +285,7 @@ def test_saved_file_and_shared_address_restore_the_view(page, tmp_path):
     assert data["format"] == "cosim-app-bicycle" and data["version"] == 1 and data["bicycle"] == "astrom2005"
     assert data["parameters"] == {**load_parameters("astrom2005"), "mB": 70.5, "c": 0.0625}
     assert (data["speed"], data["speedRange"], data["reRange"]) == (7.31, {"min": 1, "max": 9.5}, {"min": -8, "max": 4})
+    page.wait_for_function("location.hash === '#' + window.cosimApp.address")  # written at most every 250 ms
     address = page.url
     shared = dict(parse_qsl(address.split("#", 1)[1]))
     assert shared == {"bicycle": "astrom2005", "v": "7.31", "vmin": "1", "vmax": "9.5", "re": "-8,4",
@@ -297,6 +298,7 @@ def test_saved_file_and_shared_address_restore_the_view(page, tmp_path):
     page.set_input_files("#view-load", str(saved))
     page.wait_for_function("window.cosimApp.set === 'astrom2005'")
     assert _view(page) == view and page.evaluate("window.cosimApp.viewError") is None
+    page.wait_for_function("location.hash === '#' + window.cosimApp.address")
     assert page.url.split("#", 1)[1] == address.split("#", 1)[1]
 
 

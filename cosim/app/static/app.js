@@ -40,7 +40,8 @@
 // reRange ({min, max} [1/s] chosen, or null: the axes fit), axes {plot, locus} (what a pointer
 // position means: the last drawing's margins [CSS px] and limits), hover {plot: {v, eigenvalues,
 // modes, text} | null, locus: {v, re, im, mode, text} | null} (the read-outs), rangeError {v, re}
-// and viewError (the messages of the range fields and of a refused file or link, or null)}.
+// and viewError (the messages of the range fields and of a refused file or link, or null),
+// address (the hash of the view, in the address bar within 250 ms)}.
 //
 // The side view (sideview.js) is drawn after every redraw; the modes are named by modes.js; the
 // view is saved to and loaded from a JSON file and written into the address's hash after every
@@ -378,7 +379,7 @@
         marker(ctx, X(v), Y(re), re, Math.abs(im) > imagTol(re, im));
       }
     });
-    if (min >= 0) labelModes(ctx, s, X, Y, yMin, yMax, top);  // riding backwards: not named (modes.js)
+    if (max > 0) labelModes(ctx, s, X, Y, yMin, yMax, top);  // riding backwards: not named (modes.js)
     ctx.strokeStyle = "#e08000"; ctx.lineWidth = 1.5;
     ctx.beginPath(); ctx.moveTo(X(state.speed), top); ctx.lineTo(X(state.speed), H - bottom); ctx.stroke();
     const note = clipNote(clipped, state.reRange ? `points outside Re \u03bb ${yMin} to ${yMax} 1/s (the range chosen)`
@@ -703,8 +704,12 @@
   // speed computed anew, the address set to the view.
   function viewRedrawn() {
     CosimSideView.draw($("geometry"), state.parameters);
-    if (state.hover.plot !== null) plotReadout(state.hover.plot.v);
     if (state.hover.locus !== null) { state.hover.locus = null; $("locus-readout").textContent = LOCUS_HINT; }
+    if (state.hover.plot !== null) {  // its speed may lie outside a new range
+      const v = state.hover.plot.v;
+      if (v >= state.speedRange.min && v <= state.speedRange.max) plotReadout(v);
+      else { state.hover.plot = null; $("plot-readout").textContent = PLOT_HINT; drawPlots(); }
+    }
     writeAddress();
   }
 
@@ -718,6 +723,29 @@
     const text = `${speedText(v)}: ${CosimModes.readout(ev, v)} (1/s)`;
     state.hover.plot = { v, eigenvalues: ev, modes: CosimModes.name(ev, v), text };
     $("plot-readout").textContent = text;
+    drawPlots();
+  }
+
+  // Both plots, with what the pointer reads out marked: a dashed line at its speed on the plot,
+  // a black ring around its eigenvalue on the root locus.
+  function drawPlots() {
+    if (!state.sweep) return;
+    draw($("plot"), state.sweep);
+    drawLocus($("locus"), state.sweep);
+    const h = state.hover, dpr = window.devicePixelRatio || 1;
+    if (h.plot !== null && axes.plot) {
+      const a = axes.plot, ctx = $("plot").getContext("2d");
+      const x = a.left + (h.plot.v - a.min) / (a.max - a.min) * (a.W - a.left - a.right);
+      ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+      ctx.strokeStyle = "#333"; ctx.lineWidth = 1; ctx.setLineDash([4, 3]);
+      ctx.beginPath(); ctx.moveTo(x, a.top); ctx.lineTo(x, a.H - a.bottom); ctx.stroke(); ctx.setLineDash([]);
+    }
+    if (h.locus !== null && axes.locus) {
+      const a = axes.locus, ctx = $("locus").getContext("2d");
+      ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+      ctx.strokeStyle = "#000"; ctx.lineWidth = 2;
+      ctx.beginPath(); ctx.arc(a.X(h.locus.re), a.Y(h.locus.im), 8, 0, 2 * Math.PI); ctx.stroke();
+    }
   }
 
   function plotPointer(event) {
@@ -743,6 +771,7 @@
       (mode || (v < 0 ? "modes not named riding backwards" : "not named"));
     state.hover.locus = { v, re: best.re, im: best.im, mode, text };
     $("locus-readout").textContent = text;
+    drawPlots();
   }
 
   // The range fields show the ranges of the view; their messages cleared.
@@ -778,18 +807,37 @@
     const previous = { ...state.speedRange }, speed = state.speed;
     setSpeedRange(parsed.range);
     guarded(() => redraw(linearization(), state.parameters));
-    if (state.error !== null) { setSpeedRange(previous); state.speed = speed; $("speed").value = String(speed); }
+    if (state.error !== null) {  // the module refused a speed of the range: the previous range back
+      const refused = state.error;
+      setSpeedRange(previous); state.speed = speed; $("speed").value = String(speed);
+      guarded(() => redraw(linearization(), state.parameters));
+      showRanges();
+      state.rangeError.v = `speed range ${parsed.range.min} to ${parsed.range.max} m/s: ${refused}`;
+      $(out).textContent = `${state.rangeError.v}; the plots keep the last valid range`;
+    }
   }
 
   const currentView = () => ({ bicycle: state.bicycle, parameters: { ...state.parameters }, speed: state.speed,
                                speedRange: { min: state.speedRange.min, max: state.speedRange.max },
                                reRange: state.reRange ? { ...state.reRange } : null });
 
-  // The address (its hash) always holds the view: a link to it restores it (readAddress).
-  let written = null;
+  // The address (its hash) always holds the view: a link to it restores it (readAddress). It is
+  // written at most every ADDRESS_MS, the last view of a burst (a dragged slider) after it:
+  // browsers ignore history.replaceState called hundreds of times in a few seconds.
+  const ADDRESS_MS = 250;
+  let written = null, pending = null, lastWrite = -Infinity;
   function writeAddress() {
     if (!state.ready && !state.addressRead) return;  // a shared address is read before it is overwritten
-    written = CosimViewState.toHash(currentView(), DATA.bicycles);
+    state.address = CosimViewState.toHash(currentView(), DATA.bicycles);
+    if (pending !== null) return;  // the timer writes the latest
+    const wait = lastWrite + ADDRESS_MS - performance.now();
+    if (wait <= 0) flushAddress(); else pending = setTimeout(flushAddress, wait);
+  }
+
+  function flushAddress() {
+    pending = null;
+    lastWrite = performance.now();
+    written = state.address;
     if (location.hash.replace(/^#/, "") === written) return;
     try { history.replaceState(null, "", `#${written}`); } catch (e) { location.replace(`#${written}`); }
   }
@@ -903,7 +951,7 @@
     select.addEventListener("change", () => guarded(() => choose(select.value)));
     // a new window size or pixel ratio (zoom, another screen): the plots drawn again, not recomputed
     window.addEventListener("resize", () => guarded(() => {
-      if (state.sweep) { draw($("plot"), state.sweep); drawLocus($("locus"), state.sweep); }
+      drawPlots();
       CosimSideView.draw($("geometry"), state.parameters);
     }));
     await loadModules();
