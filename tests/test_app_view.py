@@ -39,7 +39,7 @@ def page(browser, app_site):  # noqa: F811 (the imported fixture)
 def _choose(page, name: str) -> None:
     """A real change of the bicycle select: the bicycle's own parameters and ranges."""
     page.select_option("#set", name)
-    assert page.evaluate("window.cosimApp.set") == name and page.evaluate("window.cosimApp.error") is None
+    assert page.evaluate("[window.cosimApp.set, window.cosimApp.error]") == [name, None]
 
 
 def _picture(page, canvas: str) -> str:
@@ -50,8 +50,7 @@ def _set_parameter(page, name: str, value: float) -> None:
     """The parameter editor's field set to ``value`` (an input event)."""
     page.evaluate("document.querySelector('#all-parameters details').open = true")
     page.fill(f"#param-{name}", repr(value))
-    assert page.evaluate("window.cosimApp.parameterError") is None
-    assert page.evaluate("(n) => window.cosimApp.parameters[n]", name) == value
+    assert page.evaluate("(n) => [window.cosimApp.parameterError, window.cosimApp.parameters[n]]", name) == [None, value]
 
 
 # --- the side view -------------------------------------------------------------------------
@@ -66,7 +65,6 @@ SIDE_VIEW = [
                  id="front-wheel-radius"),
     pytest.param("crowned-roller", "tR", 0.6, True, "rear crown radius t_R = 0.600 m", id="crown-radius"),
     pytest.param("benchmark", "IBxx", 12.5, False, "wheelbase w = 1.020 m", id="inertia-IBxx-not-drawn"),
-    pytest.param("crowned-roller", "IFyy", 0.12, False, "rear crown radius t_R = 0.300 m", id="inertia-IFyy-not-drawn"),
 ]
 
 
@@ -144,7 +142,6 @@ HOVERS = [
     pytest.param("astrom2005-riderless", "plot", 0.04, id="plot-riderless-0.5m/s-two-pairs"),
     pytest.param("rear-steered", "plot", 0.3, id="plot-rear-steered-not-named"),
     pytest.param("benchmark", "locus", (150, 3), id="locus-benchmark-weave"),
-    pytest.param("astrom2005", "locus", (120, 0), id="locus-astrom2005-castering"),
 ]
 
 
@@ -199,8 +196,6 @@ RANGES = [
     pytest.param("astrom2005", ("0", "12", "-6", "6"), None, id="re-minus6-6"),
     pytest.param("benchmark", ("8", "2", "", ""), "speed range from 8 must be less than to 2", id="min-above-max"),
     pytest.param("benchmark", ("0", "fast", "", ""), "speed range to: not a number: 'fast'", id="not-a-number"),
-    pytest.param("benchmark", ("0", "12", "-3", "-3"), "Re \u03bb range from -3 must be less than to -3",
-                 id="re-empty-range"),
 ]
 
 
@@ -263,9 +258,9 @@ def _open(page, url: str) -> None:
 
 
 def test_saved_file_and_shared_address_restore_the_view(page, tmp_path):
-    """A changed view saved (the download) reads back, into a freshly opened page, to the same
-    eigenvalue table, sliders and fields; the page's address holds the view, and opening it
-    restores the same."""
+    """The page's address holds a changed view, and opening it in a new document restores the same
+    eigenvalue table, sliders and fields; the view saved (the download) before the page was
+    opened anew loads back to the same, after another bicycle was chosen."""
     from cosim.analytic.parameters import load_parameters
 
     _choose(page, "astrom2005")
@@ -290,10 +285,9 @@ def test_saved_file_and_shared_address_restore_the_view(page, tmp_path):
     shared = dict(parse_qsl(address.split("#", 1)[1]))
     assert shared == {"bicycle": "astrom2005", "v": "7.31", "vmin": "1", "vmax": "9.5", "re": "-8,4",
                       "mB": "70.5", "c": "0.0625"}  # the changed parameters only
-    _open(page, page.base + "?shared")  # a new document (not a same-page hash change)
-    _open(page, page.base + "?shared#" + address.split("#", 1)[1])
+    _open(page, page.base + "?shared#" + address.split("#", 1)[1])  # another query: a new document
     assert _view(page) == view
-    _open(page, page.base + "?fresh")
+    _choose(page, "benchmark")  # the page opened anew, then another bicycle: the file's view comes from the file
     assert _view(page)["set"] == "benchmark"
     page.set_input_files("#view-load", str(saved))
     page.wait_for_function("window.cosimApp.set === 'astrom2005'")
@@ -308,18 +302,16 @@ BROKEN = [
     pytest.param({"bicycle": "penny-farthing"}, "bicycle: no bicycle 'penny-farthing' on this page", id="bicycle"),
     pytest.param({"parameters": {"mB": "heavy"}}, "parameters.mB: not a finite number (got \"heavy\")",
                  id="parameter-not-a-number"),
-    pytest.param({"parameters": {"mX": 1.0}}, "parameters.mX: not a parameter of benchmark", id="unknown-parameter"),
     pytest.param({"parameters": {"mF": -3.0}}, "parameters.mF: mass must be non-negative", id="negative-mass"),
-    pytest.param({"speedRange": {"min": 5, "max": 2}}, "speedRange: min 5 must be less than max 2", id="speed-range"),
-    pytest.param({"speed": 30}, "speed: 30 m/s lies outside the speed range 0 to 12 m/s", id="speed"),
+    pytest.param({"parameters": {"mX": 1.0}}, "parameters.mX: not a parameter of benchmark", id="unknown-parameter"),
     pytest.param("{not json", "not a JSON file", id="not-json"),
 ]
 
 
 @pytest.mark.parametrize("change, message", BROKEN)
 def test_broken_parameter_file_is_one_message_naming_the_field(page, change, message):
-    """A broken file: one plain message naming the file and the bad field; the view stays."""
-    _choose(page, "astrom2005")
+    """A broken file: one plain message naming the file and the bad field; the view (whatever the
+    tests before left) stays."""
     page.evaluate("window.cosimApp.viewError = null")  # the message of this file is waited for
     before = _view(page)
     if isinstance(change, str):
