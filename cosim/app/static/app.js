@@ -357,7 +357,7 @@
     const xStep = niceStep(min, max, Math.max(3, Math.floor((W - left - right) / 70)));
     grid(ctx, { X, Y, left, right, top, bottom, W, H }, [min, max, xStep, 4], [yMin, yMax, ax.step]);
     ctx.strokeStyle = "#000";
-    ctx.beginPath(); ctx.moveTo(left, Y(0)); ctx.lineTo(W - right, Y(0)); ctx.stroke();
+    if (yMin <= 0 && 0 <= yMax) { ctx.beginPath(); ctx.moveTo(left, Y(0)); ctx.lineTo(W - right, Y(0)); ctx.stroke(); }
     ctx.fillText("speed v [m/s]", W / 2 - 40, H - 8);
     ctx.save(); ctx.translate(14, H / 2 + 60); ctx.rotate(-Math.PI / 2);
     ctx.fillText("Re \u03bb, |Im \u03bb| (grey) [1/s]", 0, 0); ctx.restore();
@@ -397,7 +397,7 @@
       ctx.beginPath(); ctx.moveTo(X(x), top); ctx.lineTo(X(x), H - bottom); ctx.stroke();
       ctx.fillText(label(x), X(x) - shift, H - bottom + 15);
     }
-    for (let y = y0; y <= y1 + 1e-9; y += dy) {
+    for (let y = Math.ceil(y0 / dy - 1e-9) * dy; y <= y1 + 1e-9; y += dy) {  // a chosen range: its multiples of dy
       ctx.beginPath(); ctx.moveTo(left, Y(y)); ctx.lineTo(W - right, Y(y)); ctx.stroke();
       ctx.fillText(label(y), left - 30, Y(y) + 4);
     }
@@ -422,7 +422,7 @@
     ctx.strokeStyle = "#ddd"; ctx.fillStyle = "#444";
     grid(ctx, { X, Y, left, right, top, bottom, W, H }, [xMin, xMax, xa.step, 6], [yMin, yMax, ya.step]);
     ctx.strokeStyle = "#000";
-    ctx.beginPath(); ctx.moveTo(X(0), top); ctx.lineTo(X(0), H - bottom); ctx.stroke();
+    if (xMin <= 0 && 0 <= xMax) { ctx.beginPath(); ctx.moveTo(X(0), top); ctx.lineTo(X(0), H - bottom); ctx.stroke(); }
     ctx.beginPath(); ctx.moveTo(left, Y(0)); ctx.lineTo(W - right, Y(0)); ctx.stroke();
     ctx.fillText("Re \u03bb [1/s]", W / 2 - 30, H - 8);
     ctx.save(); ctx.translate(14, H / 2 + 30); ctx.rotate(-Math.PI / 2); ctx.fillText("Im \u03bb [1/s]", 0, 0);
