@@ -193,7 +193,7 @@ def test_hover_reads_out_the_named_eigenvalues(page, name, which, where):
 RANGES = [
     # bicycle, field values (v from, v to, Re from, Re to), the message beside the fields or None
     pytest.param("benchmark", ("2", "8", "", ""), None, id="speed-2-8"),
-    pytest.param("astrom2005", ("0", "12", "-6", "6"), None, id="re-minus6-6"),
+    pytest.param("astrom2005", ("-3", "12", "-6", "6"), None, id="backwards-and-forwards-re-minus6-6"),
     pytest.param("benchmark", ("8", "2", "", ""), "speed range from 8 must be less than to 2", id="min-above-max"),
     pytest.param("benchmark", ("0", "fast", "", ""), "speed range to: not a number: 'fast'", id="not-a-number"),
 ]
@@ -233,8 +233,10 @@ def test_chosen_ranges_redraw_or_say_what_is_wrong(page, name, fields, message):
     if fields[2]:
         assert s["re"] == {"min": float(fields[2]), "max": float(fields[3])}
         assert (s["plot"]["yMin"], s["plot"]["yMax"]) == (float(fields[2]), float(fields[3]))
-    weave = weave_speed(page.evaluate("window.cosimApp.parameters"))
+    weave = weave_speed(page.evaluate("window.cosimApp.parameters"))  # searched from max(0, v_min) on
     assert s["weave"] == pytest.approx(weave, rel=1e-6) if v_min <= weave <= v_max else s["weave"] is None
+    assert page.locator("#weave").inner_text() == (f"{weave:.3f} m/s" if v_min <= weave <= v_max
+                                                   else f"none in {max(0, v_min):g}\u2013{v_max:g} m/s")
     assert [_picture(page, c) for c in ("plot", "locus")] != pictures
 
 

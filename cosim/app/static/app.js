@@ -235,8 +235,15 @@
     const speeds = Array.from({ length: num }, (_, k) => min + (max - min) * k / (num - 1));
     speeds[num - 1] = max;
     const evs = speeds.map((v) => lin.eigenvalues(p, v));
-    // weave and capsize are defined for riding forwards (cosim.analytic.whipple)
-    const critical = min >= 0 ? criticalSpeeds(lin, p, speeds, evs) : { weave: null, capsize: null };
+    // weave and capsize are defined for riding forwards (cosim.analytic.whipple): a range that
+    // also rides backwards (a chosen one) is searched from 0 m/s on
+    let critical = { weave: null, capsize: null };
+    if (min >= 0) critical = criticalSpeeds(lin, p, speeds, evs);
+    else if (max > 0) {
+      const ahead = speeds.map((v, k) => k).filter((k) => speeds[k] > 0);
+      critical = criticalSpeeds(lin, p, [0, ...ahead.map((k) => speeds[k])],
+                                [lin.eigenvalues(p, 0), ...ahead.map((k) => evs[k])]);
+    }
     const modes = evs.map((ev, k) => CosimModes.name(ev, speeds[k]));  // weave, capsize, castering (modes.js)
     return { speeds, evs, modes, ...critical, ...stability(lin, p, speeds, evs) };
   }
@@ -455,11 +462,13 @@
   // Speeds are printed with the decimals of cosim.app.bicycles.SPEED_DIGITS (tests compare them with
   // cosim.analytic to these digits).
   const DIGITS = DATA.speedDigits || 3;
-  const fmt = (x, digits = DIGITS) => (x === null ? `none in ${range()}` : `${x.toFixed(digits)} m/s`);
+  const forward = () => `${Math.max(0, state.speedRange.min)}\u2013${state.speedRange.max} m/s`;
+  const fmt = (x, digits = DIGITS) => (x === null ? `none in ${forward()}` : `${x.toFixed(digits)} m/s`);
 
-  // Weave and capsize speeds, or (riding backwards) where the bicycle is self-stable.
+  // Weave and capsize speeds (of the forward speeds of the range), or (riding backwards only)
+  // "not defined", and where the bicycle is self-stable.
   function showStability(s) {
-    if (state.speedRange.min >= 0) {
+    if (state.speedRange.max > 0) {
       $("weave").textContent = fmt(s.weave);
       $("capsize").textContent = fmt(s.capsize);
     } else {
