@@ -30,7 +30,7 @@ DIGITS = 3  # decimals of the read-outs [1/s] (modes.js)
 @pytest.fixture(scope="module")
 def page(browser, app_site):  # noqa: F811 (the imported fixture)
     with offline_page(browser, (app_site / "index.html").as_uri(), READY, console_errors=True,
-                      viewport={"width": 1280, "height": 900}, accept_downloads=True) as page:
+                      viewport={"width": 1280, "height": 900}, accept_downloads=True, has_touch=True) as page:
         assert page.evaluate("window.cosimApp.error") is None
         page.base = (app_site / "index.html").as_uri()
         yield page
@@ -138,6 +138,7 @@ def _axes(page, which: str) -> dict:
 HOVERS = [
     # bicycle, plot, where (plot: fraction of the speed axis; locus: the sweep point k, eigenvalue i)
     pytest.param("benchmark", "plot", 0.55, id="plot-benchmark-6.6m/s"),
+    pytest.param("astrom2005", "tap", 0.7, id="plot-astrom2005-8.4m/s-tapped"),
     pytest.param("astrom2005", "plot", 0.05, id="plot-astrom2005-0.6m/s-four-real"),
     pytest.param("astrom2005-riderless", "plot", 0.04, id="plot-riderless-0.5m/s-two-pairs"),
     pytest.param("rear-steered", "plot", 0.3, id="plot-rear-steered-not-named"),
@@ -147,19 +148,21 @@ HOVERS = [
 
 @pytest.mark.parametrize("name, which, where", HOVERS)
 def test_hover_reads_out_the_named_eigenvalues(page, name, which, where):
-    """A mouse move over the plot prints v and the eigenvalues there with their mode names,
+    """A mouse move over the plot (or a tap) prints v and the eigenvalues there with their mode names,
     equal to cosim.analytic's to the printed digits; over the root locus, the nearest eigenvalue
     of the sweep with its speed and mode. The plot names weave, capsize and castering (forwards)."""
     from cosim.analytic.whipple import eigenvalues
 
     _choose(page, name)
     parameters = page.evaluate("window.cosimApp.parameters")
+    tapped, which = which == "tap", "plot" if which == "tap" else which
     page.evaluate("(id) => document.getElementById(id).scrollIntoView()", which)
     box = page.locator(f"#{which}").bounding_box()
     a = _axes(page, which)
     if which == "plot":
         x = a["left"] + where * (a["W"] - a["left"] - a["right"])
-        page.mouse.move(box["x"] + 1 + x, box["y"] + 1 + a["top"] + 20)  # 1: the canvas's border
+        at = (box["x"] + 1 + x, box["y"] + 1 + a["top"] + 20)  # 1: the canvas's border
+        page.touchscreen.tap(*at) if tapped else page.mouse.move(*at)
         hover = page.evaluate("window.cosimApp.hover.plot")
         v = hover["v"]
         assert v == round(v, 2) and abs(v - (a["min"] + where * (a["max"] - a["min"]))) < 0.02
