@@ -55,7 +55,8 @@
   }
 
   // The checks shared by the file and the address: the bicycle exists, its parameters are its
-  // own and finite, the ranges are ordered and hold the speed. `where` prefixes the field names.
+  // own and finite, the ranges are ordered and hold the speed. Messages name the file's field
+  // (parameters.mB).
   function check(raw, bicycles) {
     const bicycle = bicycles.find((b) => b.name === raw.bicycle);
     if (!bicycle) {
