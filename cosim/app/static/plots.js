@@ -125,7 +125,7 @@
         }
       }
       // legend
-      ctx.textBaseline = "middle";
+      ctx.textAlign = "left"; ctx.textBaseline = "middle";  // (the x label above left it "right")
       const legend = target ? [...rides, { label: target.label, color: "#777", dashed: true }] : rides;
       legend.forEach((r, k) => {
         const lx = px0 + 6, ly = py0 + 24 + 14 * k;  // under the axis label, top left

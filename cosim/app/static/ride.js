@@ -452,7 +452,7 @@
     const end = tr.t[tr.t.length - 1];
     if (!tr.fell) return tr.reason === "end" ? `stayed up for the whole ${seconds(duration)}` : `stopped at ${seconds(end)}`;
     if (tr.stopped)
-      return `fell after ${seconds(tr.stopped.t)}: it leaned ${angle(tr.stopped.phi)} to the ${side(tr.stopped.phi)} ` +
+      return `fell after ${seconds(end)}: it leaned ${angle(tr.stopped.phi)} to the ${side(tr.stopped.phi)} ` +
              `and steered ${angle(tr.stopped.delta)} to the ${side(tr.stopped.delta)}, as far as the model of ` +
              "the rolling bicycle goes";
     const phi = tr.phi[tr.phi.length - 1];
@@ -531,8 +531,9 @@
       let text = `${labels[key]}: ${outcome(rides[key], demo.duration)}.`;
       const p = poles[key];
       if (p !== null && p !== undefined)
-        text += p > 0 ? ` Left alone (no rider), this bicycle falls: a small lean doubles every ${seconds(Math.LN2 / p)}.`
-                      : " Left alone (no rider), this bicycle rights itself at this speed.";
+        // p: the largest real part of the linearized bicycle's eigenvalues, hands off the handlebar
+        text += p > 0 ? ` With nobody steering, a small lean grows at this speed: it doubles every ${seconds(Math.LN2 / p)}.`
+                      : " With nobody steering, the bicycle recovers from a small lean at this speed.";
       lines.push(text);
     }
     $("ride-status").textContent = lines.join("\n");
