@@ -190,3 +190,53 @@ def test_without_webgl_the_ride_is_drawn_in_2d_with_a_plain_message(page_without
     page.wait_for_function("(n) => window.cosimRide.frames > n + 3", arg=frames)
     page.click("#ride-play")
     assert _drawn_colours(page, "ride-canvas") > 20
+
+
+def _lane(x: np.ndarray, speed: float, lane: dict) -> np.ndarray:
+    """The lane's centre of ride.js (a cosine blend from lane.from to lane.to seconds of riding)."""
+    a, b = lane["from"] * speed, lane["to"] * speed
+    u = np.clip((x - a) / (b - a), 0.0, 1.0)
+    return lane["shift"] * (1 - np.cos(np.pi * u)) / 2
+
+
+VERDICTS = [
+    # goal, the ride (fell, its end [s], how far off the lane [m], a counter-steering dip [m]), the words
+    pytest.param("stay-up", False, 20.0, 0.0, 0.0, "Goal reached: you kept the bicycle up for 20 s", id="stay-up-reached"),
+    pytest.param("stay-up", True, 6.5, 0.0, 0.0, "Goal not reached: the bicycle fell after 6.5 s, before 20 s",
+                 id="stay-up-fell"),
+    pytest.param("lane-change", False, 10.0, 0.2, 0.05, "Goal reached: you followed the lane; your path was at most "
+                 "0.20 m from the lane's centre", id="lane-followed-counter-steering"),
+    pytest.param("lane-change", False, 10.0, 0.8, 0.0, "Goal not reached: your path was at most 0.80 m from the "
+                 "lane's centre", id="lane-missed"),
+    pytest.param("free", False, 3.0, 0.0, 0.0, "You stopped at 3 s; the largest lean was", id="free-stopped"),
+]
+
+
+@pytest.mark.parametrize("goal, fell, end, off, dip, words", VERDICTS)
+def test_goal_verdicts_in_words(page, goal, fell, end, off, dip, words):
+    """The words at the end of a ride of your own, for rides made here (a goal reached takes 20 s
+    of riding in real time): reached or not, how far off the lane, counter-steering named when the
+    path first went the other way."""
+    speed, lane = 5.0, page.evaluate("window.cosimRide.lane")
+    t = np.round(np.arange(0.0, end + 1e-9, 0.01), 2)
+    x = speed * t
+    y = _lane(x, speed, lane) + off * np.sin(np.pi * t / end) ** 2  # off the lane the most half-way
+    if dip:  # first a little the other way, as a rider who counter-steers
+        y = y - dip * np.exp(-((t - lane["from"] - 0.15) / 0.1) ** 2)
+    phi = 0.1 * np.sin(t)
+    text = page.evaluate("([live, tr]) => window.cosimRide.verdictOf(live, tr)",
+                         [{"goal": goal, "speed": speed},
+                          {"t": t.tolist(), "x": x.tolist(), "y": y.tolist(), "phi": phi.tolist(), "fell": fell}])
+    assert text.startswith(words), text
+    assert ("counter-steering" in text) == bool(dip), text
+
+
+def test_rear_steered_starts_slow_and_in_slow_motion(page):
+    """Chosen for a ride of your own, the rear-steered bicycle gets 2 m/s and slow motion 0.25x
+    (the page says so); the front-steered one real time."""
+    page.select_option("#live-bicycle", "rear-steered")
+    assert page.locator("#live-speed").input_value() == "2" and page.locator("#live-pace").input_value() == "0.25"
+    assert page.locator("#live-speed-value").inner_text() == "2 m/s"
+    assert "2 m/s in slow motion" in page.locator("#live").inner_text()
+    page.select_option("#live-bicycle", "benchmark")
+    assert page.locator("#live-pace").input_value() == "1"

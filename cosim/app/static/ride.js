@@ -30,7 +30,9 @@
 // magnitude, pace, goal, t, T_delta, T_phi, phi, command, events [{key, down, time}] (key:
 // ArrowLeft/ArrowRight or touch-left/touch-right), fell, reason, steps, frames (of the view while
 // riding), verdict, liveDraws (plots drawn while riding), lane (the lane change's [x, y] or null)},
-// view2d (true: no WebGL, the 2-D view), csv() (the CSV text)}.
+// view2d (true: no WebGL, the 2-D view), csv() (the CSV text), verdictOf({goal, speed}, {t, x, y, phi,
+// fell}) (the words at the end of a ride of your own), goals {name: {label, duration [s]}}, lane
+// {shift [m], from [s], to [s], tolerance [m]}}.
 (function () {
   "use strict";
   const DATA = window.COSIM_DATA;
@@ -627,6 +629,10 @@
     for (let k = 0; k <= 200; k++) { const d = length * k / 200; out.push([dir * d, laneAt(d, v)]); }
     return out;
   }
+
+  state.verdictOf = (live, tr) => verdict(live, tr);
+  state.goals = GOALS;
+  state.lane = LANE;
 
   function command() {
     let c = (keys.ArrowRight || touch.right ? 1 : 0) - (keys.ArrowLeft || touch.left ? 1 : 0);
