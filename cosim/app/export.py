@@ -55,8 +55,9 @@ CONTROLLERS = ("Bicycle.Control.PD", "Bicycle.Control.LaneChange")
 MODULES = (MODEL, RIDE_MODEL, *CONTROLLERS)
 RIDE_STEP = 0.01  # [s] the communication step of the page's rides (the Whipple FMU's default interval)
 FALL_ROLL = 1.0  # [rad] |phi| beyond this ends a ride: a fall (as the bundled systems' `fall`)
-# The gust of "ride it yourself" (a roll-torque pulse T_phi; unchecked, the upright bicycle stays up).
-GUST = {"amplitude": 5.0, "start": 1.0, "duration": 0.2}  # [N.m, s, s]
+# The gust of "ride it yourself" (a roll-torque pulse T_phi; unchecked, the upright bicycle stays up),
+# 2 s into the ride: time to see it coming (the page counts down to it) and to react.
+GUST = {"amplitude": 5.0, "start": 2.0, "duration": 0.2}  # [N.m, s, s]
 # What CosimRide3D draws the bicycle from (Meijaard geometry, crown radii of toroidal tyres).
 GEOMETRY = ("w", "c", "lam", "rR", "rF", "tR", "tF")
 # The bicycles of "ride it yourself": (name, label, parameter set, ridden backwards, other values).
@@ -111,8 +112,8 @@ class Script:
 def _scripts() -> tuple[Script, ...]:
     """The scripts of ``bundle.js`` in their order: the vendored libraries first, then the
     page's own code (each file one concern, see the comments at their tops)."""
-    # three.js before ride3d.js (it uses the global THREE); ride3d.js and plots.js before ride.js
-    # (which uses CosimRide3D and CosimPlots). app.js and ride.js are independent of each other;
+    # three.js before ride3d.js (it uses the global THREE); ride3d.js, plots.js and ride2d.js before
+    # ride.js (which uses CosimRide3D, CosimPlots and CosimRide2D). app.js and ride.js are independent of each other;
     # ride.js comes first so that the rides are defined even if app.js throws while loading (one
     # bundle is one script: an uncaught error stops what follows it). sideview.js, modes.js and
     # viewstate.js before app.js, which uses them. diagram.js after app.js, which fills the bicycle
@@ -123,12 +124,14 @@ def _scripts() -> tuple[Script, ...]:
         Script(VENDOR / "three.min.js"),
         Script(STATIC / "ride3d.js"),
         Script(STATIC / "plots.js"),
+        Script(STATIC / "ride2d.js"),
         Script(STATIC / "ride.js"),
         Script(STATIC / "sideview.js"),
         Script(STATIC / "modes.js"),
         Script(STATIC / "viewstate.js"),
         Script(STATIC / "app.js"),
         Script(STATIC / "diagram.js"),
+        Script(STATIC / "help.js"),
     )
 
 

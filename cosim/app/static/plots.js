@@ -5,6 +5,7 @@
 //   const plot = CosimPlots.create(canvas);
 //   plot.setRides([{label, color, dashed?, t: [...], phi, delta, psi, x, y}, ...]);
 //   plot.setCursor(time);      // [s] a vertical line in the time plots, a dot on the path
+//   plot.setTarget({label, x: [...], y: [...]} or null);  // a path to follow, dashed grey
 //   plot.draws                 // frames drawn (tests)
 //
 // The path is drawn seen from above with x (forward at yaw 0) to the right and y (to the right of
@@ -40,7 +41,7 @@
 
   function create(canvas) {
     const ctx = canvas.getContext("2d");
-    let rides = [], cursor = null;
+    let rides = [], cursor = null, target = null;
     const plot = { draws: 0 };
 
     // A framed panel with ticks; Y maps values upwards, or downwards with `down` (the path's y).
@@ -99,7 +100,8 @@
       // flatten it (a lane change: 1 m over 70 m), then y stretched and the stretch shown (never
       // squeezed: a path that is long in y is drawn narrow in x, as it is)
       const px0 = left + tw + 60, pw = W - px0 - 10, py0 = 16, ph = H - 46;
-      let [xl, xh] = niceRange(...extent(rides, "x")), [yl, yh] = niceRange(...extent(rides, "y"));
+      const onPath = target ? [...rides, target] : rides;  // the target in view too
+      let [xl, xh] = niceRange(...extent(onPath, "x")), [yl, yh] = niceRange(...extent(onPath, "y"));
       const sx = pw / (xh - xl), sy = ph / (yh - yl);
       let stretch = 1;
       if (sy / sx > 4) stretch = sy / sx / 2;  // y alone would fill 4x more than equal scales allow
@@ -109,6 +111,7 @@
       const title = "path y(x) [m], seen from above" + (Math.abs(stretch - 1) > 1e-9 ?
         ` (y scale \u00d7${+stretch.toPrecision(2)})` : "");
       const { X, Y } = frame(px0, py0, pw, ph, [xl, xh], [yl, yh], title, "", true);
+      if (target) line({ ...target, color: "#777", dashed: true }, target.x, target.y, X, Y);
       for (const r of rides) line(r, r.x, r.y, X, Y);
       ctx.fillStyle = "#444"; ctx.textAlign = "left"; ctx.textBaseline = "top";
       ctx.fillText("y [m] \u2193 (right of the rider)", px0 + 4, py0 + 4);
@@ -122,8 +125,9 @@
         }
       }
       // legend
-      ctx.textBaseline = "middle";
-      rides.forEach((r, k) => {
+      ctx.textAlign = "left"; ctx.textBaseline = "middle";  // (the x label above left it "right")
+      const legend = target ? [...rides, { label: target.label, color: "#777", dashed: true }] : rides;
+      legend.forEach((r, k) => {
         const lx = px0 + 6, ly = py0 + 24 + 14 * k;  // under the axis label, top left
         ctx.strokeStyle = r.color; ctx.lineWidth = 2; ctx.setLineDash(r.dashed ? [5, 4] : []);
         ctx.beginPath(); ctx.moveTo(lx, ly); ctx.lineTo(lx + 22, ly); ctx.stroke(); ctx.setLineDash([]);
@@ -133,6 +137,7 @@
 
     plot.setRides = (list) => { rides = list.filter((r) => r && r.t.length); cursor = null; draw(); };
     plot.setCursor = (time) => { cursor = time; draw(); };
+    plot.setTarget = (path) => { target = path && path.x.length ? path : null; draw(); };
     plot.redraw = draw;
     draw();
     return plot;

@@ -2,7 +2,9 @@
 // ride3d.js and plots.js): the nonlinear Whipple bicycle's WebAssembly FMU run by a small
 // co-simulation master in the page, played in the 3-D view (CosimRide3D) with plots (CosimPlots)
 // and a CSV download; the guided demos (COSIM_DATA.demos, from cosim/app/demos/*.toml); the rider
-// in the loop (keyboard / gamepad torque through an adjustable delay, in real time).
+// in the loop (keyboard / gamepad / on-screen touch buttons: a torque through an adjustable delay,
+// in real time or in slow motion, with a goal and its verdict in plain words). Without WebGL the
+// rides are drawn in 2-D (CosimRide2D of ride2d.js) with a plain message.
 //
 // The bicycle's equations are never written here: every step is the FMU's fmi2DoStep (the module
 // compiled from its own C sources). Controllers are the library's Modelica blocks compiled to
@@ -24,7 +26,13 @@
 // realTimeFactor, stepsPerSecond, steps, seconds, trajectory {t, <outputs>, T_delta, T_phi, fell,
 // reason}, compare (same, or null), inputs (names), columns (CSV header), expectation
 // [{check, ok, measured}], passed, unstablePole {main, compare} [1/s], player {time, playing,
-// finished, frames}, frames (view frames drawn), plotDraws, live {...}, csv() (the CSV text)}.
+// finished, frames}, frames (view frames drawn), plotDraws, live {active, bicycle, speed, tau, input,
+// magnitude, pace, goal, t, T_delta, T_phi, phi, command, events [{key, down, time}] (key:
+// ArrowLeft/ArrowRight or touch-left/touch-right), fell, reason, steps, frames (of the view while
+// riding), verdict, liveDraws (plots drawn while riding), lane (the lane change's [x, y] or null)},
+// view2d (true: no WebGL, the 2-D view), csv() (the CSV text), verdictOf({goal, speed}, {t, x, y, phi,
+// fell}) (the words at the end of a ride of your own), goals {name: {label, duration [s]}}, lane
+// {shift [m], from [s], to [s], tolerance [m]}}.
 (function () {
   "use strict";
   const DATA = window.COSIM_DATA;
@@ -33,7 +41,7 @@
     ready: false, error: null, demo: null, running: false, finished: false, time: 0,
     realTimeFactor: null, stepsPerSecond: null, steps: 0, seconds: null, trajectory: null, compare: null,
     inputs: [], columns: [], expectation: [], passed: null, unstablePole: {}, player: null, frames: 0,
-    plotDraws: 0, live: null, demosRun: {},
+    plotDraws: 0, live: null, demosRun: {}, view2d: false,
   };
   window.cosimRide = state;
   const $ = (id) => document.getElementById(id);
@@ -171,6 +179,7 @@
       if (this.ctrl) this.ctrl.doStep(t, this.step);
       if (status === 2) {  // the outputs are those of the last successful time
         const z = this.read(), delta = z[this.outputs.indexOf("delta")];
+        this.stopped = { t: this.bike.lastSuccessfulTime, phi: z[this.phiIndex], delta };
         return this.end(true, `fall: the FMU stopped the step at t = ${this.bike.lastSuccessfulTime.toFixed(3)} s ` +
                               `(phi ${z[this.phiIndex].toFixed(2)} rad, steer ${delta.toFixed(2)} rad: the ` +
                               "configuration became singular)");
@@ -188,7 +197,8 @@
 
     // The recorded ride as arrays: {t, <output>..., <input>..., fell, reason}.
     trajectory() {
-      const out = { t: this.rows.map((_, k) => k * this.step), fell: this.fell, reason: this.reason };
+      const out = { t: this.rows.map((_, k) => k * this.step), fell: this.fell, reason: this.reason,
+                  stopped: this.stopped || null };
       [...this.outputs, ...this.inputs].forEach((name, j) => { out[name] = this.rows.map((r) => r[j]); });
       return out;
     }
@@ -315,16 +325,42 @@
     return g;
   }
 
+  // The 3-D view, or without WebGL the 2-D one (a top view and a rear view) with a plain message.
+  // WebGL is probed on a canvas of its own first, so that three.js is never asked for a context it
+  // cannot have (it would log errors); should three.js fail anyway, the canvas is replaced by a
+  // fresh one (a canvas that gave a WebGL context gives no 2-D one) and drawn in 2-D.
+  let viewKey = null;  // the geometry the view draws: a view is made anew only for another one
   function ensureView(values) {
-    const canvas = $("ride-canvas");
+    let canvas = $("ride-canvas");
+    const key = JSON.stringify(geometry(values));
+    if (view && key === viewKey) return view;  // (a new WebGL renderer costs its shaders' compilation)
     if (view) view.dispose();
-    view = CosimRide3D.createView(canvas, geometry(values), { rider: true, follow: true });
+    view = null;
+    viewKey = key;
+    if (!state.view2d && CosimRide2D.webglAvailable()) {
+      try {
+        view = CosimRide3D.createView(canvas, geometry(values), { rider: true, follow: true });
+        return view;
+      } catch (e) {
+        const fresh = canvas.cloneNode(false);
+        canvas.replaceWith(fresh);
+        canvas = fresh;
+      }
+    }
+    if (!state.view2d) {
+      state.view2d = true;
+      $("ride-no-webgl").hidden = false;
+      canvas.setAttribute("aria-label", "the ride in 2-D: the path from above and the bicycle's lean from behind");
+    }
+    view = CosimRide2D.createView(canvas, geometry(values));
+    view.resize(canvas.clientWidth || 400, canvas.clientHeight || 300);
     return view;
   }
 
-  function play(trajectory, values, name) {
+  function play(trajectory, values, name, { autoplay = true } = {}) {
     if (player) player.pause();
     ensureView(values);
+    for (const id of ["ride-play", "ride-scrub", "ride-rate", "ride-csv"]) $(id).disabled = false;
     playing = trajectory;
     playingName = name;
     const scrub = $("ride-scrub"), end = trajectory.t[trajectory.t.length - 1];
@@ -345,7 +381,7 @@
     state.player = { ...player.state };
     // The ride plays at once, unless the reader's system asks for reduced motion: then the first
     // frame stays until "play" is pressed.
-    if (matchMedia("(prefers-reduced-motion: reduce)").matches) {
+    if (!autoplay || matchMedia("(prefers-reduced-motion: reduce)").matches) {
       $("ride-play").textContent = "play";
     } else {
       player.play();
@@ -397,21 +433,110 @@
     return state.passed;
   }
 
+  // --- results in the lesson's words ---------------------------------------------------------------
+  // Meijaard's axes: y, roll, steer, heading and turn rate are positive to the right.
+  const DEG = 180 / Math.PI;
+  const side = (x) => (x > 0 ? "right" : "left");
+  const ANGLES = new Set(["phi", "delta", "psi"]);
+  const WORDS = { phi: "the lean", delta: "the steer angle", psi: "the heading", y: "the path", u_psi: "the turn rate",
+                  x: "the distance", u_phi: "the lean rate", u_delta: "the steer rate" };
+  const word = (signal) => WORDS[signal] || signal;
+  // a length in words: centimetres below 10 cm, else metres
+  const length = (m) => (Math.abs(m) < 0.1 ? `${Math.max(1, Math.round(Math.abs(m) * 100))} cm`
+                                           : `${Math.abs(m).toFixed(2)} m`);
+  const angle = (rad) => `${+(Math.abs(rad) * DEG).toPrecision(2)}\u00b0`;
+  const amount = (signal, v) => (ANGLES.has(signal) ? angle(v) : signal === "y" ? length(v)
+    : signal === "u_psi" ? `${angle(v)} per second` : `${+Math.abs(v).toPrecision(3)}`);
+  const seconds = (t) => `${+t.toFixed(2)} s`;
+
+  // How a ride ended, in words: it stayed up, or when and how it fell.
+  function outcome(tr, duration) {
+    const end = tr.t[tr.t.length - 1];
+    if (!tr.fell) return tr.reason === "end" ? `stayed up for the whole ${seconds(duration)}` : `stopped at ${seconds(end)}`;
+    if (tr.stopped)
+      return `fell after ${seconds(end)}: it leaned ${angle(tr.stopped.phi)} to the ${side(tr.stopped.phi)} ` +
+             `and steered ${angle(tr.stopped.delta)} to the ${side(tr.stopped.delta)}, as far as the model of ` +
+             "the rolling bicycle goes";
+    const phi = tr.phi[tr.phi.length - 1];
+    return `fell to the ${side(phi)} after ${seconds(end)} (the lean passed ${angle(RIDE.fallRoll)})`;
+  }
+
+  // One expectation of a demo (cosim/app/demos.py's checks) as a sentence of what happened.
+  function plainCheck(c, rides, labels) {
+    const r = rides[c.ride], label = labels[c.ride], t = r.t, end = t[t.length - 1];
+    switch (c.check) {
+      case "falls":
+        return c.value ? `${label}: the bicycle fell, after ${seconds(end)}` + (c.before ? ` (expected before ${seconds(c.before)})` : "")
+                       : `${label}: the bicycle stayed up`;
+      case "outlasts": {
+        const o = rides.compare;
+        return `${label} stayed up for ${seconds(end)}, ${labels.compare} only ${seconds(o.t[o.t.length - 1])}`;
+      }
+      case "max_abs": {
+        const w = windowAbs(t, r[c.signal], c.from, c.to), m = w.length ? Math.max(...w) : NaN;
+        const when = c.from !== undefined ? ` from ${seconds(c.from)} to ${seconds(c.to ?? end)}` : "";
+        const bound = c.below !== undefined ? `stayed below ${amount(c.signal, c.below)}` : `went beyond ${amount(c.signal, c.above)}`;
+        return `${label}: ${word(c.signal)} ${bound}${when} (at most ${amount(c.signal, m)})`;
+      }
+      case "grows": {
+        const a = windowAbs(t, r[c.signal], ...c.early), b = windowAbs(t, r[c.signal], ...c.late);
+        return `${label}: ${word(c.signal)} grew from ${amount(c.signal, Math.max(...a))} (${seconds(c.early[0])}\u2013` +
+               `${seconds(c.early[1])}) to ${amount(c.signal, Math.max(...b))} (${seconds(c.late[0])}\u2013${seconds(c.late[1])})`;
+      }
+      case "first_excursion": {
+        const first = r[c.signal].find((v) => Math.abs(v) > c.threshold);
+        return first === undefined ? `${label}: ${word(c.signal)} hardly moved`
+          : `${label}: ${word(c.signal)} first went ${amount(c.signal, first)} to the ${side(first)}`;
+      }
+      case "final_sign": {
+        const last = r[c.signal][r[c.signal].length - 1];
+        return `${label}: at the end ${word(c.signal)} was ${amount(c.signal, last)} to the ${side(last)}`;
+      }
+      case "growth_rate": {
+        const rate = growthRate(t, r[c.signal], ...c.between);
+        let text = `${label}: ${word(c.signal)} doubled every ${seconds(Math.LN2 / rate)}`;
+        if (c.than_compare !== undefined) {
+          const o = rides.compare, other = growthRate(o.t, o[c.signal], ...c.between);
+          text += `, with ${labels.compare} every ${seconds(Math.LN2 / other)}`;
+        }
+        return text;
+      }
+      default:
+        return `${label}: ${c.check}`;
+    }
+  }
+
+  // The story of a path that first goes one way and ends up the other: counter-steering.
+  function counterSteering(demo, rides, labels) {
+    for (const key of ["main", "compare"]) {
+      const checks = demo.expect.filter((c) => c.ride === key && c.signal === "y");
+      const first = checks.find((c) => c.check === "first_excursion"), last = checks.find((c) => c.check === "final_sign");
+      if (!first || !last || !rides[key]) continue;
+      const y = rides[key].y, a = y.find((v) => Math.abs(v) > first.threshold), b = y[y.length - 1];
+      if (a !== undefined && Math.sign(a) !== Math.sign(b))
+        return `${labels[key]}: the path first went ${length(a)} ${side(a)}, then ${length(b)} ${side(b)}: counter-steering.`;
+    }
+    return null;
+  }
+
   function showDemoResult(demo, main, compare, poles, expectation) {
     const fmt = (x, d = 1) => x.toLocaleString("en", { maximumFractionDigits: d });
     const tau = (ride) => (ride.controller && ride.controller.delay ? ride.controller.delay : 0);
-    const lines = [`${main.steps} steps of ${RIDE.step} s in ${fmt(main.seconds * 1e3)} ms: ${fmt(main.steps / main.seconds, 0)} ` +
-                   `steps/s, ${fmt(main.trajectory.t[main.trajectory.t.length - 1] / main.seconds, 0)}\u00d7 real time.`];
-    for (const [key, r] of [["main", main], ["compare", compare]]) {
-      if (!r) continue;
-      const ride = key === "main" ? demo.ride : demo.compare, p = poles[key];
-      let text = `${ride.label}: ${r.trajectory.reason === "end" ? "rode to the end" : r.trajectory.reason} ` +
-                 `(t = ${r.trajectory.t[r.trajectory.t.length - 1].toFixed(2)} s)`;
-      if (p !== null) {
-        text += `; largest Re \u03bb of the uncontrolled linearized bicycle p = ${p.toFixed(3)} 1/s`;
-        if (tau(ride)) text += `, \u03c4 = ${tau(ride)} s, p\u03c4 = ${(p * tau(ride)).toFixed(3)}`;
-      }
-      lines.push(text + ".");
+    const labels = { main: demo.ride.label, compare: demo.compare && demo.compare.label };
+    const rides = { main: main.trajectory, compare: compare && compare.trajectory };
+    // what a student reads: how each ride ended and what that shows
+    const lines = [];
+    const story = counterSteering(demo, rides, labels);
+    if (story) lines.push(story);
+    for (const key of ["main", "compare"]) {
+      if (!rides[key]) continue;
+      let text = `${labels[key]}: ${outcome(rides[key], demo.duration)}.`;
+      const p = poles[key];
+      if (p !== null && p !== undefined)
+        // p: the largest real part of the linearized bicycle's eigenvalues, hands off the handlebar
+        text += p > 0 ? ` With nobody steering, a small lean grows at this speed: it doubles every ${seconds(Math.LN2 / p)}.`
+                      : " With nobody steering, the bicycle recovers from a small lean at this speed.";
+      lines.push(text);
     }
     $("ride-status").textContent = lines.join("\n");
     const list = $("ride-expectation");
@@ -419,9 +544,26 @@
     for (const e of expectation) {
       const li = document.createElement("li");
       li.className = e.ok ? "ok" : "bad";
-      li.textContent = `${e.ok ? "\u2713" : "\u2717"} ${e.check} (${e.ride}${e.signal ? ", " + e.signal : ""}): ${e.measured}`;
+      li.textContent = `${e.ok ? "\u2713" : "\u2717 not as expected:"} ${plainCheck(e, rides, labels)}`;
       list.appendChild(li);
     }
+    // the engineer's numbers, folded away
+    const technical = [`${main.steps} steps of ${RIDE.step} s in ${fmt(main.seconds * 1e3)} ms: ${fmt(main.steps / main.seconds, 0)} ` +
+                       `steps/s, ${fmt(main.trajectory.t[main.trajectory.t.length - 1] / main.seconds, 0)}\u00d7 real time.`];
+    for (const key of ["main", "compare"]) {
+      if (!rides[key]) continue;
+      const ride = key === "main" ? demo.ride : demo.compare, p = poles[key];
+      let text = `${labels[key]}: ${rides[key].reason} (t = ${rides[key].t[rides[key].t.length - 1].toFixed(2)} s)`;
+      if (p !== null && p !== undefined) {
+        text += `; largest Re \u03bb of the uncontrolled linearized bicycle p = ${p.toFixed(3)} 1/s`;
+        if (tau(ride)) text += `, \u03c4 = ${tau(ride)} s, p\u03c4 = ${(p * tau(ride)).toFixed(3)}`;
+      }
+      technical.push(text + ".");
+    }
+    for (const e of expectation)
+      technical.push(`${e.ok ? "\u2713" : "\u2717"} ${e.check} (${e.ride}${e.signal ? ", " + e.signal : ""}): ${e.measured}`);
+    $("ride-technical-text").textContent = technical.join("\n");
+    $("ride-technical").hidden = false;
   }
 
   function selectDemo(name) {
@@ -461,44 +603,156 @@
     setTimeout(() => URL.revokeObjectURL(a.href), 1000);
   }
 
-  // --- rider in the loop: real time, keyboard / gamepad, delay ---------------------------------------
+  // --- rider in the loop: real time or slow motion, keyboard / gamepad / touch, delay, a goal ------
   const keys = { ArrowLeft: false, ArrowRight: false };
-  let liveRide = null, liveFrame = null;
+  const touch = { left: false, right: false };  // the on-screen buttons, held
+  let liveRide = null, liveFrame = null, liveValues = null;
+
+  // The goals: stay up for 20 s; follow a lane that moves 1 m to the right (y > 0, Meijaard's
+  // axes), as the paper's lane change, between 4 s and 7 s of riding at the chosen speed.
+  const LANE = { shift: 1.0, from: 4.0, to: 7.0, tolerance: 0.5 };  // [m, s, s, m]
+  const GOALS = {
+    free: { label: "no goal: ride as long as you like", duration: 600 },
+    "stay-up": { label: "stay up for 20 s", duration: 20 },
+    "lane-change": { label: "follow a lane change (1 m to the right)", duration: 10 },
+  };
+  // The lane's centre y [m] at the distance d [m] ridden, at the speed v [m/s] (cosine blend).
+  function laneAt(d, v) {
+    const a = LANE.from * Math.abs(v), b = LANE.to * Math.abs(v);
+    if (d <= a) return 0;
+    if (d >= b) return LANE.shift;
+    return LANE.shift * (1 - Math.cos(Math.PI * (d - a) / (b - a))) / 2;
+  }
+  // the lane's centre line as points [x, y] over the goal's ride (riding backwards: x < 0)
+  function lanePath(v) {
+    const out = [], length = GOALS["lane-change"].duration * Math.abs(v), dir = v < 0 ? -1 : 1;
+    for (let k = 0; k <= 200; k++) { const d = length * k / 200; out.push([dir * d, laneAt(d, v)]); }
+    return out;
+  }
+
+  state.verdictOf = (live, tr) => verdict(live, tr);
+  state.goals = GOALS;
+  state.lane = LANE;
 
   function command() {
-    let c = (keys.ArrowRight ? 1 : 0) - (keys.ArrowLeft ? 1 : 0);
+    let c = (keys.ArrowRight || touch.right ? 1 : 0) - (keys.ArrowLeft || touch.left ? 1 : 0);
     const pads = navigator.getGamepads ? Array.from(navigator.getGamepads()).filter(Boolean) : [];
     if (pads.length && pads[0].axes.length && Math.abs(pads[0].axes[0]) > 0.05) c += pads[0].axes[0];
     return c * Number($("live-magnitude").value);
   }
 
-  async function startLive() {
+  // The verdict of a finished ride of your own, in plain words.
+  function verdict(live, tr) {
+    const end = tr.t[tr.t.length - 1], goal = GOALS[live.goal];
+    const how = tr.fell ? `the bicycle fell after ${seconds(end)}` : `you stopped at ${seconds(end)}`;
+    const phiMax = tr.phi.reduce((m, v) => (Math.abs(v) > Math.abs(m) ? v : m), 0);
+    const lean = `the largest lean was ${angle(phiMax)}${Math.abs(phiMax) > 0 ? " to the " + side(phiMax) : ""}`;
+    const hint = tr.fell ? " Try a shorter delay \u03c4, slow motion, or catch the lean earlier: steer into it." : "";
+    if (live.goal === "stay-up") {
+      if (!tr.fell && end >= goal.duration - 1e-9)
+        return `Goal reached: you kept the bicycle up for ${seconds(goal.duration)}; ${lean}.`;
+      return `Goal not reached: ${how}, before ${seconds(goal.duration)}; ${lean}.${hint}`;
+    }
+    if (live.goal === "lane-change") {
+      const d = tr.x.map((x) => Math.abs(x)), miss = tr.y.map((y, i) => y - laneAt(d[i], live.speed));
+      let worst = 0;
+      for (let i = 1; i < miss.length; i++) if (Math.abs(miss[i]) > Math.abs(miss[worst])) worst = i;
+      const stayed = `your path was at most ${length(miss[worst])} from the lane's centre ` +
+                     `(${length(miss[worst])} ${side(miss[worst])} of it at ${seconds(tr.t[worst])})`;
+      // counter-steering: to go right, the path first goes a little left (from where the lane starts to move)
+      const from = tr.t.findIndex((t) => t >= LANE.from), y0 = from < 0 ? 0 : tr.y[from];
+      const first = from < 0 ? undefined : tr.y.slice(from).find((y) => Math.abs(y - y0) > 0.01);
+      const last = tr.y[tr.y.length - 1];
+      const story = first !== undefined && first < y0 && last > y0
+        ? ` The path first went ${length(first - y0)} left, then ${length(last - y0)} right: counter-steering.` : "";
+      if (tr.fell || end < goal.duration - 1e-9)
+        return `Goal not reached: ${how}, before the end of the lane change (${seconds(goal.duration)}); ${stayed}.${hint}`;
+      const ok = Math.abs(miss[worst]) <= LANE.tolerance;
+      return (ok ? `Goal reached: you followed the lane; ${stayed}.`
+                 : `Goal not reached: ${stayed}, more than ${length(LANE.tolerance)} (half a lane).`) + story;
+    }
+    return `${how[0].toUpperCase()}${how.slice(1)}; ${lean}.`;
+  }
+
+  // The ride so far on the plots (and its lane), as the ride goes.
+  function drawLive(final) {
+    if (!liveRide) return;
+    const tr = liveRide.trajectory();
+    showTrajectories(tr, null, { main: final ? `ridden by you (\u03c4 = ${state.live.tau} s)` : "your ride so far" });
+    state.live.liveDraws = (state.live.liveDraws || 0) + 1;
+    return tr;
+  }
+
+  // The demo's texts, ticks and player are not about this ride: cleared while it runs.
+  function clearDemoResult() {
     if (player) player.pause();
+    player = null;
+    state.demo = null;
+    state.player = null;
+    $("ride-status").textContent = "";
+    $("ride-expectation").innerHTML = "";
+    $("ride-technical").hidden = true;
+    $("ride-which").innerHTML = "";
+    $("ride-which").disabled = true;
+    for (const id of ["ride-play", "ride-scrub", "ride-rate", "ride-csv"]) $(id).disabled = true;
+    $("ride-scrub").value = "0";
+    $("ride-time").textContent = "0.00";
+  }
+
+  function liveStatus(live, q) {
+    const lean = Math.abs(q.phi) < 0.5 / DEG ? "upright" : `leaning ${angle(q.phi)} to the ${side(q.phi)}`;
+    const steer = Math.abs(q.delta) < 0.5 / DEG ? "steering straight" : `steering ${angle(q.delta)} to the ${side(q.delta)}`;
+    const c = live.command.length ? live.command[live.command.length - 1] : 0;
+    const yours = c === 0 ? "no torque from you" : `your ${live.input === "T_phi" ? "lean" : "steer"} torque: ${side(c)}`;
+    let gust = "";
+    if (live.gust) {
+      const g = RIDE.gust, t = liveRide.time;
+      gust = t < g.start ? ` \u00b7 the gust comes in ${(g.start - t).toFixed(1)} s` : t < g.start + g.duration ? " \u00b7 the gust!" : "";
+    }
+    return `t = ${liveRide.time.toFixed(1)} s \u00b7 ${lean} \u00b7 ${steer} \u00b7 ${yours}${gust}`;
+  }
+
+  async function startLive() {
     stopLive();
-    keys.ArrowLeft = keys.ArrowRight = false;
-    if (document.activeElement && document.activeElement.blur) document.activeElement.blur();  // arrows are the rider's
+    clearDemoResult();
+    keys.ArrowLeft = keys.ArrowRight = touch.left = touch.right = false;
     const choice = RIDE.bicycles.find((b) => b.name === $("live-bicycle").value);
     const speed = Number($("live-speed").value) * (choice.backwards ? -1 : 1);
     const values = { ...choice.values, u_R0: -speed / choice.values.rR };
     const tau = Number($("live-delay").value), mode = $("live-mode").value;
     const input = mode === "lean" ? "T_phi" : "T_delta";
+    const goal = $("live-goal").value, pace = Number($("live-pace").value);
     const bike = await moduleOf(RIDE.model);
     const live = { active: true, bicycle: choice.name, speed, tau, input, magnitude: Number($("live-magnitude").value),
-                   t: [], T_delta: [], T_phi: [], phi: [], command: [], events: [], fell: false, reason: null, steps: 0 };
+                   pace, goal, t: [], T_delta: [], T_phi: [], phi: [], command: [], events: [], fell: false, reason: null,
+                   steps: 0, verdict: null, liveDraws: 0 };
     state.live = live;
+    $("live-verdict").textContent = "";
     // the gust: without a disturbance the upright bicycle, even the rear-steered one, stays up
     // exactly (an equilibrium) and the student feels nothing
     const inputs = $("live-push").checked ? { T_phi: { source: "pulse", ...RIDE.gust } } : {};
     live.gust = $("live-push").checked;
-    liveRide = new Ride(bike, null, { values, inputs }, RIDE.step, {
-      extra: (t) => { const c = command(); live.command.push(c); return { [input]: c }; }, extraDelay: tau });
-    ensureView(values);
+    try {
+      liveRide = new Ride(bike, null, { values, inputs }, RIDE.step, {
+        extra: (t) => { const c = command(); live.command.push(c); return { [input]: c }; }, extraDelay: tau });
+      liveValues = values;
+      ensureView(values);
+      if (view.setTarget) view.setTarget(goal === "lane-change" ? lanePath(speed) : null);
+    } catch (e) {
+      live.active = false;  // nothing runs: the ride is not left "active"
+      live.reason = "could not start";
+      throw e;
+    }
+    live.lane = goal === "lane-change" ? lanePath(speed) : null;
+    plots.setTarget(goal === "lane-change"
+      ? (() => { const pts = lanePath(speed); return { label: "the lane to follow", x: pts.map((q) => q[0]), y: pts.map((q) => q[1]) }; })()
+      : null);
     playing = null;
     let last = performance.now(), accumulator = 0;
-    const stop = 600;  // [s] of riding at most
+    const stop = GOALS[goal].duration;  // [s] of riding at most
     const frame = (now) => {
       if (!live.active) return;
-      accumulator += Math.min(0.1, (now - last) / 1000);  // at most 0.1 s per frame (a hidden tab)
+      accumulator += Math.min(0.1, (now - last) / 1000) * pace;  // at most 0.1 s per frame (a hidden tab)
       last = now;
       while (accumulator >= RIDE.step && live.active) {
         accumulator -= RIDE.step;
@@ -521,10 +775,9 @@
           view.setPath(liveRide.rows.map((r) => [r[xi], r[yi]]));
         }
         view.render();
-        state.frames = view.frames;
-        $("live-status").textContent = `t = ${liveRide.time.toFixed(2)} s, \u03c6 = ${q.phi.toFixed(3)} rad, ` +
-          `${input} = ${(live[input][live[input].length - 1] || 0).toFixed(2)} N\u00b7m` +
-          (live.active ? "" : ` \u2014 ${live.reason}`);
+        state.frames = live.frames = view.frames;
+        if (live.steps - (live.plottedAt || 0) >= 10 && live.active) { live.plottedAt = live.steps; drawLive(false); }
+        $("live-status").textContent = liveStatus(live, q);
       }
       if (live.active) liveFrame = requestAnimationFrame(frame);
       else finishLive();
@@ -535,14 +788,22 @@
 
   function finishLive() {
     if (!liveRide) return;
-    const tr = liveRide.trajectory();
+    const tr = drawLive(true);
     Object.assign(state, { trajectory: tr, compare: null, columns: ["time", ...liveRide.outputs, ...liveRide.inputs],
                            inputs: liveRide.inputs });
-    playing = tr;
-    playingName = `ride-yourself-${state.live.bicycle}`;
-    showTrajectories(tr, null, { main: `ridden by you (\u03c4 = ${state.live.tau} s)` });
     liveRide.free();
     liveRide = null;
+    const live = state.live;
+    live.verdict = verdict(live, tr);
+    $("live-verdict").textContent = live.verdict;
+    $("live-status").textContent = `t = ${tr.t[tr.t.length - 1].toFixed(1)} s: ` +
+      (live.reason === "stopped" ? "stopped" : live.reason === "end" ? "the end of the goal's ride" : "the bicycle fell");
+    for (const id of ["ride-play", "ride-scrub", "ride-rate", "ride-csv"]) $(id).disabled = false;
+    // your ride in the player, paused at its end: scrub it back, play it, download it
+    play(tr, liveValues, `ride-yourself-${live.bicycle}`, { autoplay: false });
+    if (view.setTarget) view.setTarget(live.goal === "lane-change" ? lanePath(live.speed) : null);
+    player.seek(tr.t[tr.t.length - 1]);
+    state.player = { ...player.state };
   }
 
   function stopLive() {
@@ -565,6 +826,48 @@
     if (keys[event.key] === down) return;  // auto-repeat
     keys[event.key] = down;
     state.live.events.push({ key: event.key, down, time: liveRide ? liveRide.k * RIDE.step : null });
+  }
+
+  // An on-screen button held (pointer down .. up, cancel or leaving it): a torque to its side.
+  function touchButton(button, which) {
+    const set = (down, event) => {
+      if (event) event.preventDefault();
+      if (touch[which] === down) return;
+      touch[which] = down;
+      button.classList.toggle("held", down);
+      if (state.live && state.live.active)
+        state.live.events.push({ key: `touch-${which}`, down, time: liveRide ? liveRide.k * RIDE.step : null });
+    };
+    button.addEventListener("pointerdown", (e) => {
+      set(true, e);
+      if (button.setPointerCapture && e.pointerId !== undefined) { try { button.setPointerCapture(e.pointerId); } catch (_) { /* a synthetic pointer */ } }
+    });
+    for (const type of ["pointerup", "pointercancel", "lostpointercapture"]) button.addEventListener(type, (e) => set(false, e));
+    button.addEventListener("contextmenu", (e) => e.preventDefault());  // a long press is a torque, not a menu
+    // the keyboard on a focused button: held while Space or Enter is down
+    button.addEventListener("keydown", (e) => { if ((e.key === " " || e.key === "Enter") && !e.repeat) set(true, e); });
+    button.addEventListener("keyup", (e) => { if (e.key === " " || e.key === "Enter") set(false, e); });
+  }
+
+  // The texts that follow the choices: the buttons' side words, the gust, the rear-steered defaults.
+  function liveTexts() {
+    const lean = $("live-mode").value === "lean";
+    $("live-left").textContent = `\u25c0 ${lean ? "lean" : "steer"} left`;
+    $("live-right").textContent = `${lean ? "lean" : "steer"} right \u25b6`;
+    const g = RIDE.gust;
+    $("live-push-text").textContent = `a gust pushes the bicycle to the right at t = ${g.start} s of the ride ` +
+      `(a roll torque of ${g.amplitude} N\u00b7m for ${g.duration} s, like a shove of about ${g.amplitude} N at the ` +
+      "rider's shoulders); the status below counts down to it";
+  }
+
+  // The rear-steered bicycle falls within a fraction of a second at walking speed: it starts
+  // slower and in slow motion, so that a person can try (and fail); the others in real time.
+  const REAR_STEERED = { speed: 2, pace: 0.25 };
+  function liveBicycleChosen() {
+    const choice = RIDE.bicycles.find((b) => b.name === $("live-bicycle").value);
+    const setRange = (id, v) => { $(id).value = String(v); $(id).dispatchEvent(new Event("input")); };
+    if (choice.backwards) { setRange("live-speed", REAR_STEERED.speed); $("live-pace").value = String(REAR_STEERED.pace); }
+    else $("live-pace").value = "1";
   }
 
   // --- the page -------------------------------------------------------------------------------------
@@ -591,6 +894,7 @@
       const b = document.createElement("button");
       b.id = `demo-run-${d.name}`;
       b.textContent = "run";
+      b.setAttribute("aria-label", `run: ${d.title}`);  // six buttons "run": a screen reader tells them apart
       b.addEventListener("click", () => { selectDemo(d.name); runDemo(d.name).catch(fail); });
       const title = document.createElement("a");
       title.href = "#ride";
@@ -631,6 +935,12 @@
       $(id).addEventListener("input", () => show(id, unit));
       show(id, unit);
     }
+    for (const [key, goal] of Object.entries(GOALS)) $("live-goal").add(new Option(goal.label, key));
+    touchButton($("live-left"), "left");
+    touchButton($("live-right"), "right");
+    $("live-mode").addEventListener("change", liveTexts);
+    $("live-bicycle").addEventListener("change", liveBicycleChosen);
+    liveTexts();
     $("live-start").addEventListener("click", () => startLive().catch(fail));
     $("live-stop").addEventListener("click", stopLive);
     window.addEventListener("keydown", (e) => onKey(e, true));
