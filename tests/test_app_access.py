@@ -240,3 +240,25 @@ def test_rear_steered_starts_slow_and_in_slow_motion(page):
     assert "2 m/s in slow motion" in page.locator("#live").inner_text()
     page.select_option("#live-bicycle", "benchmark")
     assert page.locator("#live-pace").input_value() == "1"
+
+
+def test_on_a_phone_the_buttons_stay_under_the_ride_while_riding(page):
+    """At 390x844 a ride of your own scrolls the 3-D view onto the screen and keeps the hold
+    buttons at the bottom of it (they are a screen below the view in the page's flow); after the
+    ride they are back in their place."""
+    page.set_viewport_size({"width": 390, "height": 844})
+    try:
+        page.uncheck("#live-push")
+        page.click("#live-start")
+        page.wait_for_function("window.cosimRide.live && window.cosimRide.live.steps > 5")
+        pad, view = page.locator("#live-pad").bounding_box(), page.locator("#ride-canvas").bounding_box()
+        assert pad["y"] + pad["height"] <= 844 + 0.5 and pad["y"] > 844 / 2, pad  # at the bottom, on screen
+        assert view["y"] < pad["y"] and view["y"] + view["height"] > 0, (view, pad)  # the view above it, seen
+        assert pad["width"] >= 380 and page.locator("#live-right").bounding_box()["height"] >= 44  # thumb-sized
+        page.locator("#live-right").dispatch_event("pointerdown")
+        page.wait_for_function("window.cosimRide.live.steps > 30")
+        page.locator("#live-right").dispatch_event("pointerup")
+        page.click("#live-stop")
+        assert page.evaluate("getComputedStyle(document.getElementById('live-pad')).position") == "static"
+    finally:
+        page.set_viewport_size({"width": 1280, "height": 900})

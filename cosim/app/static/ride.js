@@ -784,9 +784,13 @@
     };
     liveFrame = requestAnimationFrame(frame);
     $("live-start").textContent = "restart";
+    document.body.classList.add("riding");
+    // on a phone the 3-D view is a screen above the settings: show it, the buttons stay at the bottom
+    if (window.matchMedia("(max-width: 700px), (pointer: coarse)").matches) $("ride-view").scrollIntoView({ block: "start" });
   }
 
   function finishLive() {
+    document.body.classList.remove("riding");
     if (!liveRide) return;
     const tr = drawLive(true);
     Object.assign(state, { trajectory: tr, compare: null, columns: ["time", ...liveRide.outputs, ...liveRide.inputs],
