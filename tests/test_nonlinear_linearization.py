@@ -23,6 +23,7 @@ What is checked, with the tolerances used:
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -30,7 +31,8 @@ import pytest
 from conftest import run_cli
 from cosim.analytic import whipple as W
 from cosim.analytic.compare import root_set_error
-from cosim.analytic.parameters import load_parameters, load_upper_body, split_upper_body, validate_parameters
+from cosim.analytic.parameters import (load_parameters, load_upper_body, split_upper_body, upper_body_for,
+                                      validate_parameters)
 from cosim.analytic.twins import merged_rear_frame
 from cosim.cli import main
 from cosim.bicycle.linearize import ZERO_MODES, steady_motion
@@ -41,6 +43,7 @@ from cosim.nonlinear.model import MODEL, RIDER_MODEL
 pytestmark = pytest.mark.slow
 
 SETS = ("benchmark", "astrom2005", "astrom2005-riderless")
+PARAMS = Path(__file__).resolve().parents[1] / "cosim" / "params"
 SPEEDS = [float(v) for v in range(11)]
 ROOT_TOL = 1e-9  # relative per eigenvalue (cosim.analytic.compare.root_set_error)
 
@@ -115,22 +118,29 @@ def test_linearize_speed_gives_meijaard_eigenvalues(fmu, capsys, tmp_path, name)
     assert worst_speed <= 1e-14
 
 
-@pytest.mark.parametrize("name", ["benchmark"])
-def test_rider_model_takes_a_set_with_the_upper_body_split_off(rider_fmu, capsys, name):
-    """--params SET on WhippleRider: the set's rear frame holds the whole rider, so the model's upper body
-    is split off it; with the hinge locked the bicycle is the set's bicycle (Meijaard eigenvalues)."""
+@pytest.mark.parametrize("name, upper_body", [("benchmark", "benchmark"), ("astrom2005", "astrom2005")])
+def test_rider_model_takes_a_set_with_the_upper_body_split_off(rider_fmu, capsys, name, upper_body):
+    """--params SET on WhippleRider: the set's rear frame holds the whole rider, so the set's upper body
+    (cosim/params/rider/SET.toml, else the benchmark's) is split off it; with the hinge locked the
+    bicycle is the set's bicycle: Whipple's (Meijaard) eigenvalues, relative 1e-9 per root."""
+    assert upper_body_for(name) == upper_body
     p = load_parameters(name)
     for v in (0.0, 3.0, 5.0, 8.0):
         d = _linearize_json(capsys, str(rider_fmu), "--params", name, "--speed", repr(v), "--lock-hinge")
-        assert d["parameters"]["mB"] == pytest.approx(p["mB"] - load_upper_body()["mU"], rel=1e-15)
+        assert d["parameters"]["mB"] == pytest.approx(p["mB"] - load_upper_body(upper_body)["mU"], rel=1e-15)
         error = root_set_error(_complex(d["steady_motion"]["eigenvalues"]), W.eigenvalues(p, v))
         assert error <= ROOT_TOL, (v, error)
 
 
-@pytest.mark.parametrize("name, problem", [("astrom2005-riderless", "mU"), ("astrom2005", "IBxx")])
-def test_rider_model_refuses_a_set_that_cannot_carry_the_upper_body(rider_fmu, capsys, name, problem):
-    """The riderless set's 12 kg rear frame, or the paper's rider set whose rear-frame roll inertia is
-    smaller than the benchmark upper body's share: one message naming the parameter, exit 2."""
+@pytest.mark.parametrize("name, problem", [("astrom2005-riderless", "mU"), ("astrom2005-file", "IBxx")])
+def test_rider_model_refuses_a_set_that_cannot_carry_the_upper_body(rider_fmu, capsys, tmp_path, name, problem):
+    """The riderless set's 12 kg rear frame, or the paper's rider set given as a file (which carries the
+    benchmark's upper body, larger than that rear frame's roll inertia allows): one message naming the
+    parameter, exit 2."""
+    if name.endswith("-file"):
+        path = tmp_path / "astrom2005.toml"
+        path.write_text((PARAMS / "astrom2005.toml").read_text(encoding="utf-8"), encoding="utf-8")
+        name = str(path)
     status = main(["linearize", str(rider_fmu), "--params", name, "--speed", "5"])
     err = capsys.readouterr().err
     assert status == 2 and err.count("\n") == 1 and problem in err and "Traceback" not in err, err
@@ -208,7 +218,7 @@ def test_free_hinge_reduction_keeps_the_spectrum(rider_fmu):
 @pytest.mark.parametrize("name", ["benchmark", "astrom2005"])
 def test_merged_rear_frame_inverts_the_split(name):
     p = load_parameters(name)
-    merged = merged_rear_frame(split_upper_body(p, load_upper_body()))
+    merged = merged_rear_frame(split_upper_body(p, load_upper_body(upper_body_for(name))))
     assert max(abs(merged[k] - p[k]) / max(1.0, abs(p[k])) for k in p) <= 1e-14
 
 

@@ -592,6 +592,29 @@ def load_upper_body(name: str = "benchmark") -> dict[str, float]:
     return _load_table("rider", name, UPPER_BODY_UNITS)
 
 
+def upper_body_for(name_or_path: str | os.PathLike[str]) -> str:
+    """The bundled upper body (``cosim/params/rider/<name>.toml``) that a Meijaard set carries.
+
+    A bundled set with an upper body of its own name (``astrom2005``: the paper's rear frame with
+    rider, whose roll inertia is too small for the benchmark's upper body) takes that one; every
+    other set, and any set given as a path, takes the benchmark's.
+
+    Parameters
+    ----------
+    name_or_path : str or path-like
+        A ``--params`` argument: a bundled name or a TOML file.
+
+    Returns
+    -------
+    str
+        A name for :func:`load_upper_body`.
+    """
+    text = os.fspath(name_or_path)
+    if text in bundled_parameter_sets() and (_params_dir() / "rider" / f"{text}.toml").is_file():
+        return text
+    return "benchmark"
+
+
 def split_upper_body(bicycle: Mapping[str, float], upper_body: Mapping[str, float]) -> dict[str, float]:
     """The bicycle with the rider's upper body split off its rear frame.
 

@@ -12,7 +12,8 @@ import sys
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from cosim.analytic.parameters import load_set_for_models, load_upper_body, split_upper_body, validate_parameters
+from cosim.analytic.parameters import (load_set_for_models, load_upper_body, split_upper_body, upper_body_for,
+                                       validate_parameters)
 from cosim.errors import ParameterError
 from cosim.fmu.parameters import (SIMULATE_INPUT_HINT, Declared, check, declarations, split_assignment,
                                   starts)
@@ -61,11 +62,12 @@ def _note_on_stderr(message: str) -> None:
 
 def _split_rider(values: dict[str, float], parameter_set: str, waived=()) -> dict[str, float]:
     """A Meijaard set's rear frame B holds the whole (rigid) rider. For a model with the rider's upper
-    body on a hip hinge (parameters mU, xU, ...), the bundled upper body is split off B, so that with
-    the hinge locked the bicycle is the set's bicycle (not one carrying a second upper body). The
-    checks the set's file waives (``waived``) stay waived for the split rear frame."""
+    body on a hip hinge (parameters mU, xU, ...), the set's bundled upper body
+    (:func:`cosim.analytic.parameters.upper_body_for`) is split off B, so that with the hinge locked
+    the bicycle is the set's bicycle (not one carrying a second upper body). The checks the set's
+    file waives (``waived``) stay waived for the split rear frame."""
     try:
-        split = split_upper_body(values, load_upper_body())
+        split = split_upper_body(values, load_upper_body(upper_body_for(parameter_set)))
         validate_parameters({k: split[k] for k in values}, waive=waived)
     except ValueError as exc:
         raise ParameterError(f"--params {parameter_set}: the rear frame of the set cannot carry the rider's "
