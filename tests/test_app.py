@@ -30,6 +30,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from cosim.analytic import roller
 from cosim.cli import EXIT_INTERRUPTED
 from cosim.app.bicycles import MEASURED_LABELS
 from conftest import bound_by_permissions, bundle_data, cli_in_process
@@ -443,10 +444,9 @@ def test_crowned_roller_is_the_native_lateral_linearization(page, tmp_path, type
     FMU's exact lateral reduction (`cosim linearize --speed V --json`, steady_motion) at three
     speeds to 1e-6; with a knife-edge roller (tR = 0) also cosim.analytic (the reduction is
     right). tR is typed into the parameter editor with real key events."""
-    from cosim.analytic.parameters import load_parameters
     from cosim.analytic.whipple import eigenvalues
 
-    expected = {**load_parameters("astrom2005"), "tR": 0.3, "tF": 0.0}
+    expected = {**roller.adapted_parameters(), "tR": 0.3, "tF": 0.0}
     s = _choose(page, "crowned-roller")
     assert s["parameters"] == expected and _extra(page)["module"] == "Bicycle.Bicycles.Whipple"
     if typed is not None:
@@ -661,6 +661,12 @@ def test_weave_and_capsize_speeds_shown(page, tmp_path, name):
         assert real.size and real.real.max() < 0  # capsize stable at 12 m/s
         stable = _extra(page)["selfStable"]
         assert stable[0] == pytest.approx(weave, rel=SPEED_RTOL)
+        # Figure 15's bicycle, as `cosim figures fig15` (cosim.analytic.roller): the paper's 3.9 m/s
+        adapted = roller.adapted_parameters()
+        assert s["parameters"] == {**adapted, "tR": roller.RADII[0], "tF": 0.0}
+        expected = roller.weave_speed(adapted, roller.RADII[0])
+        assert weave == pytest.approx(expected, rel=SPEED_RTOL) and abs(weave - 3.9) < 0.05, (weave, expected)
+        assert f"{expected:.{DIGITS}f} m/s" in page.locator("#bicycle-explanation").text_content()
     folder = Path(os.environ["COSIM_SCREENSHOTS"]) if os.environ.get("COSIM_SCREENSHOTS") else tmp_path
     folder.mkdir(parents=True, exist_ok=True)
     shot = folder / f"app-eigenvalues-{name}.png"

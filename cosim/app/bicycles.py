@@ -24,24 +24,22 @@ Systems Magazine 25(4), is "the paper"):
     the right half plane at every one of these speeds (no weave or capsize speed: it is
     never self-stable, cosim.analytic.whipple finds the same).
 ``crowned-roller``
-    The paper's Figure 15 ("a crowned roller with lateral radius 0.3 m at the rear"; Figure 21,
-    eq (27)): the nonlinear ``Bicycle.Bicycles.Whipple`` with a toroidal rear wheel of crown
-    radius ``tR`` = :data:`CROWN_RADIUS` (0.3 m, the figure's caption; the text says 0.4 m for a
-    child's bicycle whose centre of mass is 0.4 m high, whose other parameters the paper does not
-    give) on the paper's own bicycle with rider (``astrom2005``, the bicycle of Figure 9, with
-    which the caption compares). The caption's "heavy front wheel" is not applied: the paper gives
-    no mass or inertia for it, and an invented one would not be the paper's. A(v) is the lateral
-    block (roll, steer and their rates) of the module's directional derivatives at upright
+    The paper's Figure 15 ("a crowned roller with lateral radius 0.3 m at the rear and a heavy
+    front wheel"; Figure 21, eq (27)): the nonlinear ``Bicycle.Bicycles.Whipple`` with a toroidal
+    rear wheel of crown radius ``tR`` = :data:`CROWN_RADIUS` (0.3 m, the caption) and a knife-edge
+    front wheel, on the adapted bicycle of :mod:`cosim.analytic.roller`
+    (``cosim/params/adapted/fig15.toml``, the bicycle of ``cosim figures fig15``: our data, chosen
+    to reproduce the paper's weave speed 3.9 m/s, capsize stable at every speed and real parts
+    smaller than Figure 9's; the explanation prints cosim.analytic.roller's speeds). A(v) is the
+    lateral block (roll, steer and their rates) of the module's directional derivatives at upright
     straight running, ``u_R0 = -v/rR``: at that point the columns of the pitch, the forward speed
     and the ignorable coordinates in the lateral rows are exactly zero and the pitch rate's row
     has zero roll and steer coefficients (the pitch is even in roll and steer), so the
     elimination of :func:`cosim.bicycle.linearize.steady_motion` changes nothing and the block is
-    the exact lateral reduction
-    (tests/test_app.py checks it against ``cosim linearize`` and, for ``tR = 0``, against
-    cosim.analytic). ``tR`` has a slider (0-1 m, about the centre-of-mass height, 1.0 m: eq (27)
-    makes the paper's pendulum on two rollers statically stable for a rocking radius above it;
-    this bicycle, with a rear roller only, still falls standing, slower: measured here, the
-    roll mode at 0 m/s goes from 3.05 1/s (knife edge) to 2.80 (0.3 m) and 2.07 (1.0 m)).
+    the exact lateral reduction (tests/test_app.py checks it against ``cosim linearize`` and the
+    weave speed against cosim.analytic.roller). ``tR`` has a slider (0-1 m; eq (27) makes the
+    paper's pendulum on two rollers statically stable for a rocking radius above the height of
+    the centre of mass).
 
 ``measured/...``
     Real bicycles without rider measured by Moore et al. (2010, 2012), the published data of
@@ -53,14 +51,14 @@ Every parameter of a choice can also be typed into the page's parameter editor.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from cosim.analytic import whipple
+from cosim.analytic import roller, whipple
 from cosim.analytic.parameters import load_parameter_set
 
 LINEAR = "Bicycle.Bicycles.WhippleLinear"
 NONLINEAR = "Bicycle.Bicycles.Whipple"
 
 #: Crown radius of the crowned rear roller [m]: Figure 15 of the paper (caption).
-CROWN_RADIUS = 0.3
+CROWN_RADIUS = roller.RADII[0]
 
 #: Speed ranges of the plots [m/s]: forwards, and backwards for the rear-steered bicycle.
 #: Forwards up to 12 m/s: every weave and capsize speed of the sets offered (astrom2005 capsizes
@@ -147,16 +145,16 @@ BICYCLES = (
             "centre of mass, it is self-stable at lower speeds: from {weave} to {capsize} (cosim analytic).",
             LINEAR, "astrom2005-riderless", FORWARD),
     Bicycle("crowned-roller", "crowned roller at the rear (Figure 15)",
-            "The paper's adapted bicycle for teaching children (Figure 15, Figure 21, eq (27)): a crowned rear roller "
-            f"of lateral radius t_R = {CROWN_RADIUS} m on the astrom2005 bicycle with rider, computed by the nonlinear "
-            "Whipple model (toroidal rear wheel) linearized about upright straight running. As in Figure 15 the "
-            "roller makes the capsize mode stable at all speeds shown. Eq (27), the paper's pendulum on rollers, "
-            "predicts a slower fall for a larger rocking radius: here the standing bicycle's roll mode slows "
-            "(see v = 0), but its fastest mode, the front frame falling with "
-            "the steer, hardly does with a roller at the rear only (try t_R, and the front crown radius t_F in "
-            "the parameters). The caption's heavy front wheel is not modelled: the paper gives "
-            "no values for it.",
-            NONLINEAR, "astrom2005", FORWARD, {"tR": CROWN_RADIUS, "tF": 0.0}, (*COMMON_SLIDERS, "tR")),
+            "The paper's adapted bicycle with a rider for teaching children (Figure 15; Figure 21, eq (27)): a "
+            f"crowned rear roller of lateral radius t_R = {CROWN_RADIUS} m (the caption), a heavy front wheel (3 kg "
+            "in the rim) and the centre of mass 0.4 m high. The paper gives no other data: this bicycle "
+            "(cosim/params/adapted/fig15.toml, the one of `cosim figures fig15`) was chosen to reproduce what it "
+            "states: the weave mode becomes stable at {weave} (the paper: 3.9 m/s), the capsize mode is stable at "
+            "every speed, and the real parts are smaller than those of the astrom2005 "
+            "bicycle (Figure 9), so it is easier to ride. Computed by the nonlinear Whipple model (toroidal rear "
+            "wheel) linearized about upright straight running; cosim.analytic.roller gives the same weave speed. "
+            "Eq (27) predicts a slower fall for a larger rocking radius: try t_R.",
+            NONLINEAR, roller.ADAPTED_NAME, FORWARD, {"tR": CROWN_RADIUS, "tF": 0.0}, (*COMMON_SLIDERS, "tR")),
     Bicycle("rear-steered", "rear-steered (the benchmark ridden backwards)",
             "Rear-wheel steering: \"a model for a bicycle with rear-wheel steering is obtained simply by reversing "
             "the sign of the velocity\" (the paper, section Rear-Wheel Steering, eq (18)). The benchmark bicycle "
@@ -178,22 +176,34 @@ def _states_of(description: dict) -> dict[str, str]:
     return {variables[v["derivative"] - 1]["name"]: v["name"] for v in variables if "derivative" in v}
 
 
+def _parameter_set(name: str):
+    """A Meijaard set of cosim/params by name: bundled (``benchmark``) or in a sub-folder
+    (``adapted/fig15``)."""
+    if "/" in name:
+        return load_parameter_set(roller.ADAPTED.parents[1] / f"{name}.toml")
+    return load_parameter_set(name)
+
+
 #: Decimals of the speeds [m/s] the page prints (weave, capsize, self-stable interval).
 SPEED_DIGITS = 3
 
 
 def analytic_speeds(bicycle: Bicycle) -> dict:
-    """Weave and capsize speeds of :mod:`cosim.analytic.whipple` for a bicycle of :data:`LINEAR`.
+    """Weave and capsize speeds of :mod:`cosim.analytic` for a bicycle of :data:`LINEAR`
+    (:mod:`cosim.analytic.whipple`) or of :data:`NONLINEAR` on a crowned rear roller
+    (:mod:`cosim.analytic.roller`).
 
     Parameters
     ----------
     bicycle : Bicycle
-        A choice on :data:`LINEAR` ridden forwards, without modifiers.
+        A choice ridden forwards: on :data:`LINEAR` without modifiers, or on :data:`NONLINEAR` with
+        at most the rear crown radius ``tR`` and a knife-edge front wheel (``tF`` = 0).
 
     Returns
     -------
     dict
-        ``weave`` and ``capsize`` [m/s] (None where cosim.analytic finds none below 30 m/s).
+        ``weave`` and ``capsize`` [m/s] (None where cosim.analytic finds none below 30 m/s; for the
+        roller, a capsize speed of None means none at any speed).
 
     Raises
     ------
@@ -201,10 +211,16 @@ def analytic_speeds(bicycle: Bicycle) -> dict:
         A bicycle that cosim.analytic does not describe (another module, modifiers, backwards),
         or a speed outside the bicycle's speed range (the page would print "none").
     """
-    if bicycle.module != LINEAR or bicycle.modifiers or bicycle.speeds["min"] < 0:
+    params = dict(_parameter_set(bicycle.parameter_set).values)
+    rolling = bicycle.module == NONLINEAR and set(bicycle.modifiers) <= {"tR", "tF"} \
+        and bicycle.modifiers.get("tF", 0.0) == 0.0
+    if bicycle.speeds["min"] < 0 or not (rolling or bicycle.module == LINEAR and not bicycle.modifiers):
         raise ValueError(f"bicycle {bicycle.name}: cosim.analytic gives no weave or capsize speed for it")
-    params = dict(load_parameter_set(bicycle.parameter_set).values)
-    speeds = {"weave": whipple.weave_speed(params), "capsize": whipple.capsize_speed(params)}
+    if rolling:  # a crowned rear roller, knife-edge front wheel: cosim.analytic.roller
+        R = bicycle.modifiers.get("tR", 0.0)
+        speeds = {"weave": roller.weave_speed(params, R), "capsize": roller.capsize_speed(params, R)}
+    else:
+        speeds = {"weave": whipple.weave_speed(params), "capsize": whipple.capsize_speed(params)}
     low, high = bicycle.speeds["min"], bicycle.speeds["max"]
     for name, v in speeds.items():
         if v is not None and not low <= v <= high:
@@ -238,7 +254,7 @@ def bicycle_data(bicycle: Bicycle, description: dict | None = None) -> dict:
         outside its slider's range or an unknown slider (each named); an explanation that prints
         the speeds of cosim.analytic for a bicycle it does not describe (:func:`analytic_speeds`).
     """
-    loaded = load_parameter_set(bicycle.parameter_set)
+    loaded = _parameter_set(bicycle.parameter_set)
     values = {**loaded.values, **bicycle.modifiers}
     states = LATERAL_STATES[bicycle.module]
     speed = SPEED[bicycle.module]
