@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import csv
 import io
+import math
 import os
 from pathlib import Path
 
@@ -536,3 +537,61 @@ def test_shipped_demos_cover_the_paper_cases():
         assert demo["references"] and len(demo["text"]) > 200 and demo["expect"]
     backwards = next(d for d in DEMOS if d["name"] == "rear-steered")["ride"]
     assert backwards["speed"] < 0  # ridden backwards: u_R0 = -speed/rR > 0
+
+
+def _rider_delay_numbers() -> list[str]:
+    """The rider-delay demo's numbers, recomputed: the poles of eq (24) at the ride's speed, the
+    exact delay limit of a steer-torque PD rider on roll (cosim.analytic.delay: exact stable delays
+    for given gains, searched over the gains), the demo rider's stable delays, and the speed from
+    which the largest real part stays below the paper's 1 rad/s."""
+    from scipy.optimize import brentq
+
+    from cosim.analytic import delay as D
+    from cosim.analytic import whipple as W
+    from cosim.analytic.parameters import load_parameters
+
+    demo = next(d for d in DEMOS if d["name"] == "rider-delay")
+    ride, compare = demo["ride"], demo["compare"]
+    p = load_parameters(ride["params"])
+    ev = W.eigenvalues(p, ride["speed"])
+    unstable = sorted(e.real for e in ev if e.real > 0 and abs(e.imag) < 1e-12)
+    assert len(unstable) == 2  # two unstable real poles: the paper's case is a real pole
+    pole = unstable[-1]
+    A, B = W.state_matrices(p, ride["speed"])
+    limit, _, _ = D.largest_pd_delay(A, B[:, 1], [1, 0, 0, 0], [0, 0, 1, 0], grid=12)
+    gains = ride["controller"]["parameters"]
+    C = np.array([[gains["kp"], 0, gains["kd"], 0.0]])
+    (start, end), = D.stable_delay_intervals(A, B[:, [1]], C, -1.0, 1.0)
+    taus = ride["controller"]["delay"], compare["controller"]["delay"]
+    assert start == 0.0 and start <= taus[0] < end < limit < taus[1]  # the rider: stable, then too late
+    comfortable = brentq(lambda v: W.eigenvalues(p, v).real.max() - 1.0, 3.0, 4.0, xtol=1e-9)
+    return [f"p = {pole:.3f} 1/s", f"second unstable pole, {unstable[0]:.3f} 1/s",
+            f"T = {-gains['kp']:g}·phi + {-gains['kd']:g}·phi_dot", f"tau = {taus[0]:g} s (p·tau = {pole * taus[0]:.2f}",
+            f"tau = {taus[1]:g} s\n(p·tau = {pole * taus[1]:.2f})", f"is {limit:.3f} s, p·tau = {pole * limit:.2f}",
+            f"from {comfortable:.3f} m/s", f"weave speed, {W.weave_speed(p):.3f} m/s"]
+
+
+def _crowned_rollers_numbers() -> list[str]:
+    """The crowned-rollers demo's poles: the held-handlebar pendulum (roll alone) with knife edges
+    and with the rear roller (cosim.analytic.roller), and the free-handlebar eigenvalue of eq (24)."""
+    from cosim.analytic import roller
+    from cosim.analytic import whipple as W
+    from cosim.analytic.parameters import load_parameters
+
+    demo = next(d for d in DEMOS if d["name"] == "crowned-rollers")
+    p = load_parameters(demo["ride"]["params"])
+    held = [math.sqrt(-p["g"] * K0[0, 0] / M[0, 0]) for M, _, K0, _ in
+            (roller.matrices(p, R) for R in (0.0, demo["ride"]["parameters"]["tR"]))]
+    free = W.eigenvalues(p, 0.0).real.max()
+    return [f"= {held[0]:.3f} 1/s with knife edges", f"{held[1]:.3f} 1/s with the rear roller", f"{free:.3f} 1/s"]
+
+
+@pytest.mark.parametrize("name, numbers", [("rider-delay", _rider_delay_numbers),
+                                           ("crowned-rollers", _crowned_rollers_numbers)],
+                         ids=["rider-delay", "crowned-rollers"])
+def test_demo_text_prints_the_computed_numbers(name, numbers):
+    """Every number a demo's text states is recomputed here and must appear in the text as printed
+    (to its printed digits)."""
+    text = next(d for d in DEMOS if d["name"] == name)["text"]
+    missing = [n for n in numbers() if n not in text]
+    assert not missing, missing

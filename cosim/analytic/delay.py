@@ -42,7 +42,9 @@ __all__ = [
     "crossing_delays",
     "feedback_matrices",
     "first_crossing_delay",
+    "largest_pd_delay",
     "spectral_abscissa",
+    "stable_delay_intervals",
 ]
 
 
@@ -358,3 +360,113 @@ def first_crossing_delay(A, B, C, K) -> float:
     """
     delays = [c.delay for c in crossing_delays(A, B, C, K)]
     return min(delays) if delays else math.inf
+
+
+def stable_delay_intervals(A, B, C, K, tau_max: float) -> list[tuple[float, float]]:
+    """The delays ``tau`` in ``[0, tau_max]`` [s] at which the single loop ``u(t) = K y(t - tau)``
+    is asymptotically stable, as a list of intervals ``(start, end)``.
+
+    Exact for the retarded delay equation: roots cross the imaginary axis only at the gain
+    crossovers ``i w_c`` of :func:`crossing_delays`, at the delays ``(phase margin + 2 pi m) / w_c``
+    (m = 0, 1, ...), and always in the same direction at one crossover: to the right as the delay
+    grows iff ``|d(i w)|^2 - |n(i w)|^2`` increases with ``w`` there (Cooke & van den Driessche,
+    Funkcial. Ekvac. 29, 1986). Starting from the number of right-half-plane roots without delay
+    (the eigenvalues of ``A + B K C``), each crossing adds or removes a pair; the loop is stable
+    where that count is zero. A loop whose gain never crosses 1 keeps its stability at every delay.
+
+    Parameters
+    ----------
+    A, B, C : array_like
+        Single-input single-output plant, strictly proper (as :func:`crossing_delays`).
+    K : float
+        Feedback gain.
+    tau_max : float
+        Largest delay of interest [s].
+
+    Returns
+    -------
+    list of (float, float)
+        Disjoint intervals by increasing delay; an ``end`` of ``inf`` means stable beyond
+        ``tau_max``.
+    """
+    tau_max = _delay(tau_max)
+    A, E = feedback_matrices(A, B, C, K)
+    unstable = int(np.count_nonzero(np.linalg.eigvals(A + E).real > 0))
+    d = np.poly(A)
+    n = np.poly(A + E) - d
+
+    def gap(w):  # |d(iw)|^2 - |n(iw)|^2
+        return abs(np.polyval(d, 1j * w)) ** 2 - abs(np.polyval(n, 1j * w)) ** 2
+
+    events = []
+    for c in crossing_delays(A, B, C, K):
+        dw = 1e-6 * (1.0 + c.frequency)
+        direction = 1 if gap(c.frequency + dw) > gap(c.frequency - dw) else -1
+        m = 0
+        while (tau := (c.phase_margin + 2.0 * math.pi * m) / c.frequency) <= tau_max:
+            events.append((tau, 2 * direction))
+            m += 1
+    intervals, start = [], (0.0 if unstable == 0 else None)
+    for tau, change in sorted(events):
+        unstable += change
+        if unstable == 0 and start is None:
+            start = tau
+        elif unstable != 0 and start is not None:
+            intervals.append((start, tau))
+            start = None
+    if start is not None:
+        intervals.append((start, math.inf))
+    return intervals
+
+
+def largest_pd_delay(A, B, c_p, c_d, tau_max: float = 5.0, grid: int = 30) -> tuple[float, float, float]:
+    """The largest delay [s] at which some rider ``u(t) = -(kp c_p + kd c_d) x(t - tau)`` (a
+    proportional-derivative rider on the outputs ``c_p x`` and ``c_d x``) keeps the loop stable, and
+    gains ``kp``, ``kd`` that come closest.
+
+    For given gains the stable delays are exact (:func:`stable_delay_intervals`); the largest of them
+    is maximised over the gains by a search: both signs of ``kp`` and ``kd`` on a logarithmic grid of
+    ``grid`` magnitudes from 0.1 to 1000 each, then Nelder-Mead from the best point (a numerical
+    supremum: the stable interval of the best gains shrinks to that delay).
+
+    Parameters
+    ----------
+    A : array_like
+        State matrix (n x n) [1/s].
+    B : array_like
+        Input column (n) of the rider's input.
+    c_p, c_d : array_like
+        Rows (n) giving the rider's proportional and derivative outputs.
+    tau_max : float, optional
+        Largest delay considered [s]; the result is ``inf`` if some gains stay stable beyond it.
+    grid : int, optional
+        Magnitudes per sign and gain in the first search.
+
+    Returns
+    -------
+    (float, float, float)
+        ``(tau, kp, kd)``: the delay [s] and the gains (0 delay and NaN gains if no gains of the
+        grid stabilise the loop at any delay).
+    """
+    from scipy.optimize import minimize  # deferred: scipy is heavy
+
+    A = np.atleast_2d(np.asarray(A, dtype=float))
+    b = np.asarray(B, dtype=float).reshape(-1, 1)
+    c_p, c_d = np.asarray(c_p, dtype=float).ravel(), np.asarray(c_d, dtype=float).ravel()
+
+    def longest(gains) -> float:
+        C = (gains[0] * c_p + gains[1] * c_d).reshape(1, -1)
+        return max((end for _, end in stable_delay_intervals(A, b, C, -1.0, tau_max)), default=0.0)
+
+    magnitudes = np.geomspace(0.1, 1000.0, int(grid))
+    values = np.concatenate([-magnitudes[::-1], magnitudes])
+    score, kp, kd = max((longest((kp, kd)), kp, kd) for kp in values for kd in values)
+    if score == 0.0:
+        return 0.0, math.nan, math.nan
+    if math.isinf(score):
+        return math.inf, float(kp), float(kd)
+    result = minimize(lambda g: -longest(g), (kp, kd), method="Nelder-Mead",
+                      options={"xatol": 1e-8, "fatol": 1e-12, "maxiter": 3000})
+    if -result.fun > score:
+        score, (kp, kd) = -result.fun, result.x
+    return float(score), float(kp), float(kd)
