@@ -178,3 +178,26 @@ def test_p_tau_limits(cases):
     p = stability_boundary(1.0, 5.0).p
     by_crossing = max(p * first_crossing_delay(*loop({"V": 5.0}, k2)) for k2 in gains)
     assert limit == pytest.approx(by_crossing, rel=1e-8)
+
+
+@pytest.mark.parametrize("case", ["lambert", "bicycle-pd"])
+def test_stable_delay_intervals(case):
+    """The exact stable delays of a single loop. x' = -a x(t - tau): stable exactly for
+    a tau < pi/2 (relative 1e-12). The benchmark bicycle at 4 m/s with the steer-torque PD rider
+    T = -2 phi - phi_dot is unstable without delay and stable in one window of delays: inside it
+    the certified rightmost root is in the left half plane, at 0 an eigenvalue is in the right."""
+    from cosim.analytic import whipple as W
+    from cosim.analytic.delay import stable_delay_intervals
+    from cosim.analytic.parameters import load_parameters
+
+    if case == "lambert":
+        a = 2.0
+        (start, end), = stable_delay_intervals([[0.0]], [[1.0]], [[1.0]], -a, 10.0)
+        assert start == 0.0 and end == pytest.approx(math.pi / (2 * a), rel=1e-12)
+        return
+    A, B = W.state_matrices(load_parameters("benchmark"), 4.0)
+    C = np.array([[2.0, 0.0, 1.0, 0.0]])
+    (start, end), = stable_delay_intervals(A, B[:, [1]], C, -1.0, 2.0)
+    Ae, E = feedback_matrices(A, B[:, [1]], C, -1.0)
+    assert 0.0 < start < 0.2 < end < 1.0, (start, end)
+    assert np.linalg.eigvals(Ae + E).real.max() > 0 and spectral_abscissa(Ae, E, 0.5 * (start + end)) < 0
