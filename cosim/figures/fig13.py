@@ -101,8 +101,9 @@ def make(output: Path, computed: list | None = None) -> list[Path]:
     ax.set_xlabel("wheel spin inertia I = Iyy [kg m²]  (Ixx = I/2)")
     ax.set_ylabel("critical speed [m/s]")
     ax.set_title("Fig. 13: critical speeds vs wheel inertia, riderless bicycle (astrom2005-riderless)\n"
-                 "solid: weave speed (becomes stable), dashed: capsize speed; FMU linearizations",
-                 fontsize=10)
+                 "solid: weave speed (becomes stable), dashed: capsize speed; FMU linearizations\n"
+                 "black: both wheels (the paper's text), grey: front wheel only (its caption); only both wheels\n"
+                 "show what the paper describes (capsize speed growing as I -> 0)", fontsize=9)
     from matplotlib.ticker import FuncFormatter
 
     plain = FuncFormatter(lambda y, _: f"{y:g}")
