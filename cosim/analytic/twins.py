@@ -17,7 +17,7 @@ model                              inputs -> outputs         analytic model
 ``SelfStabilizingGyro``            T -> phi delta psi eta    (14) + (11) with k3 ("Gyroscopic Effects")
 ``InvertedPendulum``               delta -> phi psi eta      (1)/(4), ``frame="eq1"``
 ``RearSteered``                    delta -> phi psi eta      (18): (4) at -V, the rider's signs
-``LeaningRider``                   T theta -> phi delta      (22) + (11) = (23), ``frame="eq14"``
+``LeaningRider``                   T theta -> phi delta      frame (14) + lean of (22) + (11), ``frame="eq14"``
                                    psi eta
 ``CrownedRoller``                  delta -> phi psi eta      (4) with the poles (27)
 =================================  ========================  =====================================
@@ -294,7 +294,7 @@ TWINS: dict[str, Twin] = {t.model: t for t in (
          equations="(18) at forward speed V, the rider's signs; path der(psi) = V delta / b, der(eta) = V psi"),
     Twin("Bicycle.Bicycles.LeaningRider", _leaning_rider,
          {**_PAPER, **{k: _SECOND_ORDER[k] for k in ("m_r", "J_r", "h_r")}}, ("T", "theta"), _TORQUE_OUT,
-         equations="(22) + (11) = (23) with the frame (14)"),
+         equations="frame (14) with the lean terms of (22), + (11) (not (23) as printed: its frame is (1))"),
     Twin("Bicycle.Bicycles.CrownedRoller", _crowned_roller, {**_PENDULUM, "R": _SECOND_ORDER["R"]}, ("delta",), _ANGLE_OUT,
          equations="(1) with m g (h - R), poles (27)"),
     Twin("Bicycle.Bicycles.WhippleLinear", _whipple_linear, _meijaard_defaults(), ("T_phi", "T_delta"),

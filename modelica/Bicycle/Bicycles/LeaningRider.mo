@@ -1,5 +1,5 @@
 within Bicycle.Bicycles;
-model LeaningRider "Self-stabilizing bicycle (14) + (11) with a rider who leans the upper body, eqs (22), (23): steer torque and lean angle in"
+model LeaningRider "Self-stabilizing bicycle with a leaning rider: frame (14) with the lean terms of (22), static fork (11) (not (23) as printed, whose frame is (1)): steer torque and lean angle in"
   extends Bicycle.Icons.BikeRider;
   parameter Bicycle.Units.Mass m(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.m "Total mass m of bicycle and rider";
   parameter Bicycle.Units.Length a(min = 1e-6) = Bicycle.Records.Astrom2005SecondOrder.a "Horizontal distance a from the rear contact point to the centre of mass";
@@ -49,14 +49,15 @@ equation
   eta = path.eta;
   annotation(
     Icon(graphics = {
-      Text(extent = {{40, 96}, {100, 56}}, textString = "(22)", textColor = {64, 64, 64})}),
+      Text(extent = {{20, 96}, {100, 56}}, textString = "(14)+(22)", textColor = {64, 64, 64})}),
     experiment(StartTime = 0, StopTime = 5, Tolerance = 1e-8, Interval = 0.01),
     __Cosim(export = true),
     Documentation(info = "<html>
-<p>Eq (22) combined with the static front fork (11), i.e. (23), with the frame of (14) (effective
-steer angle delta*sin(lambda) and trail torque) as in SelfStabilizing. (22)/(23) as printed use the
-frame (1); the analytic twin offers both (frame=\"eq1\" and \"eq14\"); this model is
-frame=\"eq14\". (23) as printed lacks the factor h in m*V^2*h*k1*T/b.</p>
+<p>The frame equation used is (14) (effective steer angle delta*sin(lambda) and trail torque, as in
+SelfStabilizing) with the upper-body lean terms of (22), combined with the static front fork (11).
+This is not (23) as printed: (22) and (23) are written with the frame (1) (lambda = 90 deg, c = 0),
+and (23) as printed also lacks the factor h in m*V^2*h*k1*T/b. The analytic twin offers both frames
+(frame=\"eq1\" and \"eq14\"); this model is frame=\"eq14\".</p>
 <p>Two inputs: steer torque T and lean angle theta of the upper body relative to the frame. The
 lean angle appears twice differentiated in (22); the frame is written for the inertia-weighted
 roll angle chi = phi + J_r*theta/J (states frame.L, frame.chi), so theta is never differentiated
