@@ -586,9 +586,19 @@ def _crowned_rollers_numbers() -> list[str]:
     return [f"= {held[0]:.3f} 1/s with knife edges", f"{held[1]:.3f} 1/s with the rear roller", f"{free:.3f} 1/s"]
 
 
-@pytest.mark.parametrize("name, numbers", [("rider-delay", _rider_delay_numbers),
+def _push_numbers() -> list[str]:
+    """The push demo's self-stable speeds: the benchmark's and the paper's bicycle's (cosim.analytic)."""
+    from cosim.analytic import whipple as W
+    from cosim.analytic.parameters import load_parameters
+
+    bench, paper = load_parameters("benchmark"), load_parameters("astrom2005")
+    return [f"weave speed ({W.weave_speed(bench):.2f} m/s)", f"capsize speed ({W.capsize_speed(bench):.2f} m/s)",
+            f"between {W.weave_speed(paper):.3f} and {W.capsize_speed(paper):.3f} m/s"]
+
+
+@pytest.mark.parametrize("name, numbers", [("push", _push_numbers), ("rider-delay", _rider_delay_numbers),
                                            ("crowned-rollers", _crowned_rollers_numbers)],
-                         ids=["rider-delay", "crowned-rollers"])
+                         ids=["push", "rider-delay", "crowned-rollers"])
 def test_demo_text_prints_the_computed_numbers(name, numbers):
     """Every number a demo's text states is recomputed here and must appear in the text as printed
     (to its printed digits)."""
