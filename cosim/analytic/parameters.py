@@ -170,6 +170,11 @@ def measured_parameter_sets() -> list[str]:
     return sorted(f"{MEASURED}/{p.stem}" for p in (_params_dir() / MEASURED).glob("*.toml"))
 
 
+#: Subfolder of ``cosim/params`` with the adapted bicycles the paper describes without data (our
+#: choice, see each file); its sets are named ``adapted/<stem>`` (``adapted/fig15``: Figure 15).
+ADAPTED = "adapted"
+
+
 def _is_number(value: object) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
@@ -304,6 +309,11 @@ def _resolve(name_or_path: str | os.PathLike[str]) -> Path:
         measured = measured_parameter_sets()
         if text not in measured:
             raise ValueError(f"unknown measured bicycle {text!r}; bundled: {', '.join(measured)}")
+        return _params_dir() / f"{text}.toml"
+    if isinstance(name_or_path, str) and text.startswith(f"{ADAPTED}/") and not os.path.exists(text):
+        adapted = sorted(f"{ADAPTED}/{p.stem}" for p in (_params_dir() / ADAPTED).glob("*.toml"))
+        if text not in adapted:
+            raise ValueError(f"unknown adapted bicycle {text!r}; bundled: {', '.join(adapted)}")
         return _params_dir() / f"{text}.toml"
     looks_like_path = isinstance(name_or_path, os.PathLike) or text.endswith(".toml") or os.sep in text \
         or (os.altsep is not None and os.altsep in text)

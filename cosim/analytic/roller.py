@@ -30,7 +30,7 @@ from cosim.analytic.parameters import load_parameter_set, validate_parameters
 __all__ = ["ADAPTED", "ADAPTED_NAME", "RADII", "CENTRE_OF_MASS_HEIGHT", "adapted_parameters", "roller_stiffness",
            "matrices", "eigenvalues", "weave_speed", "capsize_speed"]
 
-#: The adapted bicycle's parameter file (Meijaard symbols, SI) and its name relative to cosim/params.
+#: The adapted bicycle's parameter file (Meijaard symbols, SI) and its name (``--params adapted/fig15``).
 ADAPTED_NAME = "adapted/fig15"
 ADAPTED = Path(__file__).resolve().parents[1] / "params" / f"{ADAPTED_NAME}.toml"
 #: Lateral radii of the crowned rear roller [m]: the caption of Figure 15 (0.3) and its text (0.4).
@@ -41,7 +41,7 @@ CENTRE_OF_MASS_HEIGHT = 0.4
 
 def adapted_parameters() -> dict[str, float]:
     """The adapted bicycle with rider of Figure 15 (:data:`ADAPTED`), validated, by Meijaard symbol [SI]."""
-    return validate_parameters(load_parameter_set(ADAPTED).values)
+    return validate_parameters(load_parameter_set(ADAPTED_NAME).values)
 
 
 def _totals(p: Mapping[str, float]) -> tuple[float, float]:

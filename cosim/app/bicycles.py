@@ -176,14 +176,6 @@ def _states_of(description: dict) -> dict[str, str]:
     return {variables[v["derivative"] - 1]["name"]: v["name"] for v in variables if "derivative" in v}
 
 
-def _parameter_set(name: str):
-    """A Meijaard set of cosim/params by name: bundled (``benchmark``) or in a sub-folder
-    (``adapted/fig15``)."""
-    if "/" in name:
-        return load_parameter_set(roller.ADAPTED.parents[1] / f"{name}.toml")
-    return load_parameter_set(name)
-
-
 #: Decimals of the speeds [m/s] the page prints (weave, capsize, self-stable interval).
 SPEED_DIGITS = 3
 
@@ -211,7 +203,7 @@ def analytic_speeds(bicycle: Bicycle) -> dict:
         A bicycle that cosim.analytic does not describe (another module, modifiers, backwards),
         or a speed outside the bicycle's speed range (the page would print "none").
     """
-    params = dict(_parameter_set(bicycle.parameter_set).values)
+    params = dict(load_parameter_set(bicycle.parameter_set).values)
     rolling = bicycle.module == NONLINEAR and set(bicycle.modifiers) <= {"tR", "tF"} \
         and bicycle.modifiers.get("tF", 0.0) == 0.0
     if bicycle.speeds["min"] < 0 or not (rolling or bicycle.module == LINEAR and not bicycle.modifiers):
@@ -254,7 +246,7 @@ def bicycle_data(bicycle: Bicycle, description: dict | None = None) -> dict:
         outside its slider's range or an unknown slider (each named); an explanation that prints
         the speeds of cosim.analytic for a bicycle it does not describe (:func:`analytic_speeds`).
     """
-    loaded = _parameter_set(bicycle.parameter_set)
+    loaded = load_parameter_set(bicycle.parameter_set)
     values = {**loaded.values, **bicycle.modifiers}
     states = LATERAL_STATES[bicycle.module]
     speed = SPEED[bicycle.module]
