@@ -539,6 +539,28 @@ def test_shipped_demos_cover_the_paper_cases():
     assert backwards["speed"] < 0  # ridden backwards: u_R0 = -speed/rR > 0
 
 
+def _largest_steer_angle_delay(speed: float) -> float:
+    """The largest delay [s] at which some gain k2 of the paper's steer-angle rider (5) keeps the
+    simple bicycle (1) (cosim.studies.delay_sweep.loop) stable from tau = 0 on: exact stable delays
+    for each gain, the gain searched on a logarithmic grid and refined by Brent's method."""
+    from scipy.optimize import minimize_scalar
+
+    from cosim.analytic.delay import stable_delay_intervals
+    from cosim.studies.delay_sweep import loop
+
+    A, B, C, _ = loop({"V": speed}, 1.0)  # the plant; the gain is K = -k2
+
+    def negative(log_gain: float) -> float:
+        intervals = stable_delay_intervals(A, B, C, -math.exp(log_gain), 5.0)
+        return -max((end for start, end in intervals if start == 0.0), default=0.0)
+
+    grid = np.linspace(math.log(0.05), math.log(50.0), 25)
+    i = int(np.argmin([negative(g) for g in grid]))
+    best = minimize_scalar(negative, bracket=(grid[max(i - 1, 0)], grid[i], grid[min(i + 1, len(grid) - 1)]),
+                           tol=1e-10)
+    return -float(best.fun)
+
+
 def _rider_delay_numbers() -> list[str]:
     """The rider-delay demo's numbers, recomputed: the poles of eq (24) at the ride's speed, the
     exact delay limit of a steer-torque PD rider on roll (cosim.analytic.delay: exact stable delays
@@ -547,6 +569,7 @@ def _rider_delay_numbers() -> list[str]:
     from scipy.optimize import brentq
 
     from cosim.analytic import delay as D
+    from cosim.studies.delay_sweep import pendulum_pole
     from cosim.analytic import whipple as W
     from cosim.analytic.parameters import load_parameters
 
@@ -558,14 +581,20 @@ def _rider_delay_numbers() -> list[str]:
     assert len(unstable) == 2  # two unstable real poles: the paper's case is a real pole
     pole = unstable[-1]
     A, B = W.state_matrices(p, ride["speed"])
-    limit, _, _ = D.largest_pd_delay(A, B[:, 1], [1, 0, 0, 0], [0, 0, 1, 0], grid=12)
+    limit, _, _ = D.largest_pd_delay(A, B[:, 1], [1, 0, 0, 0], [0, 0, 1, 0], grid=8)
     gains = ride["controller"]["parameters"]
     C = np.array([[gains["kp"], 0, gains["kd"], 0.0]])
     (start, end), = D.stable_delay_intervals(A, B[:, [1]], C, -1.0, 1.0)
     taus = ride["controller"]["delay"], compare["controller"]["delay"]
     assert start == 0.0 and start <= taus[0] < end < limit < taus[1]  # the rider: stable, then too late
     comfortable = brentq(lambda v: W.eigenvalues(p, v).real.max() - 1.0, 3.0, 4.0, xtol=1e-9)
-    return [f"p = {pole:.3f} 1/s", f"second unstable pole, {unstable[0]:.3f} 1/s",
+    # the paper's simple bicycle (1) with the steer-angle rider (5): the largest delay over the gains
+    speed = 2.516  # [m/s] where the text says that delay is 0.2 s
+    pendulum, simple = pendulum_pole(speed), _largest_steer_angle_delay(speed)
+    assert abs(simple - 0.2) < 5e-5 and _largest_steer_angle_delay(2 * speed) == pytest.approx(simple / 2, rel=1e-6)
+    numbers = [f"p = {pendulum:.3f} 1/s does not change", f"tolerates is {simple * speed:.3f}/V s",
+               f"up to {speed:.3f} m/s (p·tau = {pendulum * 0.2:.3f}"]
+    return numbers + [f"p = {pole:.3f} 1/s", f"second unstable pole, {unstable[0]:.3f} 1/s",
             f"T = {-gains['kp']:g}·phi + {-gains['kd']:g}·phi_dot", f"tau = {taus[0]:g} s (p·tau = {pole * taus[0]:.2f}",
             f"tau = {taus[1]:g} s\n(p·tau = {pole * taus[1]:.2f})", f"is {limit:.3f} s, p·tau = {pole * limit:.2f}",
             f"from {comfortable:.3f} m/s", f"weave speed, {W.weave_speed(p):.3f} m/s"]

@@ -466,7 +466,7 @@ def largest_pd_delay(A, B, c_p, c_d, tau_max: float = 5.0, grid: int = 30) -> tu
     if math.isinf(score):
         return math.inf, float(kp), float(kd)
     result = minimize(lambda g: -longest(g), (kp, kd), method="Nelder-Mead",
-                      options={"xatol": 1e-8, "fatol": 1e-12, "maxiter": 3000})
+                      options={"xatol": 1e-6, "fatol": 1e-9, "maxiter": 3000})
     if -result.fun > score:
         score, (kp, kd) = -result.fun, result.x
     return float(score), float(kp), float(kd)
