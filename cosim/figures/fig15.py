@@ -35,7 +35,7 @@ Adapted bicycle (the paper gives no numbers; our choice): ``cosim/params/adapted
 (:mod:`cosim.analytic.roller`, the same bicycle as the app's "crowned roller"): a bicycle with
 rider whose centre of mass is 0.4 m high, with a heavy front wheel (3 kg in the rim), found by a
 search over physically admissible data so that it reproduces the paper's statements: weave speed
-3.88 m/s (R = 0.3 m) and 3.94 m/s (R = 0.4 m), capsize mode stable at every speed, real parts
+3.880 m/s (R = 0.3 m) and 3.935 m/s (R = 0.4 m), capsize mode stable at every speed, real parts
 inside those of Figure 9 at every speed from 0 to 12 m/s (docs/figures/README.md). Every
 eigenvalue comes from an FMU linearization of ``Bicycle.Bicycles.WhippleLinear``; plotted as in
 Fig 9 (dot real, o complex, red unstable, blue stable), with the envelope of Figure 9's real
