@@ -496,7 +496,10 @@ class System:
 
         reporter, span = progress(), grid[-1] - grid[0]
         # the grid in CHUNKS calls, so that the terminal shows how far the run is (a call costs µs)
-        bounds = np.unique(np.linspace(0, n_steps, min(n_steps, CHUNKS) + 1).round().astype(int))
+        # (integers, strictly increasing as count <= n_steps; np.unique would import numpy.ma into a
+        # matrix worker's first case)
+        count = min(n_steps, CHUNKS)
+        bounds = [n_steps * i // count for i in range(count + 1)] if count else [0]
         status = 0
         for first, last in zip(bounds[:-1], bounds[1:]):
             reporter.fraction((grid[first] - grid[0]) / span if span > 0 else 0.0,
@@ -504,7 +507,7 @@ class System:
             status = lib.cosim_fast_run(
                 len(self.names), comps, order, self.algorithm.fast_code,
                 int(spec.sampling == "after-transfer"), pointer_to(self.signals), pointer_to(self._sampled),
-                len(self.signals), pointer_to(times), c_long(n_steps), c_long(int(first)), c_long(int(last)),
+                len(self.signals), pointer_to(times), c_long(n_steps), c_long(first), c_long(last),
                 len(rec_idx), pointer_to(rec_idx), pointer_to(data), fall, c_double(spec.fall_limit or 0.0),
                 byref(steps_done), byref(failed), byref(fmi_status), byref(failed_call), byref(failed_time))
             if status != 0:
