@@ -115,10 +115,11 @@ def make(output: Path) -> list[Path]:
         ax.set_ylim(-16, 16)
     axes[1].set_ylabel("")
     fig.suptitle("Fig. 15: adapted bicycle with rider (our data, cosim/params/adapted/fig15.toml: centre of mass "
-                 "0.4 m high, front wheel 3 kg in the rim), crowned rear roller;\nthe roller modelled as a restoring roll "
-                 "torque T_phi = -g mT (1 - xT/w) R phi (eq (27) for a rear roller) on the linear Whipple FMU, the "
-                 "exact linearization of a toroidal rear wheel;\npaper: weave stable from 3.9 m/s, capsize stable "
-                 "at all speeds, real parts smaller than in Fig. 9 (grey band)", fontsize=9)
+                 "0.4 m high, front wheel 3 kg in the rim), crowned rear roller;\n"
+                 "the roller modelled as a restoring roll torque T_phi = -g mT (1 - xT/w) R phi (eq (27) for a "
+                 "rear roller) on the linear Whipple FMU, the exact linearization of a toroidal rear wheel;\n"
+                 "paper: weave stable from 3.9 m/s, capsize stable at all speeds, real parts smaller than in Fig. 9 "
+                 "(grey band)", fontsize=9)
     fig.tight_layout()
     for ax in axes:  # the layout is final: the legends measure the drawing
         place_legend(ax, outside="below", fontsize=7)
