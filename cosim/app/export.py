@@ -112,7 +112,8 @@ class Script:
 def _scripts() -> tuple[Script, ...]:
     """The scripts of ``bundle.js`` in their order: the vendored libraries first, then the
     page's own code (each file one concern, see the comments at their tops)."""
-    # three.js before ride3d.js (it uses the global THREE); ride3d.js, plots.js and ride2d.js before
+    # three.js before ride3d.js (it uses the global THREE); canvas.js before the scripts that draw on
+    # 2-D canvases (plots.js, sideview.js, app.js); ride3d.js, plots.js and ride2d.js before
     # ride.js (which uses CosimRide3D, CosimPlots and CosimRide2D). app.js and ride.js are independent of each other;
     # ride.js comes first so that the rides are defined even if app.js throws while loading (one
     # bundle is one script: an uncaught error stops what follows it). sideview.js, modes.js and
@@ -123,6 +124,7 @@ def _scripts() -> tuple[Script, ...]:
         Script(LOADER, "CosimFMU", "module"),
         Script(VENDOR / "three.min.js"),
         Script(STATIC / "ride3d.js"),
+        Script(STATIC / "canvas.js"),
         Script(STATIC / "plots.js"),
         Script(STATIC / "ride2d.js"),
         Script(STATIC / "ride.js"),

@@ -248,21 +248,6 @@
     return { speeds, evs, modes, ...critical, ...stability(lin, p, speeds, evs) };
   }
 
-  // A canvas drawn at its CSS size (its box, set by index.html's style) times
-  // window.devicePixelRatio, so that it is crisp on HiDPI screens and projectors: the backing
-  // store is resized to match and the context scaled, so drawing is in CSS pixels. Returns the
-  // context and the size [CSS px].
-  function fitCanvas(canvas) {
-    const dpr = window.devicePixelRatio || 1;
-    const W = canvas.clientWidth || 600, H = canvas.clientHeight || 400;
-    const bw = Math.round(W * dpr), bh = Math.round(H * dpr);
-    if (canvas.width !== bw) canvas.width = bw;
-    if (canvas.height !== bh) canvas.height = bh;
-    const ctx = canvas.getContext("2d");
-    ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
-    return { ctx, W, H };
-  }
-
   // A step of 1, 2 or 5 times a power of ten giving about `count` intervals on [lo, hi].
   function niceStep(lo, hi, count) {
     const raw = (hi - lo) / count, mag = Math.pow(10, Math.floor(Math.log10(raw)));
@@ -348,7 +333,7 @@
   // --- the plot: real parts vs speed, Figure 9 of the paper: unstable red, stable blue, real
   // modes dots, oscillatory rings; |Im| grey; the axes fit the eigenvalues ------------------
   function draw(canvas, s) {
-    const { ctx, W, H } = fitCanvas(canvas);
+    const { ctx, W, H } = CosimCanvas.fit(canvas, 600, 400);
     const left = 56, right = 12, top = 14, bottom = 40;
     const { min, max } = state.speedRange;
     const res = s.evs.flat().map(([re]) => re);
@@ -414,7 +399,7 @@
   // sweep, unstable red, stable blue, real dots, oscillatory rings; the eigenvalues at the lowest
   // speed black squares, at the chosen speed orange rings; the axes fit the eigenvalues ---------
   function drawLocus(canvas, s) {
-    const { ctx, W, H } = fitCanvas(canvas);
+    const { ctx, W, H } = CosimCanvas.fit(canvas, 600, 400);
     const left = 56, right = 12, top = 14, bottom = 40;
     const all = s.evs.flat();
     const xa = state.reRange ? chosenAxis(state.reRange) : fitAxis(all.map(([re]) => re), -5, 5, FAST_STABLE);

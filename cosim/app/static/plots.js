@@ -71,15 +71,9 @@
       ctx.stroke(); ctx.setLineDash([]);
     }
 
-    // Drawn at the canvas's CSS size times window.devicePixelRatio (crisp on HiDPI screens and
-    // projectors), in CSS pixels through a scaled context.
+    // Drawn at the canvas's CSS size times window.devicePixelRatio (canvas.js), in CSS pixels.
     function draw() {
-      const dpr = window.devicePixelRatio || 1;
-      const W = canvas.clientWidth || 600, H = canvas.clientHeight || 420;
-      const bw = Math.round(W * dpr), bh = Math.round(H * dpr);
-      if (canvas.width !== bw) canvas.width = bw;
-      if (canvas.height !== bh) canvas.height = bh;
-      ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+      const { W, H } = CosimCanvas.fit(canvas, 600, 420);
       ctx.textAlign = "left"; ctx.textBaseline = "alphabetic";
       ctx.fillStyle = "#fff"; ctx.fillRect(0, 0, W, H);
       plot.draws++;

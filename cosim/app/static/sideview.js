@@ -67,13 +67,7 @@
   }
 
   function draw(canvas, p) {
-    const dpr = window.devicePixelRatio || 1;
-    const W = canvas.clientWidth || 340, H = canvas.clientHeight || 210;
-    const bw = Math.round(W * dpr), bh = Math.round(H * dpr);
-    if (canvas.width !== bw) canvas.width = bw;
-    if (canvas.height !== bh) canvas.height = bh;
-    const ctx = canvas.getContext("2d");
-    ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+    const { ctx, W, H } = CosimCanvas.fit(canvas, 340, 210);
     ctx.clearRect(0, 0, W, H);
     canvas.setAttribute("aria-label", describe(p));
 
