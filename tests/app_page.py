@@ -21,7 +21,7 @@ test_app.py's continuation test).
 
 An error in the page or a request that leaves ``file://`` fails the test during which it happened
 (at its end) and closes the page; after a failed test the page is closed too. The next test then
-gets a new page.
+gets a new page. ``page.requests`` lists every request since the page was opened.
 
 Usage (a module's ``page`` fixture)::
 

@@ -12,7 +12,9 @@ linearize --json`): eigenvalues to 1e-6 absolute, weave and capsize speeds to 1e
 Refused editor values must give one message naming the parameter and leave the plots as they
 were. No request other than file:// may be made. The redraw time of a slider move is
 measured and printed, not asserted. The browser fixture and the skip rules (a missing Chromium,
-playwright or ziglang skips outside CI, fails in CI) are those of tests/test_wasm.py.
+playwright or ziglang skips outside CI, fails in CI) are those of tests/test_wasm.py. The tests of
+the page share one page, reset before each test to the state of a page just loaded
+(tests/app_page.py); the layout tests open their own (other window sizes and pixel ratios).
 """
 from __future__ import annotations
 

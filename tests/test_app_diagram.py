@@ -14,6 +14,8 @@ keyboard, widens the diagram inside its own scrolling box only. The tests do not
 the components are placed (the annotations of the library may change). Screenshots go to
 ``$COSIM_SCREENSHOTS`` if set, else to the test's temporary folder. No request other than
 file:// may be made, and an error in the page fails the test. Skip rules as tests/test_wasm.py.
+The tests share one page per window width, reset before each test to the state of a page just
+loaded (tests/app_page.py).
 """
 from __future__ import annotations
 
