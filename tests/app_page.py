@@ -51,8 +51,11 @@ READY = ("window.cosimApp && (window.cosimApp.ready || window.cosimApp.error !==
 #: What the page shows and holds, as one JSON text (see the module's docstring).
 SNAPSHOT = """() => {
   const $ = (id) => document.getElementById(id);
-  const digest = (text) => { let h = 0; for (let i = 0; i < text.length; i++) h = (Math.imul(h, 31) + text.charCodeAt(i)) | 0;
-                             return `${text.length}:${h}`; };
+  const digest = (text) => {
+    let h = 0;
+    for (let i = 0; i < text.length; i++) h = (Math.imul(h, 31) + text.charCodeAt(i)) | 0;
+    return `${text.length}:${h}`;
+  };
   const {redraws, lastRedrawMs, ...app} = window.cosimApp;
   const timed = $("redraw"), ms = timed ? timed.textContent : null;
   if (timed) timed.textContent = "";

@@ -749,7 +749,6 @@ def test_layout_plot_on_first_screen(browser, app_site, width, height, beside): 
     assert capsize_text == f"{capsize_speed(s['parameters']):.{DIGITS}f} m/s" == "10.368 m/s"
 
 
-
 def test_a_used_page_is_reset_to_the_loaded_one(shared_page):
     """The module's page (tests/app_page.py), after what its tests do to it and more (another
     bicycle, a typed and a refused parameter, a slider moved with the focus left on it, the speed
