@@ -12,7 +12,9 @@ linearize --json`): eigenvalues to 1e-6 absolute, weave and capsize speeds to 1e
 Refused editor values must give one message naming the parameter and leave the plots as they
 were. No request other than file:// may be made. The redraw time of a slider move is
 measured and printed, not asserted. The browser fixture and the skip rules (a missing Chromium,
-playwright or ziglang skips outside CI, fails in CI) are those of tests/test_wasm.py.
+playwright or ziglang skips outside CI, fails in CI) are those of tests/test_wasm.py. The tests of
+the page share one page, reset before each test to the state of a page just loaded
+(tests/app_page.py); the layout tests open their own (other window sizes and pixel ratios).
 """
 from __future__ import annotations
 
@@ -33,6 +35,7 @@ import pytest
 from cosim.analytic import roller
 from cosim.cli import EXIT_INTERRUPTED
 from cosim.app.bicycles import MEASURED_LABELS
+from app_page import SharedPage
 from conftest import bound_by_permissions, bundle_data, cli_in_process
 from test_wasm import browser, offline_page  # noqa: F401 (browser: the shared fixture)
 
@@ -45,13 +48,18 @@ V_MAX = 12.0  # [m/s] the page's speed range riding forwards (bicycles.FORWARD)
 DIGITS = 3  # decimals of the speeds the page prints (bicycles.SPEED_DIGITS)
 
 
+@pytest.fixture(scope="module")
+def shared_page(browser, app_site):  # noqa: F811 (the imported fixture)
+    """The exported page opened from file://, one for the module (tests/app_page.py)."""
+    with SharedPage(browser, app_site / "index.html", viewport={"width": 1200, "height": 800}) as shared:
+        yield shared
+
+
 @pytest.fixture()
-def page(browser, app_site):  # noqa: F811 (the imported fixture)
-    """The exported page opened from file://, ready; a request that is not file:// is refused
-    (and fails the test), as is any error in the page."""
-    with offline_page(browser, (app_site / "index.html").as_uri(),
-                      "window.cosimApp && (window.cosimApp.ready || window.cosimApp.error !== null)",
-                      viewport={"width": 1200, "height": 800}) as page:
+def page(shared_page):
+    """The exported page from file://, ready, as it is when it has just loaded (tests/app_page.py);
+    a request that is not file:// is refused (and fails the test), as is any error in the page."""
+    with shared_page.reset() as page:
         assert page.evaluate("window.cosimApp.error") is None
         yield page
 
@@ -739,3 +747,35 @@ def test_layout_plot_on_first_screen(browser, app_site, width, height, beside): 
         assert abs(c["width"] - c["css"][0] * dpr) <= 1 and abs(c["height"] - c["css"][1] * dpr) <= 1, c
     assert s["capsize"] == pytest.approx(capsize_speed(s["parameters"]), rel=SPEED_RTOL)
     assert capsize_text == f"{capsize_speed(s['parameters']):.{DIGITS}f} m/s" == "10.368 m/s"
+
+
+def test_a_used_page_is_reset_to_the_loaded_one(shared_page):
+    """The module's page (tests/app_page.py), after what its tests do to it and more (another
+    bicycle, a typed and a refused parameter, a slider moved with the focus left on it, the speed
+    clicked, continuation off, a chosen speed range, a read-out under the pointer, a refused view
+    file, every <details> open, the page scrolled), is reset to what it held and showed when it had
+    just loaded, without opening a new page."""
+    with shared_page.reset() as page:
+        _choose(page, "crowned-roller")
+        _type_parameter(page, "tR", "0.6")
+        page.locator("#slider-w").focus()
+        page.keyboard.press("ArrowRight")
+        _click_speed(page, 0.8)
+        page.evaluate("window.cosimApp.continuation = false")
+        page.fill("#v-min", "2")
+        page.dispatch_event("#v-min", "change")
+        page.locator("#plot").hover()  # at its middle: a read-out
+        page.set_input_files("#view-load", files=[{"name": "broken.json", "mimeType": "application/json",
+                                                   "buffer": b"{"}])
+        page.wait_for_function("window.cosimApp.viewError !== null")
+        _type_parameter(page, "mF", "-3")
+        page.evaluate("document.querySelectorAll('details').forEach((d) => { d.open = true; }); scrollTo(0, 600)")
+        used = page.evaluate("""() => { const a = window.cosimApp;
+            return [a.set, a.speedRange.min, a.hover.plot !== null, a.viewError !== null, a.parameterError !== null,
+                    a.continuation, window.scrollY > 0, document.activeElement.id]; }""")
+        assert used == ["crowned-roller", 2, True, True, True, False, True, "param-mF"]
+        changed = shared_page.state()
+    assert changed != shared_page.loaded
+    opened, incomplete = shared_page.opened, len(shared_page.incomplete)
+    with shared_page.reset():
+        assert shared_page.incomplete[incomplete:] == [] and shared_page.opened == opened

@@ -14,16 +14,20 @@ keyboard, widens the diagram inside its own scrolling box only. The tests do not
 the components are placed (the annotations of the library may change). Screenshots go to
 ``$COSIM_SCREENSHOTS`` if set, else to the test's temporary folder. No request other than
 file:// may be made, and an error in the page fails the test. Skip rules as tests/test_wasm.py.
+The tests share one page per window width, reset before each test to the state of a page just
+loaded (tests/app_page.py).
 """
 from __future__ import annotations
 
+import contextlib
 import os
 from pathlib import Path
 
 import pytest
 
+from app_page import SharedPage
 from cosim.app.bicycles import BICYCLES
-from test_wasm import browser, offline_page  # noqa: F401 (browser: the shared fixture)
+from test_wasm import browser  # noqa: F401 (the shared fixture)
 
 # the quick run (-m 'not slow') leaves this module out: it drives Chromium over the exported site or animation
 pytestmark = [pytest.mark.slow, pytest.mark.browser]
@@ -31,11 +35,14 @@ pytestmark = [pytest.mark.slow, pytest.mark.browser]
 CHOICES = [pytest.param(b.name, b.module, id=b.name) for b in BICYCLES]
 
 
-def _open(browser, app_site, width: int):  # noqa: F811 (the imported fixture)
-    """The exported page at a viewport ``width`` px wide, its diagram view ready."""
-    return offline_page(browser, (app_site / "index.html").as_uri(),
-                        "window.cosimDiagram && (window.cosimDiagram.ready || window.cosimDiagram.error !== null)",
-                        viewport={"width": width, "height": 900})
+@pytest.fixture(scope="module")
+def pages(browser, app_site):  # noqa: F811 (the imported fixture)
+    """Viewport width [px] -> the exported page at that width (one per width for the module, reset
+    before each test: tests/app_page.py), its diagram view ready."""
+    with contextlib.ExitStack() as stack:
+        yield {width: stack.enter_context(SharedPage(browser, app_site / "index.html",
+                                                     viewport={"width": width, "height": 900}))
+               for width in (360, 1280)}
 
 
 def _screenshot_folder(tmp_path: Path) -> Path:
@@ -108,13 +115,13 @@ def _page_width_without_the_view(page) -> int:
 
 
 @pytest.mark.parametrize("name, model", CHOICES)
-def test_the_view_shows_the_diagram_of_the_chosen_bicycle(browser, app_site, name, model):  # noqa: F811
+def test_the_view_shows_the_diagram_of_the_chosen_bicycle(pages, name, model):
     """After a real change of the eigenvalue view's select, the diagram is the bicycle's model's:
     every component of the source named in the SVG, one [data-connect] per connect equation."""
     expected = _source_components(model)
     connects = _connect_equations(model)
     assert {"rearWheel", "rearFrame", "frontFrame", "frontWheel"} <= set(expected) and connects >= 4
-    with _open(browser, app_site, 1280) as page:
+    with pages[1280].reset() as page:
         assert page.evaluate("window.cosimDiagram.error") is None
         first = page.evaluate("window.cosimDiagram.bicycle")
         other = next(b.name for b in BICYCLES if b.name != name)
@@ -152,14 +159,14 @@ WIDTHS = [
 
 
 @pytest.mark.parametrize("width, name", WIDTHS)
-def test_the_diagram_fits_the_width(browser, app_site, tmp_path, width, name):  # noqa: F811
+def test_the_diagram_fits_the_width(pages, tmp_path, width, name):
     """The SVG is as wide as its box and inside the viewport; the section adds no horizontal
     overflow to the page (at 1280 px the page has none at all). "enlarge", reached with Tab and
     pressed with Enter, widens the diagram inside its box (which scrolls), not the page; pressed
     again, the diagram fits again. Screenshots: the section fitted, the box enlarged and
     scrolled to its middle."""
     folder = _screenshot_folder(tmp_path)
-    with _open(browser, app_site, width) as page:
+    with pages[width].reset() as page:
         page.select_option("#set", name)
         fitted = _view(page)
         other_views = _page_width_without_the_view(page)
