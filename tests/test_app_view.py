@@ -191,6 +191,21 @@ def test_hover_reads_out_the_named_eigenvalues(page, name, which, where):
             f"\u03bb = {_value(nearest)} 1/s at v = {hover['v']:.2f} m/s: {mode}"
 
 
+def test_keyboard_reads_out_the_plot(page):
+    """The plot takes the keyboard focus: End, Shift+ArrowLeft (1 m/s) and ArrowLeft (0.1 m/s) move
+    the read-out's speed, whose text equals cosim.analytic's eigenvalues there, named."""
+    from cosim.analytic.whipple import eigenvalues
+
+    _choose(page, "benchmark")
+    parameters, top = page.evaluate("window.cosimApp.parameters"), _axes(page, "plot")["max"]
+    page.focus("#plot")
+    for key, v in (("End", top), ("Shift+ArrowLeft", top - 1), ("ArrowLeft", round(top - 1.1, 2))):
+        page.keyboard.press(key)
+        hover = page.evaluate("window.cosimApp.hover.plot")
+        assert hover["v"] == pytest.approx(v, abs=1e-9), key
+        assert page.locator("#plot-readout").inner_text() == hover["text"] == _readout(eigenvalues(parameters, v), v)
+
+
 # --- ranges --------------------------------------------------------------------------------
 
 RANGES = [

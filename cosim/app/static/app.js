@@ -707,7 +707,7 @@
     writeAddress();
   }
 
-  const PLOT_HINT = "point at the plot (or tap it) for the eigenvalues at that speed";
+  const PLOT_HINT = "point at the plot (or tap it, or press Tab to it and use \u2190 \u2192) for the eigenvalues at that speed";
   const LOCUS_HINT = "point at the root locus (or tap it) for the nearest eigenvalue and its speed";
   const speedText = (v) => `v = ${v.toFixed(2)} m/s`;
 
@@ -748,6 +748,20 @@
     const f = (event.offsetX - a.left) / (a.W - a.left - a.right);
     if (!(f >= -0.02 && f <= 1.02)) return;
     const v = Math.min(a.max, Math.max(a.min, Number((a.min + f * (a.max - a.min)).toFixed(2))));
+    guarded(() => plotReadout(v));
+  }
+
+  // The keyboard's read-out of the focused plot: arrows move its speed by 0.1 m/s (with Shift 1 m/s)
+  // from the speed read out last (else the chosen one), Home and End go to the ends of the range.
+  function plotKey(event) {
+    const a = axes.plot;
+    if (!a || !state.sweep) return;
+    const from = state.hover.plot !== null ? state.hover.plot.v : state.speed, step = event.shiftKey ? 1 : 0.1;
+    const to = { ArrowRight: from + step, ArrowUp: from + step, ArrowLeft: from - step, ArrowDown: from - step,
+                 Home: a.min, End: a.max }[event.key];
+    if (to === undefined) return;
+    event.preventDefault();  // (the arrows would scroll the page)
+    const v = Math.min(a.max, Math.max(a.min, Number(to.toFixed(2))));
     guarded(() => plotReadout(v));
   }
 
@@ -904,6 +918,7 @@
       $(id).addEventListener("pointermove", handler);
       $(id).addEventListener("pointerdown", handler);
     }
+    $("plot").addEventListener("keydown", plotKey);
     for (const id of ["v-min", "v-max"]) $(id).addEventListener("change", () => rangeInput("v"));
     for (const id of ["re-min", "re-max"]) $(id).addEventListener("change", () => rangeInput("re"));
     $("view-save").addEventListener("click", saveView);
