@@ -73,26 +73,12 @@ def eigenvalues(params: Mapping[str, float], radius: float, speeds) -> np.ndarra
     return np.sort_complex(ev)
 
 
-def _weave_real(p, mats, v: float) -> float:
-    ev = whipple._eigs(p, mats, np.array([v]))[0]
-    oscillatory = np.abs(ev.imag) > 1e-7 * np.maximum(1.0, np.abs(ev))
-    return float(ev[oscillatory].real.max()) if oscillatory.any() else -math.inf
-
-
 def weave_speed(params: Mapping[str, float], radius: float, v_max: float = 30.0) -> float | None:
-    """Speed [m/s] at which the weave (oscillatory) mode becomes stable on the rear roller: the first
-    sign change + to - of its largest real part on a 0.01 m/s scan, refined by Brent's method
-    (``xtol`` 1e-12 m/s); None if it stays unstable up to ``v_max``."""
-    from scipy.optimize import brentq  # deferred: scipy is heavy
-
+    """Speed [m/s] at which the weave (oscillatory) mode becomes stable on the rear roller
+    (:func:`cosim.analytic.whipple.weave_speed_of` of :func:`matrices`: a 0.01 m/s scan, the crossing
+    located exactly); None if it stays unstable up to ``v_max``."""
     p = validate_parameters(params, waive=("IByy", "IHyy"))
-    mats = matrices(p, radius)
-    speeds = np.linspace(0.0, v_max, int(round(v_max / 0.01)) + 1)
-    values = [_weave_real(p, mats, v) for v in speeds]
-    for a, b, fa, fb in zip(speeds, speeds[1:], values, values[1:]):
-        if math.isfinite(fa) and math.isfinite(fb) and fa > 0.0 >= fb:
-            return float(brentq(lambda v: _weave_real(p, mats, v), a, b, xtol=1e-12))
-    return None
+    return whipple.weave_speed_of(p, matrices(p, radius), v_max=v_max, num=int(round(v_max / 0.01)) + 1)
 
 
 def capsize_speed(params: Mapping[str, float], radius: float) -> float | None:

@@ -41,6 +41,7 @@ __all__ = [
     "eigenvalues",
     "characteristic_polynomial",
     "weave_speed",
+    "weave_speed_of",
     "capsize_speed",
     "self_stable_interval",
     "asymptotic_eigenvalues",
@@ -431,7 +432,13 @@ def weave_speed(params: Mapping[str, float], *, v_min: float = 0.0, v_max: float
         stable within the range.
     """
     p = _checked(params)
-    mats = matrices(p)
+    return weave_speed_of(p, matrices(p), v_min=v_min, v_max=v_max, num=num)
+
+
+def weave_speed_of(p: Mapping[str, float], mats, *, v_min: float = 0.0, v_max: float = DEFAULT_V_MAX,
+                   num: int = DEFAULT_NUM) -> float | None:
+    """:func:`weave_speed` of the bicycle ``M, C1, K0, K2 = mats`` (:func:`matrices`, or matrices
+    changed from them, as :mod:`cosim.analytic.roller`'s) with the gravity ``p["g"]`` [m/s^2]."""
     speeds, ev = _scan(p, mats, v_min, v_max, num)
     osc = np.abs(ev.imag) > _imag_tol(ev)
     wr = np.where(osc, ev.real, -np.inf).max(axis=1)
