@@ -167,12 +167,19 @@ def measured_parameter_sets() -> list[str]:
         from :func:`bundled_parameter_sets` (the sets of the papers, which the Modelica records
         and the reference checks are made from).
     """
-    return sorted(f"{MEASURED}/{p.stem}" for p in (_params_dir() / MEASURED).glob("*.toml"))
+    return _sets_in(MEASURED)
 
 
 #: Subfolder of ``cosim/params`` with the adapted bicycles the paper describes without data (our
 #: choice, see each file); its sets are named ``adapted/<stem>`` (``adapted/fig15``: Figure 15).
 ADAPTED = "adapted"
+#: The subfolders whose sets are named ``FOLDER/<stem>``, and what their sets are called.
+NAMED_FOLDERS = {MEASURED: "measured bicycle", ADAPTED: "adapted bicycle"}
+
+
+def _sets_in(folder: str) -> list[str]:
+    """Sorted names ``folder/<stem>`` of the sets in ``cosim/params/<folder>``."""
+    return sorted(f"{folder}/{p.stem}" for p in (_params_dir() / folder).glob("*.toml"))
 
 
 def _is_number(value: object) -> bool:
@@ -305,15 +312,11 @@ def _resolve(name_or_path: str | os.PathLike[str]) -> Path:
     """The file of a bundled name, or the path given."""
     bundled = {p.stem: p for p in _params_dir().glob("*.toml")}
     text = os.fspath(name_or_path)
-    if isinstance(name_or_path, str) and text.startswith(f"{MEASURED}/") and not os.path.exists(text):
-        measured = measured_parameter_sets()
-        if text not in measured:
-            raise ValueError(f"unknown measured bicycle {text!r}; bundled: {', '.join(measured)}")
-        return _params_dir() / f"{text}.toml"
-    if isinstance(name_or_path, str) and text.startswith(f"{ADAPTED}/") and not os.path.exists(text):
-        adapted = sorted(f"{ADAPTED}/{p.stem}" for p in (_params_dir() / ADAPTED).glob("*.toml"))
-        if text not in adapted:
-            raise ValueError(f"unknown adapted bicycle {text!r}; bundled: {', '.join(adapted)}")
+    folder = text.split("/", 1)[0]
+    if isinstance(name_or_path, str) and folder in NAMED_FOLDERS and "/" in text and not os.path.exists(text):
+        named = _sets_in(folder)
+        if text not in named:
+            raise ValueError(f"unknown {NAMED_FOLDERS[folder]} {text!r}; bundled: {', '.join(named)}")
         return _params_dir() / f"{text}.toml"
     looks_like_path = isinstance(name_or_path, os.PathLike) or text.endswith(".toml") or os.sep in text \
         or (os.altsep is not None and os.altsep in text)
