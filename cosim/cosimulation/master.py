@@ -51,6 +51,11 @@ def step_grid(start: float, stop: float, step: float) -> np.ndarray:
 #: Calls of the C loop over one run's grid: between them the terminal shows how far the run is.
 CHUNKS = 50
 
+
+def _show_time(grid: np.ndarray, k: int) -> None:
+    """How far a run is at the start of its step ``k`` (of a grid of at least one step)."""
+    progress().fraction((grid[k] - grid[0]) / (grid[-1] - grid[0]), f"t = {grid[k]:.4g} of {grid[-1]:.4g} s")
+
 #: Longest grid that :func:`step_grid` keeps (100,000 steps: 0.8 MB).
 CACHED_GRID_STEPS = 100_000
 
@@ -285,10 +290,9 @@ class System:
                         outcome, rows = self._ended(outcome, k, grid, data, record_idx)
                     except StepFailed as exc:
                         outcome, rows = self._failed_outcome(exc.component, grid[k], str(exc)), k + 1
-            reporter, span = progress(), grid[-1] - grid[0]
             for k in range(n_steps):
                 if not k % 64:  # the reporter redraws at most 10 times a second; asking costs a call
-                    reporter.fraction((grid[k] - grid[0]) / span, f"t = {grid[k]:.4g} of {grid[-1]:.4g} s")
+                    _show_time(grid, k)
                 try:
                     ended = self._communication_step(k, grid, multiples)
                 except StepFailed as exc:
@@ -494,7 +498,6 @@ class System:
         def pointer_to(array: np.ndarray) -> c_void_p:  # (data_as costs ~2 us a call, five a run)
             return c_void_p(array.ctypes.data)
 
-        reporter, span = progress(), grid[-1] - grid[0]
         # the grid in CHUNKS calls, so that the terminal shows how far the run is (a call costs µs)
         # (integers, strictly increasing as count <= n_steps; np.unique would import numpy.ma into a
         # matrix worker's first case)
@@ -502,8 +505,7 @@ class System:
         bounds = [n_steps * i // count for i in range(count + 1)] if count else [0]
         status = 0
         for first, last in zip(bounds[:-1], bounds[1:]):
-            reporter.fraction((grid[first] - grid[0]) / span if span > 0 else 0.0,
-                              f"t = {grid[first]:.4g} of {grid[-1]:.4g} s")
+            _show_time(grid, first)
             status = lib.cosim_fast_run(
                 len(self.names), comps, order, self.algorithm.fast_code,
                 int(spec.sampling == "after-transfer"), pointer_to(self.signals), pointer_to(self._sampled),
